@@ -1,0 +1,41 @@
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+// The `rdsim` subcommands. src/main.cpp parses the command line into these option structs;
+// each command lives in its own file under src/app/ and returns the process exit code.
+// Bad input is reported by throwing rdsim::Error.
+namespace rdsim {
+
+struct TrainOptions {
+  std::string config_path;
+  std::string resume_dir;                   // continue from this run folder's last checkpoint
+  std::optional<std::uint64_t> seed;        // overrides the config's seed
+  std::optional<long long> timesteps;       // overrides the config's total_timesteps
+  std::string log_dir;                      // overrides the config's log_dir
+  bool quiet = false;                       // no progress line
+};
+int train_command(const TrainOptions& options);
+
+struct ReplayOptions {
+  std::string model_path;
+  int episodes = 10;
+  std::optional<std::uint64_t> seed;  // default: the model's training seed
+  bool stochastic = false;            // sample actions instead of taking the most likely one
+};
+int replay_command(const ReplayOptions& options);
+
+struct BenchFpsOptions {
+  std::vector<std::string> envs;        // empty: every registered env
+  std::vector<std::string> modes;       // "ground_truth", "raw_pixels"; empty: all supported
+  int runs = 5;                         // the median of this many runs is reported
+  long long steps = 20000;              // env steps per run
+  std::string json_path;                // "-" for stdout; empty: no JSON
+};
+int bench_fps_command(const BenchFpsOptions& options);
+
+int envs_command();
+
+}  // namespace rdsim

@@ -1,0 +1,91 @@
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+// The one interface between environments and everything that drives them (algorithms, replay,
+// benchmarks, the demonstration link). Gymnasium semantics: reset(seed) -> observation,
+// step(action) -> {observation, reward, terminated, truncated, info}.
+namespace rdsim {
+
+enum class ObsType { Float32, UInt8 };
+
+// What an observation looks like. Ground-truth observations are Float32 vectors (shape {n});
+// pixel observations are UInt8 images stored height x width x channels, row-major.
+struct ObservationSpace {
+  ObsType type = ObsType::Float32;
+  std::vector<int> shape;
+  Eigen::VectorXf low, high;  // per element; empty for UInt8 (bounds 0..255)
+
+  int size() const {
+    int n = 1;
+    for (int d : shape) n *= d;
+    return n;
+  }
+};
+
+// Either Discrete(n) (discrete == true, n choices) or a continuous Box of `low.size()` dims.
+struct ActionSpace {
+  bool discrete = true;
+  int n = 0;
+  Eigen::VectorXf low, high;
+
+  int dim() const { return discrete ? 1 : static_cast<int>(low.size()); }
+};
+
+struct Spec {
+  std::string env_name;
+  ObservationSpace observation;
+  ActionSpace action;
+  int max_episode_steps = 0;   // truncation limit
+  double control_dt = 0.0;     // simulated seconds per env step (0 when not a physics env)
+};
+
+struct Action {
+  int index = 0;            // for Discrete spaces
+  Eigen::VectorXf values;   // for Box spaces
+
+  static Action discrete(int i) { return Action{i, {}}; }
+  static Action continuous(Eigen::VectorXf v) { return Action{0, std::move(v)}; }
+};
+
+struct Observation {
+  Eigen::VectorXf values;              // Float32 observations
+  std::vector<std::uint8_t> pixels;    // UInt8 observations (HWC)
+};
+
+// Typed episode facts every reaching task reports; fields an env does not use keep defaults.
+struct StepInfo {
+  bool success = false;       // task solved on this step
+  bool collision = false;     // robot touched a forbidden body
+  bool out_of_bounds = false; // left the workspace
+  float distance = 0.0f;      // task distance (e.g. end effector to target), metres
+};
+
+struct StepResult {
+  Observation observation;
+  float reward = 0.0f;
+  bool terminated = false;  // the MDP ended (success, failure): do not bootstrap
+  bool truncated = false;   // cut by the step limit: bootstrap from the value of `observation`
+  StepInfo info;
+};
+
+class Env {
+public:
+  virtual ~Env() = default;
+  virtual const Spec& spec() const = 0;
+
+  // Starts an episode. A seed re-seeds the env's generator; without one the stream continues,
+  // so a sequence of resets after one seeded reset is reproducible too.
+  virtual Observation reset(std::optional<std::uint64_t> seed = std::nullopt) = 0;
+  virtual StepResult step(const Action& action) = 0;
+
+  // Advances only the physics world by what one env step simulates, with no control,
+  // observation or reward work: lets benchmarks show the env's own overhead.
+  // Returns false for envs without a physics world.
+  virtual bool step_physics_only() { return false; }
+};
+
+}  // namespace rdsim

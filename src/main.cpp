@@ -1,0 +1,94 @@
+// rdsim: one binary for training, replaying and benchmarking robot learning.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "rdsim/app.hpp"
+#include "rdsim/error.hpp"
+
+namespace {
+
+void add_train(CLI::App& app, rdsim::TrainOptions& o, std::uint64_t& seed, long long& timesteps) {
+  auto* cmd = app.add_subcommand("train", "Train a policy from a JSON config; writes progress.csv, "
+                                          "episodes.csv, config.json and model.bin to the run folder");
+  auto* config = cmd->add_option("-c,--config", o.config_path, "JSON config file (see configs/)");
+  auto* resume = cmd->add_option("--resume", o.resume_dir,
+                                 "Continue the run in this folder from its last checkpoint");
+  config->excludes(resume);
+  resume->excludes(config);
+  cmd->add_option("--seed", seed, "Override the config's seed");
+  cmd->add_option("--timesteps", timesteps, "Override the config's total_timesteps")->check(CLI::PositiveNumber);
+  cmd->add_option("--log-dir", o.log_dir, "Override the config's log_dir (the run folder)");
+  cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
+}
+
+void add_replay(CLI::App& app, rdsim::ReplayOptions& o, std::uint64_t& seed) {
+  auto* cmd = app.add_subcommand("replay", "Run a saved model (model.bin) for N episodes and print "
+                                           "return, length and success of each");
+  cmd->add_option("model", o.model_path, "Model file written by `rdsim train`")->required();
+  cmd->add_option("-n,--episodes", o.episodes, "Number of episodes")->check(CLI::PositiveNumber);
+  cmd->add_option("--seed", seed, "Seed of the first episode (default: the model's training seed)");
+  cmd->add_flag("--stochastic", o.stochastic, "Sample actions instead of taking the most likely one");
+}
+
+void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
+  auto* cmd = app.add_subcommand("bench-fps", "Measure env steps per second (random actions, resets "
+                                              "included; median of several runs), one thread");
+  cmd->add_option("--env", o.envs, "Env to measure (repeatable; default: all)");
+  cmd->add_option("--mode", o.modes, "Observation mode: ground_truth or raw_pixels (repeatable)")
+      ->check(CLI::IsMember({"ground_truth", "raw_pixels"}));
+  cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber);
+  cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::PositiveNumber);
+  cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)")
+      ->expected(0, 1)
+      ->default_str("-");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rdsim " RDSIM_VERSION " - robot deep reinforcement learning simulator"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", RDSIM_VERSION);
+
+  rdsim::TrainOptions train;
+  rdsim::ReplayOptions replay;
+  rdsim::BenchFpsOptions bench;
+  std::uint64_t train_seed = 0, replay_seed = 0;
+  long long timesteps = 0;
+  add_train(app, train, train_seed, timesteps);
+  add_replay(app, replay, replay_seed);
+  add_bench(app, bench);
+  app.add_subcommand("envs", "List the available environments");
+
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    auto* sub = app.get_subcommands().front();
+    const std::string name = sub->get_name();
+    if (name == "train") {
+      if (train.config_path.empty() && train.resume_dir.empty()) {
+        throw rdsim::Error("train: give --config FILE or --resume DIR");
+      }
+      if (sub->count("--seed")) train.seed = train_seed;
+      if (sub->count("--timesteps")) train.timesteps = timesteps;
+      return rdsim::train_command(train);
+    }
+    if (name == "replay") {
+      if (sub->count("--seed")) replay.seed = replay_seed;
+      return rdsim::replay_command(replay);
+    }
+    if (name == "bench-fps") {
+      if (sub->count("--json") && bench.json_path.empty()) bench.json_path = "-";
+      return rdsim::bench_fps_command(bench);
+    }
+    if (name == "envs") return rdsim::envs_command();
+  } catch (const rdsim::Error& e) {
+    std::fprintf(stderr, "rdsim: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rdsim: internal error: %s\n", e.what());
+    return 70;
+  }
+  return 0;
+}
