@@ -5,9 +5,11 @@
 namespace rdsim {
 
 // Factories, one per environment file (declared here to keep env headers out of the registry).
+std::unique_ptr<Env> make_cartpole(const EnvConfig& config);
 
 const std::vector<EnvEntry>& env_registry() {
   static const std::vector<EnvEntry> entries = {
+      {"cartpole", "Classic cart-pole balancing (Gym CartPole-v1 dynamics), Discrete(2)", false, make_cartpole},
   };
   return entries;
 }

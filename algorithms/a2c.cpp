@@ -1,0 +1,77 @@
+// Synchronous advantage actor-critic (Mnih et al. 2016, the "A2C" of the common baselines):
+// one gradient step per rollout of n_steps x num_envs samples, n-step returns (GAE with
+// lambda = 1 by default), RMSprop.
+#include <cmath>
+
+#include "rdsim/advantage.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/on_policy.hpp"
+
+namespace rdsim {
+namespace {
+
+class A2c final : public OnPolicy {
+public:
+  A2c(const TrainConfig& config, const Spec& spec)
+      : OnPolicy(config, spec, {config.a2c.n_steps, config.a2c.gamma, config.a2c.gae_lambda}), cfg_(config.a2c) {
+    if (cfg_.optimizer == "adam") {
+      nn::AdamConfig adam;
+      adam.lr = static_cast<float>(cfg_.learning_rate);
+      adam.eps = static_cast<float>(cfg_.rms_eps);
+      optimizer_ = std::make_unique<nn::Adam>(policy_->params(), adam);
+    } else {
+      nn::RmsPropConfig rms;
+      rms.lr = static_cast<float>(cfg_.learning_rate);
+      rms.alpha = static_cast<float>(cfg_.rms_alpha);
+      rms.eps = static_cast<float>(cfg_.rms_eps);
+      rms.tf_style = cfg_.rms_tf_style;
+      optimizer_ = std::make_unique<nn::RmsProp>(policy_->params(), rms);
+    }
+  }
+
+  std::string name() const override { return "a2c"; }
+
+protected:
+  Metrics train(double remaining) override {
+    const float lr = static_cast<float>(cfg_.anneal_lr ? cfg_.learning_rate * remaining : cfg_.learning_rate);
+    optimizer_->set_learning_rate(lr);
+    const int B = rollout_.size();
+    Eigen::VectorXf adv = rollout_.advantages;
+    if (cfg_.normalize_advantage && B > 1) {
+      const float mean = adv.mean();
+      const float stddev = std::sqrt((adv.array() - mean).square().sum() / static_cast<float>(B - 1));
+      adv = (adv.array() - mean) / (stddev + 1e-8f);
+    }
+    const PolicyEval& ev = policy_->evaluate(rollout_.observations, rollout_.actions);
+    const float inv_b = 1.0f / static_cast<float>(B);
+    // loss = -mean(adv * log p) + vf_coef * mean((R - V)^2) - ent_coef * mean(H)
+    const Eigen::VectorXf d_log_prob = -adv * inv_b;
+    const Eigen::VectorXf diff = ev.values - rollout_.returns;
+    const Eigen::VectorXf d_value = diff * (2.0f * static_cast<float>(cfg_.vf_coef) * inv_b);
+    const Eigen::VectorXf d_entropy = Eigen::VectorXf::Constant(B, -static_cast<float>(cfg_.ent_coef) * inv_b);
+
+    policy_->zero_grad();
+    policy_->backward(d_log_prob, d_entropy, d_value);
+    const nn::ParamList params = policy_->params();
+    const float norm = nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm));
+    optimizer_->step();
+
+    return {{"policy_loss", -(adv.array() * ev.log_probs.array()).cast<double>().mean()},
+            {"value_loss", diff.cast<double>().squaredNorm() / B},
+            {"entropy", ev.entropy.cast<double>().mean()},
+            {"explained_variance", explained_variance(rollout_.values, rollout_.returns)},
+            {"grad_norm", norm},
+            {"learning_rate", lr}};
+  }
+
+private:
+  A2cConfig cfg_;
+};
+
+}  // namespace
+
+std::unique_ptr<Algorithm> make_a2c(const TrainConfig& config, const Spec& spec) {
+  return std::make_unique<A2c>(config, spec);
+}
+
+}  // namespace rdsim

@@ -1,0 +1,156 @@
+#include "rdsim/actor_critic.hpp"
+
+#include <cmath>
+
+#include "rdsim/error.hpp"
+#include "rdsim/observation_batch.hpp"
+
+namespace rdsim {
+namespace {
+
+constexpr float hidden_gain = 1.41421356f;  // sqrt(2), the baselines' choice for hidden layers
+constexpr float policy_gain = 0.01f;        // near-uniform initial policy
+constexpr float value_gain = 1.0f;
+
+void activate(const Eigen::MatrixXf& z, nn::Activation a, Eigen::MatrixXf& y) {
+  switch (a) {
+    case nn::Activation::Tanh: y = z.array().tanh(); break;
+    case nn::Activation::ReLU: y = z.cwiseMax(0.0f); break;
+    case nn::Activation::Identity: y = z; break;
+  }
+}
+
+// dLoss/dz from dLoss/dy with y = a(z).
+void activation_backward(Eigen::MatrixXf& grad, const Eigen::MatrixXf& y, nn::Activation a) {
+  switch (a) {
+    case nn::Activation::Tanh: grad.array() *= 1.0f - y.array().square(); break;
+    case nn::Activation::ReLU: grad = (y.array() > 0.0f).select(grad, 0.0f); break;
+    case nn::Activation::Identity: break;
+  }
+}
+
+void append(nn::ParamList& list, nn::ParamList more, const std::string& prefix) {
+  for (auto& p : more) {
+    p.name = prefix + p.name;
+    list.push_back(std::move(p));
+  }
+}
+
+}  // namespace
+
+ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng)
+    : discrete_(spec.action.discrete),
+      shared_(config.shared && !config.hidden_sizes.empty()),
+      obs_size_(observation_input_size(spec.observation)),
+      action_dim_(spec.action.dim()),
+      policy_outputs_(spec.action.discrete ? spec.action.n : spec.action.dim()),
+      activation_(nn::activation_from_string(config.activation, "network.activation")) {
+  if (obs_size_ <= 0) throw Error(spec.env_name + ": the env has an empty observation space");
+  if (policy_outputs_ <= 0) throw Error(spec.env_name + ": the env has an empty action space");
+  int head_input = obs_size_;
+  std::vector<int> head_hidden = config.hidden_sizes;
+  if (shared_) {
+    std::vector<int> trunk_hidden(config.hidden_sizes.begin(), config.hidden_sizes.end() - 1);
+    trunk_ = nn::Mlp({obs_size_, trunk_hidden, config.hidden_sizes.back(), activation_}, hidden_gain, rng);
+    head_input = config.hidden_sizes.back();
+    head_hidden.clear();
+  }
+  policy_ = nn::Mlp({head_input, head_hidden, policy_outputs_, activation_}, policy_gain, rng, hidden_gain);
+  value_ = nn::Mlp({head_input, head_hidden, 1, activation_}, value_gain, rng, hidden_gain);
+  if (!discrete_) {
+    log_std_ = nn::Tensor(action_dim_, 1);
+    log_std_.value.setConstant(static_cast<float>(config.log_std_init));
+    low_ = spec.action.low;
+    high_ = spec.action.high;
+  }
+}
+
+const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& obs) {
+  if (!shared_) return obs;
+  activate(trunk_.infer(obs), activation_, infer_features_);
+  return infer_features_;
+}
+
+void ActorCritic::act(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, ActBatch& out) {
+  const Eigen::MatrixXf& f = features_infer(obs);
+  const Eigen::MatrixXf& head = policy_.infer(f);
+  if (discrete_) {
+    const nn::Categorical dist(head);
+    const Eigen::VectorXi a = deterministic ? dist.mode() : dist.sample(rng);
+    out.actions = a.cast<float>().transpose();
+    out.log_probs = dist.log_prob(a);
+  } else {
+    const nn::DiagGaussian dist(head, log_std_.value.col(0));
+    out.actions = deterministic ? dist.mode() : dist.sample(rng);
+    out.log_probs = dist.log_prob(out.actions);
+  }
+  out.values = value_.infer(f).row(0).transpose();
+}
+
+Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
+  return value_.infer(features_infer(obs)).row(0).transpose();
+}
+
+const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& obs, const Eigen::MatrixXf& actions) {
+  if (shared_) {
+    trunk_pre_ = trunk_.forward(obs);
+    activate(trunk_pre_, activation_, features_);
+  }
+  const Eigen::MatrixXf& f = shared_ ? features_ : obs;
+  const Eigen::MatrixXf& head = policy_.forward(f);
+  if (discrete_) {
+    eval_discrete_ = actions.row(0).transpose().array().round().cast<int>();
+    eval_categorical_ = std::make_unique<nn::Categorical>(head);
+    eval_.log_probs = eval_categorical_->log_prob(eval_discrete_);
+    eval_.entropy = eval_categorical_->entropy();
+  } else {
+    eval_actions_ = actions;
+    eval_gaussian_ = std::make_unique<nn::DiagGaussian>(head, log_std_.value.col(0));
+    eval_.log_probs = eval_gaussian_->log_prob(eval_actions_);
+    eval_.entropy = eval_gaussian_->entropy();
+  }
+  eval_.values = value_.forward(f).row(0).transpose();
+  return eval_;
+}
+
+void ActorCritic::backward(const Eigen::VectorXf& d_log_prob, const Eigen::VectorXf& d_entropy,
+                           const Eigen::VectorXf& d_value) {
+  const bool entropy_term = d_entropy.size() > 0 && !d_entropy.isZero(0.0f);
+  Eigen::MatrixXf d_head;
+  if (discrete_) {
+    d_head = eval_categorical_->log_prob_grad(eval_discrete_, d_log_prob);
+    if (entropy_term) d_head += eval_categorical_->entropy_grad(d_entropy);
+  } else {
+    nn::DiagGaussian::Grad g = eval_gaussian_->log_prob_grad(eval_actions_, d_log_prob);
+    d_head = std::move(g.mean);
+    log_std_.grad.col(0) += g.log_std;
+    if (entropy_term) log_std_.grad.col(0) += eval_gaussian_->entropy_grad_log_std(d_entropy);
+  }
+  Eigen::MatrixXf d_features = policy_.backward(d_head, shared_);
+  const Eigen::MatrixXf d_features_value = value_.backward(d_value.transpose(), shared_);
+  if (shared_) {
+    d_features += d_features_value;
+    activation_backward(d_features, features_, activation_);
+    trunk_.backward(d_features, false);
+  }
+}
+
+nn::ParamList ActorCritic::params() {
+  nn::ParamList list;
+  if (shared_) append(list, trunk_.params(), "trunk.");
+  append(list, policy_.params(), "policy.");
+  append(list, value_.params(), "value.");
+  if (!discrete_) list.push_back(nn::param_of(log_std_, "log_std"));
+  return list;
+}
+
+void ActorCritic::zero_grad() { nn::zero_grad(params()); }
+
+Action ActorCritic::env_action(const Eigen::Ref<const Eigen::VectorXf>& column) const {
+  if (discrete_) return Action::discrete(static_cast<int>(std::lround(column[0])));
+  Eigen::VectorXf v = column;
+  if (low_.size() == v.size()) v = v.cwiseMax(low_).cwiseMin(high_);
+  return Action::continuous(std::move(v));
+}
+
+}  // namespace rdsim

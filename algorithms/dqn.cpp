@@ -1,0 +1,269 @@
+// Deep Q-Learning (Mnih et al. 2015) as in the common baselines: experience replay, a target
+// network refreshed every target_update_interval env steps (hard copy, or Polyak with tau < 1),
+// linear epsilon-greedy exploration, Huber TD loss, optional double Q-learning (van Hasselt et
+// al. 2016), global grad-norm clipping, train_freq env steps per env between training phases
+// of gradient_steps minibatch updates, and no learning before learning_starts.
+#include "rdsim/dqn.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rdsim/algorithm.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/nn.hpp"
+#include "rdsim/observation_batch.hpp"
+#include "rdsim/replay_buffer.hpp"
+#include "rdsim/rng_bytes.hpp"
+#include "rdsim/stream_io.hpp"
+#include "rdsim/train_config.hpp"
+#include "rdsim/vec_env.hpp"
+
+namespace rdsim {
+
+namespace dqn {
+
+Eigen::VectorXf td_targets(const Eigen::VectorXf& rewards, const Eigen::VectorXf& terminated,
+                           const Eigen::MatrixXf& next_q_target, const Eigen::MatrixXf* next_q_online,
+                           float gamma) {
+  const Eigen::Index batch = rewards.size();
+  Eigen::VectorXf next_value(batch);
+  for (Eigen::Index j = 0; j < batch; ++j) {
+    if (next_q_online) {
+      Eigen::Index best;
+      next_q_online->col(j).maxCoeff(&best);
+      next_value[j] = next_q_target(best, j);
+    } else {
+      next_value[j] = next_q_target.col(j).maxCoeff();
+    }
+  }
+  return rewards.array() + gamma * (1.0f - terminated.array()) * next_value.array();
+}
+
+TdLoss huber_loss(const Eigen::VectorXf& prediction, const Eigen::VectorXf& target) {
+  const Eigen::ArrayXf d = (prediction - target).array();
+  const Eigen::ArrayXf a = d.abs();
+  const float inv_b = 1.0f / static_cast<float>(d.size());
+  TdLoss out;
+  out.loss = (a <= 1.0f).select(0.5f * d.square(), a - 0.5f).sum() * inv_b;
+  out.grad = (d.cwiseMax(-1.0f).cwiseMin(1.0f) * inv_b).matrix();
+  return out;
+}
+
+TdLoss squared_loss(const Eigen::VectorXf& prediction, const Eigen::VectorXf& target) {
+  const Eigen::VectorXf d = prediction - target;
+  const float inv_b = 1.0f / static_cast<float>(d.size());
+  return {0.5f * d.squaredNorm() * inv_b, d * inv_b};
+}
+
+double epsilon_at(long long timesteps, long long total_timesteps, double fraction, double initial,
+                  double final_eps) {
+  const double span = fraction * static_cast<double>(total_timesteps);
+  if (span <= 0.0) return final_eps;
+  const double progress = std::min(1.0, static_cast<double>(timesteps) / span);
+  return initial + progress * (final_eps - initial);
+}
+
+}  // namespace dqn
+
+namespace {
+
+// Observations x buffer_size floats are stored twice (observation and next observation).
+constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
+
+int checked_num_actions(const TrainConfig& config, const Spec& spec) {
+  if (!spec.action.discrete || spec.action.n <= 0)
+    throw Error(config.source + ": algorithm: \"dqn\" needs a discrete action space, env \"" + spec.env_name +
+                "\" has continuous actions (set env.is_discrete to true or use ppo/a2c)");
+  const double bytes = 8.0 * static_cast<double>(config.dqn.buffer_size) *
+                       static_cast<double>(observation_input_size(spec.observation));
+  if (bytes > kMaxReplayBytes)
+    throw Error(config.source + ": dqn.buffer_size: " + std::to_string(config.dqn.buffer_size) +
+                " transitions of " + std::to_string(observation_input_size(spec.observation)) +
+                " observation values need " + std::to_string(static_cast<long long>(bytes / (1 << 20))) +
+                " MiB, more than the 16 GiB allowed; use a smaller buffer");
+  return spec.action.n;
+}
+
+int argmax(const Eigen::Ref<const Eigen::VectorXf>& q) {
+  Eigen::Index best;
+  q.maxCoeff(&best);
+  return static_cast<int>(best);
+}
+
+class Dqn final : public Algorithm {
+public:
+  Dqn(const TrainConfig& config, const Spec& spec)
+      : cfg_(config.dqn),
+        spec_(spec),
+        num_actions_(checked_num_actions(config, spec)),
+        buffer_(config.dqn.buffer_size, observation_input_size(spec.observation)),
+        explore_rng_(Rng::derive(config.seed, rng_stream::exploration)),
+        replay_rng_(Rng::derive(config.seed, rng_stream::replay_sampling)) {
+    Rng init = Rng::derive(config.seed, rng_stream::network_init);
+    const nn::MlpShape shape{observation_input_size(spec.observation), config.network.hidden_sizes, num_actions_,
+                             nn::activation_from_string(config.network.activation, config.source + ": network.activation")};
+    q_ = nn::Mlp(shape, 1.0f, init);
+    target_ = q_;
+    nn::AdamConfig adam;
+    adam.lr = static_cast<float>(cfg_.learning_rate);
+    optimizer_ = std::make_unique<nn::Adam>(q_.params(), adam);
+  }
+
+  std::string name() const override { return "dqn"; }
+  Metrics update(VecEnv& envs, const TrainProgress& progress) override;
+  Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  void save(std::ostream& out, bool training_state) const override;
+  void load(std::istream& in, bool training_state, const std::string& source) override;
+
+private:
+  void collect_step(VecEnv& envs, double epsilon, bool warmup);
+  void gradient_step(double& loss_sum, double& q_sum, double& norm_sum);
+
+  DqnConfig cfg_;
+  Spec spec_;
+  int num_actions_;
+  nn::Mlp q_, target_;
+  std::unique_ptr<nn::Adam> optimizer_;
+  ReplayBuffer buffer_;
+  Rng explore_rng_, replay_rng_;
+  long long env_calls_ = 0;       // VecEnv::step calls: the clock of target updates
+  long long gradient_steps_ = 0;  // since the start of training
+  // scratch, reused so the hot loop does not allocate
+  Eigen::MatrixXf obs_, grad_q_;
+  Eigen::VectorXf next_obs_;
+  std::vector<Action> actions_;
+  ReplayBatch batch_;
+};
+
+void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
+  const int n = envs.size();
+  obs_.resize(buffer_.observation_size(), n);
+  for (int i = 0; i < n; ++i) encode_observation(envs.observations()[static_cast<std::size_t>(i)], spec_.observation, obs_.col(i));
+  actions_.resize(static_cast<std::size_t>(n));
+  // Before learning starts every action is random (the network is untrained anyway).
+  const Eigen::MatrixXf* q = warmup ? nullptr : &q_.infer(obs_);
+  for (int i = 0; i < n; ++i) {
+    const bool random = warmup || explore_rng_.uniform() < epsilon;
+    const int a = random ? static_cast<int>(explore_rng_.below(static_cast<std::uint64_t>(num_actions_)))
+                         : argmax(q->col(i));
+    actions_[static_cast<std::size_t>(i)] = Action::discrete(a);
+  }
+  const std::vector<EnvStep>& steps = envs.step(actions_);
+  next_obs_.resize(buffer_.observation_size());
+  for (int i = 0; i < n; ++i) {
+    const EnvStep& s = steps[static_cast<std::size_t>(i)];
+    // After an episode ends the env has been reset: the transition's next state is the final one.
+    const Observation& next = s.done() ? s.final_observation : envs.observations()[static_cast<std::size_t>(i)];
+    encode_observation(next, spec_.observation, next_obs_);
+    buffer_.add(obs_.col(i), actions_[static_cast<std::size_t>(i)].index, s.reward, next_obs_, s.terminated);
+  }
+  ++env_calls_;
+  const long long interval = std::max<long long>(cfg_.target_update_interval / n, 1);
+  if (env_calls_ % interval == 0) {
+    if (cfg_.tau >= 1.0)
+      target_.copy_values_from(q_);
+    else
+      target_.blend_values_from(q_, static_cast<float>(cfg_.tau));
+  }
+}
+
+void Dqn::gradient_step(double& loss_sum, double& q_sum, double& norm_sum) {
+  buffer_.sample(cfg_.batch_size, replay_rng_, batch_);
+  const Eigen::MatrixXf& next_q_target = target_.infer(batch_.next_observations);
+  const Eigen::MatrixXf* next_q_online = cfg_.double_q ? &q_.infer(batch_.next_observations) : nullptr;
+  const Eigen::VectorXf targets =
+      dqn::td_targets(batch_.rewards, batch_.terminated, next_q_target, next_q_online, static_cast<float>(cfg_.gamma));
+
+  const Eigen::MatrixXf& q = q_.forward(batch_.observations);
+  const int b = cfg_.batch_size;
+  Eigen::VectorXf chosen(b);
+  for (int j = 0; j < b; ++j) chosen[j] = q(batch_.actions[j], j);
+  const dqn::TdLoss loss = cfg_.huber ? dqn::huber_loss(chosen, targets) : dqn::squared_loss(chosen, targets);
+
+  // Only the Q-value of the action taken receives a gradient.
+  grad_q_.setZero(num_actions_, b);
+  for (int j = 0; j < b; ++j) grad_q_(batch_.actions[j], j) = loss.grad[j];
+  q_.zero_grad();
+  q_.backward(grad_q_, false);
+  const nn::ParamList params = optimizer_->params();
+  norm_sum += cfg_.max_grad_norm > 0 ? nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm))
+                                     : nn::global_grad_norm(params);
+  optimizer_->step();
+  ++gradient_steps_;
+  loss_sum += loss.loss;
+  q_sum += chosen.cast<double>().mean();
+}
+
+Metrics Dqn::update(VecEnv& envs, const TrainProgress& progress) {
+  const int n = envs.size();
+  // The last phase stops at the run's goal instead of overshooting by up to train_freq steps.
+  const long long left = progress.total_timesteps - envs.timesteps();
+  const long long calls = left > 0 ? std::min<long long>(cfg_.train_freq, (left + n - 1) / n) : cfg_.train_freq;
+  double epsilon = 0.0;
+  for (long long c = 0; c < calls; ++c) {
+    epsilon = dqn::epsilon_at(envs.timesteps(), progress.total_timesteps, cfg_.exploration_fraction,
+                              cfg_.exploration_initial_eps, cfg_.exploration_final_eps);
+    collect_step(envs, epsilon, envs.timesteps() < cfg_.learning_starts);
+  }
+
+  const double lr = cfg_.anneal_lr ? cfg_.learning_rate * progress.remaining(envs.timesteps()) : cfg_.learning_rate;
+  optimizer_->set_learning_rate(static_cast<float>(lr));
+  double loss_sum = 0, q_sum = 0, norm_sum = 0;
+  int trained = 0;
+  if (envs.timesteps() > cfg_.learning_starts) {
+    for (; trained < cfg_.gradient_steps; ++trained) gradient_step(loss_sum, q_sum, norm_sum);
+  }
+  const double m = std::max(trained, 1);
+  return {{"loss", loss_sum / m},
+          {"q_mean", q_sum / m},
+          {"grad_norm", norm_sum / m},
+          {"epsilon", epsilon},
+          {"learning_rate", lr},
+          {"gradient_steps", static_cast<double>(gradient_steps_)},
+          {"buffer_size", static_cast<double>(buffer_.size())}};
+}
+
+Action Dqn::act(const Observation& observation, bool deterministic, Rng& rng) {
+  // Stochastic acting (replay --stochastic) is epsilon-greedy with the final exploration rate.
+  if (!deterministic && rng.uniform() < cfg_.exploration_final_eps)
+    return Action::discrete(static_cast<int>(rng.below(static_cast<std::uint64_t>(num_actions_))));
+  obs_.resize(buffer_.observation_size(), 1);
+  encode_observation(observation, spec_.observation, obs_.col(0));
+  return Action::discrete(argmax(q_.infer(obs_).col(0)));
+}
+
+void Dqn::save(std::ostream& out, bool training_state) const {
+  nn::Mlp& q = const_cast<nn::Mlp&>(q_);  // params() hands out mutable views; saving only reads them
+  nn::save_params(q.params(), out);
+  if (!training_state) return;
+  nn::save_params(const_cast<nn::Mlp&>(target_).params(), out);
+  optimizer_->save_state(out);
+  write_string(out, rng_to_bytes(explore_rng_));
+  write_string(out, rng_to_bytes(replay_rng_));
+  nn::write_u64(out, static_cast<std::uint64_t>(env_calls_));
+  nn::write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
+  buffer_.save(out);
+}
+
+void Dqn::load(std::istream& in, bool training_state, const std::string& source) {
+  nn::load_params(q_.params(), in, source);
+  if (!training_state) {
+    target_.copy_values_from(q_);
+    return;
+  }
+  nn::load_params(target_.params(), in, source);
+  optimizer_->load_state(in, source);
+  explore_rng_ = rng_from_bytes(read_string(in, source), source);
+  replay_rng_ = rng_from_bytes(read_string(in, source), source);
+  env_calls_ = static_cast<long long>(nn::read_u64(in, source));
+  gradient_steps_ = static_cast<long long>(nn::read_u64(in, source));
+  buffer_.load(in, source);
+}
+
+}  // namespace
+
+std::unique_ptr<Algorithm> make_dqn(const TrainConfig& config, const Spec& spec) {
+  return std::make_unique<Dqn>(config, spec);
+}
+
+}  // namespace rdsim

@@ -1,0 +1,117 @@
+#include "rdsim/episode_tracker.hpp"
+
+#include <algorithm>
+
+#include "rdsim/stream_io.hpp"
+
+namespace rdsim {
+
+EpisodeTracker::EpisodeTracker(int num_envs, int window)
+    : running_(static_cast<std::size_t>(num_envs)), window_(std::max(1, window)) {}
+
+void EpisodeTracker::on_step(int env, double reward, bool success, bool done, long long timesteps,
+                             double wall_time) {
+  Running& r = running_[static_cast<std::size_t>(env)];
+  r.ret += reward;
+  ++r.length;
+  r.success = r.success || success;
+  if (!done) return;
+  EpisodeRecord rec{++episodes_, timesteps, r.ret, r.length, r.success, wall_time};
+  finished_.push_back(rec);
+  recent_.push_back(rec);
+  while (static_cast<int>(recent_.size()) > window_) recent_.pop_front();
+  r = Running{};
+}
+
+void EpisodeTracker::forget_running() {
+  for (auto& r : running_) r = Running{};
+}
+
+std::vector<EpisodeRecord> EpisodeTracker::take_finished() {
+  std::vector<EpisodeRecord> out;
+  out.swap(finished_);
+  return out;
+}
+
+EpisodeStats EpisodeTracker::stats() const {
+  EpisodeStats s;
+  s.count = static_cast<int>(recent_.size());
+  if (s.count == 0) return s;
+  s.min_return = recent_.front().episode_return;
+  s.max_return = recent_.front().episode_return;
+  for (const auto& e : recent_) {
+    s.mean_return += e.episode_return;
+    s.mean_length += e.length;
+    s.success_rate += e.success ? 1.0 : 0.0;
+    s.min_return = std::min(s.min_return, e.episode_return);
+    s.max_return = std::max(s.max_return, e.episode_return);
+  }
+  s.mean_return /= s.count;
+  s.mean_length /= s.count;
+  s.success_rate /= s.count;
+  return s;
+}
+
+namespace {
+
+void write_record(std::ostream& out, const EpisodeRecord& e) {
+  nn::write_u64(out, static_cast<std::uint64_t>(e.episode));
+  nn::write_u64(out, static_cast<std::uint64_t>(e.timesteps));
+  write_f64(out, e.episode_return);
+  nn::write_u32(out, static_cast<std::uint32_t>(e.length));
+  nn::write_u32(out, e.success ? 1 : 0);
+  write_f64(out, e.wall_time);
+}
+
+EpisodeRecord read_record(std::istream& in, const std::string& source) {
+  EpisodeRecord e;
+  e.episode = static_cast<long long>(nn::read_u64(in, source));
+  e.timesteps = static_cast<long long>(nn::read_u64(in, source));
+  e.episode_return = read_f64(in, source);
+  e.length = static_cast<int>(nn::read_u32(in, source));
+  e.success = nn::read_u32(in, source) != 0;
+  e.wall_time = read_f64(in, source);
+  return e;
+}
+
+}  // namespace
+
+void EpisodeTracker::save(std::ostream& out) const {
+  nn::write_u64(out, static_cast<std::uint64_t>(episodes_));
+  nn::write_u32(out, static_cast<std::uint32_t>(running_.size()));
+  for (const auto& r : running_) {
+    write_f64(out, r.ret);
+    nn::write_u32(out, static_cast<std::uint32_t>(r.length));
+    nn::write_u32(out, r.success ? 1 : 0);
+  }
+  nn::write_u32(out, static_cast<std::uint32_t>(recent_.size()));
+  for (const auto& e : recent_) write_record(out, e);
+  nn::write_u32(out, static_cast<std::uint32_t>(finished_.size()));
+  for (const auto& e : finished_) write_record(out, e);
+}
+
+void EpisodeTracker::load(std::istream& in, const std::string& source) {
+  const auto episodes = static_cast<long long>(nn::read_u64(in, source));
+  const std::uint32_t envs = nn::read_u32(in, source);
+  if (envs != running_.size()) {
+    throw Error(source + ": checkpoint has " + std::to_string(envs) + " envs, the config " +
+                std::to_string(running_.size()));
+  }
+  std::vector<Running> running(envs);
+  for (auto& r : running) {
+    r.ret = read_f64(in, source);
+    r.length = static_cast<int>(nn::read_u32(in, source));
+    r.success = nn::read_u32(in, source) != 0;
+  }
+  std::deque<EpisodeRecord> recent;
+  for (std::uint32_t n = nn::read_u32(in, source), i = 0; i < n; ++i) recent.push_back(read_record(in, source));
+  std::vector<EpisodeRecord> finished;
+  for (std::uint32_t n = nn::read_u32(in, source), i = 0; i < n; ++i) finished.push_back(read_record(in, source));
+  episodes_ = episodes;
+  running_ = std::move(running);
+  recent_ = std::move(recent);
+  while (static_cast<int>(recent_.size()) > window_) recent_.pop_front();
+  finished_ = std::move(finished);
+}
+
+}  // namespace rdsim

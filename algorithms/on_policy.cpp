@@ -1,0 +1,59 @@
+#include "rdsim/on_policy.hpp"
+
+#include <sstream>
+
+#include "rdsim/advantage.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/observation_batch.hpp"
+#include "rdsim/rng_bytes.hpp"
+#include "rdsim/stream_io.hpp"
+#include "rdsim/vec_env.hpp"
+
+namespace rdsim {
+
+OnPolicy::OnPolicy(const TrainConfig& config, const Spec& spec, RolloutSettings settings)
+    : spec_(spec),
+      settings_(settings),
+      sample_rng_(Rng::derive(config.seed, rng_stream::action_sampling)),
+      shuffle_rng_(Rng::derive(config.seed, rng_stream::minibatch_shuffle)) {
+  Rng init = Rng::derive(config.seed, rng_stream::network_init);
+  policy_ = std::make_unique<ActorCritic>(spec, config.network, init);
+}
+
+Metrics OnPolicy::update(VecEnv& envs, const TrainProgress& progress) {
+  if (rollout_.envs != envs.size() || rollout_.steps != settings_.n_steps) {
+    rollout_.resize(settings_.n_steps, envs.size(), policy_->observation_size(), policy_->action_dim());
+  }
+  collect_rollout(envs, *policy_, sample_rng_, rollout_);
+  compute_gae(rollout_, static_cast<float>(settings_.gamma), static_cast<float>(settings_.gae_lambda));
+  ++updates_;
+  return train(progress.remaining(envs.timesteps()));
+}
+
+Action OnPolicy::act(const Observation& observation, bool deterministic, Rng& rng) {
+  Eigen::MatrixXf obs(policy_->observation_size(), 1);
+  encode_observation(observation, spec_.observation, obs.col(0));
+  ActBatch out;
+  policy_->act(obs, deterministic, rng, out);
+  return policy_->env_action(out.actions.col(0));
+}
+
+void OnPolicy::save(std::ostream& out, bool training_state) const {
+  nn::save_params(policy_->params(), out);
+  if (!training_state) return;
+  optimizer_->save_state(out);
+  write_string(out, rng_to_bytes(sample_rng_));
+  write_string(out, rng_to_bytes(shuffle_rng_));
+  nn::write_u64(out, static_cast<std::uint64_t>(updates_));
+}
+
+void OnPolicy::load(std::istream& in, bool training_state, const std::string& source) {
+  nn::load_params(policy_->params(), in, source);
+  if (!training_state) return;
+  optimizer_->load_state(in, source);
+  sample_rng_ = rng_from_bytes(read_string(in, source), source);
+  shuffle_rng_ = rng_from_bytes(read_string(in, source), source);
+  updates_ = static_cast<long long>(nn::read_u64(in, source));
+}
+
+}  // namespace rdsim

@@ -1,0 +1,122 @@
+#include "rdsim/envs/cartpole.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "rdsim/error.hpp"
+#include "rdsim/rng_bytes.hpp"
+
+namespace rdsim {
+namespace {
+
+constexpr int default_max_steps = 500;
+
+// The whole mutable state, copied as bytes by save_state().
+struct Snapshot {
+  double x, x_dot, theta, theta_dot;
+  int steps;
+  bool done;
+};
+
+}  // namespace
+
+CartPole::CartPole(const EnvConfig& config) {
+  if (config.observation != ObservationMode::GroundTruth) {
+    throw Error("env.observation: cartpole only offers \"ground_truth\" observations");
+  }
+  if (!config.is_discrete) throw Error("env.is_discrete: cartpole only has a discrete action space");
+  spec_.env_name = "cartpole";
+  spec_.observation.type = ObsType::Float32;
+  spec_.observation.shape = {4};
+  const float big = std::numeric_limits<float>::max();
+  spec_.observation.high.resize(4);
+  spec_.observation.high << static_cast<float>(2 * x_threshold), big, static_cast<float>(2 * theta_threshold), big;
+  spec_.observation.low = -spec_.observation.high;
+  spec_.action.discrete = true;
+  spec_.action.n = 2;
+  spec_.max_episode_steps = config.max_steps > 0 ? config.max_steps : default_max_steps;
+  spec_.control_dt = tau;
+}
+
+Observation CartPole::observe() const {
+  Observation obs;
+  obs.values.resize(4);
+  obs.values << static_cast<float>(x_), static_cast<float>(x_dot_), static_cast<float>(theta_),
+      static_cast<float>(theta_dot_);
+  return obs;
+}
+
+Observation CartPole::reset(std::optional<std::uint64_t> seed) {
+  if (seed) rng_.reseed(*seed);
+  x_ = rng_.uniform(-0.05, 0.05);
+  x_dot_ = rng_.uniform(-0.05, 0.05);
+  theta_ = rng_.uniform(-0.05, 0.05);
+  theta_dot_ = rng_.uniform(-0.05, 0.05);
+  steps_ = 0;
+  done_ = false;
+  return observe();
+}
+
+StepResult CartPole::step(const Action& action) {
+  if (action.index != 0 && action.index != 1) {
+    throw Error("cartpole: action must be 0 (push left) or 1 (push right), got " + std::to_string(action.index));
+  }
+  StepResult r;
+  if (done_) {
+    // Stepping a finished episode (Gym warns): nothing moves, no reward.
+    r.observation = observe();
+    r.terminated = true;
+    return r;
+  }
+  const double total_mass = cart_mass + pole_mass;
+  const double pole_mass_length = pole_mass * half_length;
+  const double force = action.index == 1 ? force_mag : -force_mag;
+  const double cos_theta = std::cos(theta_), sin_theta = std::sin(theta_);
+  const double temp = (force + pole_mass_length * theta_dot_ * theta_dot_ * sin_theta) / total_mass;
+  const double theta_acc = (gravity * sin_theta - cos_theta * temp) /
+                           (half_length * (4.0 / 3.0 - pole_mass * cos_theta * cos_theta / total_mass));
+  const double x_acc = temp - pole_mass_length * theta_acc * cos_theta / total_mass;
+  // Explicit Euler in Gym's order: positions advance with the old velocities.
+  x_ += tau * x_dot_;
+  x_dot_ += tau * x_acc;
+  theta_ += tau * theta_dot_;
+  theta_dot_ += tau * theta_acc;
+  ++steps_;
+
+  r.observation = observe();
+  r.reward = 1.0f;
+  r.terminated = x_ < -x_threshold || x_ > x_threshold || theta_ < -theta_threshold || theta_ > theta_threshold;
+  r.truncated = steps_ >= spec_.max_episode_steps;
+  r.info.success = r.truncated && !r.terminated;
+  r.info.out_of_bounds = x_ < -x_threshold || x_ > x_threshold;
+  r.info.distance = static_cast<float>(std::abs(theta_));
+  done_ = r.terminated || r.truncated;
+  return r;
+}
+
+std::string CartPole::save_state() const {
+  Snapshot s;
+  std::memset(&s, 0, sizeof s);  // padding too: identical states give identical bytes
+  s = Snapshot{x_, x_dot_, theta_, theta_dot_, steps_, done_};
+  std::string bytes(sizeof(Snapshot), '\0');
+  std::memcpy(bytes.data(), &s, sizeof(Snapshot));
+  return bytes + rng_to_bytes(rng_);
+}
+
+void CartPole::load_state(const std::string& bytes, const std::string& source) {
+  if (bytes.size() != sizeof(Snapshot) + sizeof(Rng)) throw Error(source + ": not a cartpole state");
+  Snapshot s;
+  std::memcpy(&s, bytes.data(), sizeof(Snapshot));
+  rng_ = rng_from_bytes(bytes.substr(sizeof(Snapshot)), source);
+  x_ = s.x;
+  x_dot_ = s.x_dot;
+  theta_ = s.theta;
+  theta_dot_ = s.theta_dot;
+  steps_ = s.steps;
+  done_ = s.done;
+}
+
+std::unique_ptr<Env> make_cartpole(const EnvConfig& config) { return std::make_unique<CartPole>(config); }
+
+}  // namespace rdsim

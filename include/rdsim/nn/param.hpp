@@ -1,0 +1,48 @@
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+// Trainable tensors as seen by optimisers, gradient clipping and serialisation.
+namespace rdsim::nn {
+
+// A value matrix and its gradient (same shape), owned together. Networks hold their weights
+// in Tensors; a free parameter such as a Gaussian policy's log-std is simply a Tensor (dims x 1).
+struct Tensor {
+  Eigen::MatrixXf value;
+  Eigen::MatrixXf grad;
+
+  Tensor() = default;
+  // Zero value and zero gradient of the given shape.
+  Tensor(int rows, int cols);
+
+  void zero_grad() { grad.setZero(); }
+};
+
+// A non-owning view of one trainable tensor. The pointers stay valid while the owner lives and
+// is not moved or copied: take params() again after moving a network (e.g. into a vector).
+struct Param {
+  Eigen::MatrixXf* value = nullptr;
+  Eigen::MatrixXf* grad = nullptr;
+  std::string name;  // for error messages ("layer1.weight")
+};
+
+using ParamList = std::vector<Param>;
+
+// A Param viewing `tensor`.
+Param param_of(Tensor& tensor, std::string name);
+
+// Sets every gradient in the list to zero.
+void zero_grad(const ParamList& params);
+
+// Total number of scalars in the list.
+long long parameter_count(const ParamList& params);
+
+// sqrt(sum of every squared gradient entry).
+float global_grad_norm(const ParamList& params);
+
+// Scales all gradients by max_norm / norm when the global norm exceeds max_norm (as the common
+// baselines do, with a 1e-6 guard). Returns the global norm BEFORE clipping.
+float clip_grad_norm(const ParamList& params, float max_norm);
+
+}  // namespace rdsim::nn

@@ -1,0 +1,47 @@
+#pragma once
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace rdsim {
+
+// Primitive kinds the renderer draws. Every shape is centred on its pose's origin.
+enum class Shape { Box, Cylinder, Sphere, Capsule, Plane };
+
+// One drawable primitive. Meaning of `size` per kind (MuJoCo/Bullet conventions):
+//   Box:      size = half extents (x, y, z)
+//   Cylinder: size.x = radius, size.y = full length along local z
+//   Sphere:   size.x = radius
+//   Capsule:  size.x = radius, size.y = distance between the two cap centres, along local z
+//             (the cylindrical part; total length is size.y + 2 * size.x)
+//   Plane:    local xy plane facing +z, size.x/size.y = half extents; 0 means "as far as the
+//             camera sees" (zfar). Seen from below (-z side) it is not drawn.
+// rgba: colours in [0, 1]. Items are opaque; alpha == 0 hides the item without removing it.
+struct DrawItem {
+  Shape kind = Shape::Box;
+  Eigen::Vector3f size{0.05f, 0.05f, 0.05f};
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  Eigen::Vector4f rgba{0.7f, 0.7f, 0.7f, 1.0f};
+};
+
+DrawItem make_box(const Eigen::Vector3f& half_extents, const Eigen::Vector4f& rgba);
+DrawItem make_cylinder(float radius, float length, const Eigen::Vector4f& rgba);
+DrawItem make_sphere(float radius, const Eigen::Vector4f& rgba);
+DrawItem make_capsule(float radius, float length, const Eigen::Vector4f& rgba);
+DrawItem make_plane(float half_x, float half_y, const Eigen::Vector4f& rgba);
+
+// What to draw. The env builds the item list once (one item per visual shape) and then only
+// writes poses each frame, so an update costs one Isometry3f copy per item.
+struct Scene {
+  std::vector<DrawItem> items;
+  Eigen::Vector3f background{0.8f, 0.8f, 0.8f};         // clear colour, light grey
+  Eigen::Vector3f light_direction{-0.4f, -0.3f, -1.0f};  // world direction the light travels
+  float ambient = 0.35f;                                 // light intensities, per channel
+  float diffuse = 0.65f;
+
+  // Appends an item and returns its index for later set_pose calls.
+  int add(const DrawItem& item);
+  // std::out_of_range when index is not an item of this scene.
+  void set_pose(int index, const Eigen::Isometry3f& pose);
+};
+
+}  // namespace rdsim

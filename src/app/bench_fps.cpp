@@ -1,0 +1,178 @@
+// `rdsim bench-fps`: env steps per second in the shape of the paper's Table 3.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "rdsim/app.hpp"
+#include "rdsim/env_registry.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/files.hpp"
+#include "rdsim/rng.hpp"
+
+namespace rdsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct BenchRow {
+  std::string env;
+  std::string mode;
+  double steps_per_s = 0;                  // median over runs
+  std::vector<double> runs;                // every run, for the JSON
+  std::optional<double> physics_per_s;     // bare physics steps/s of the same world
+  std::optional<double> paper_steps_per_s; // RobotDrlSim Table 3, where the paper has the row
+  long long episodes = 0;
+};
+
+// RobotDrlSim (MSOTA 2020) Table 3, measured on the authors' machine with PyBullet.
+std::optional<double> paper_rate(const std::string& env, const std::string& mode) {
+  const bool pixels = mode == "raw_pixels";
+  if (env.rfind("jaka", 0) == 0) return pixels ? 22.0 : 506.0;
+  if (env.rfind("inmoov", 0) == 0) return pixels ? 8.0 : 76.0;
+  return std::nullopt;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+Action random_action(const ActionSpace& space, Rng& rng) {
+  if (space.discrete) return Action::discrete(static_cast<int>(rng.below(space.n)));
+  Eigen::VectorXf v(space.low.size());
+  for (int i = 0; i < v.size(); ++i) v[i] = static_cast<float>(rng.uniform(space.low[i], space.high[i]));
+  return Action::continuous(std::move(v));
+}
+
+// One timed run: random actions, resets included (as an agent would see it).
+double env_run(Env& env, long long steps, std::uint64_t seed, long long& episodes) {
+  Rng rng = Rng::derive(seed, 1);
+  const ActionSpace& space = env.spec().action;
+  // Actions are drawn before the clock starts so the row measures the env alone.
+  std::vector<Action> actions;
+  actions.reserve(static_cast<size_t>(std::min<long long>(steps, 4096)));
+  for (size_t i = 0; i < actions.capacity(); ++i) actions.push_back(random_action(space, rng));
+  env.reset(seed);
+  const auto t0 = Clock::now();
+  for (long long i = 0; i < steps; ++i) {
+    StepResult r = env.step(actions[static_cast<size_t>(i) % actions.size()]);
+    if (r.terminated || r.truncated) {
+      env.reset();
+      ++episodes;
+    }
+  }
+  return static_cast<double>(steps) / seconds_since(t0);
+}
+
+std::optional<double> physics_run(Env& env, long long steps, std::uint64_t seed) {
+  env.reset(seed);
+  if (!env.step_physics_only()) return std::nullopt;
+  const auto t0 = Clock::now();
+  for (long long i = 0; i < steps; ++i) env.step_physics_only();
+  return static_cast<double>(steps) / seconds_since(t0);
+}
+
+std::optional<BenchRow> bench_row(const EnvEntry& entry, const std::string& mode,
+                                  const BenchFpsOptions& o) {
+  EnvConfig config;
+  config.name = entry.name;
+  config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
+  std::unique_ptr<Env> env;
+  try {
+    env = entry.make(config);
+  } catch (const Error& e) {
+    std::fprintf(stderr, "bench-fps: skipping %s / %s: %s\n", entry.name.c_str(), mode.c_str(), e.what());
+    return std::nullopt;
+  }
+  BenchRow row{entry.name, mode, 0, {}, std::nullopt, paper_rate(entry.name, mode), 0};
+  long long warmup_episodes = 0;
+  env_run(*env, std::max<long long>(o.steps / 10, 100), 12345, warmup_episodes);
+  std::vector<double> physics;
+  for (int r = 0; r < o.runs; ++r) {
+    row.runs.push_back(env_run(*env, o.steps, static_cast<std::uint64_t>(r), row.episodes));
+    if (auto p = physics_run(*env, o.steps, static_cast<std::uint64_t>(r))) physics.push_back(*p);
+  }
+  row.steps_per_s = median(row.runs);
+  if (!physics.empty()) row.physics_per_s = median(physics);
+  return row;
+}
+
+std::string fmt(double v, const char* spec = "%.0f") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, spec, v);
+  return buf;
+}
+
+void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchFpsOptions& o) {
+  std::fprintf(out, "\nrdsim bench-fps: env steps/s on one thread, random actions, resets included\n");
+  std::fprintf(out, "median of %d runs x %lld steps; physics = the same world stepped with no env work\n\n",
+              o.runs, o.steps);
+  std::fprintf(out, "%-16s %-13s %12s %14s %12s %11s %12s\n", "env", "observation", "steps/s",
+              "physics st/s", "env/physics", "paper st/s", "vs paper");
+  for (const auto& r : rows) {
+    std::string phys = r.physics_per_s ? fmt(*r.physics_per_s) : "-";
+    std::string ratio = r.physics_per_s ? fmt(*r.physics_per_s / r.steps_per_s, "%.2fx") : "-";
+    std::string paper = r.paper_steps_per_s ? fmt(*r.paper_steps_per_s) : "-";
+    std::string gain = r.paper_steps_per_s ? fmt(r.steps_per_s / *r.paper_steps_per_s, "%.0fx") : "-";
+    std::fprintf(out, "%-16s %-13s %12.0f %14s %12s %11s %12s\n", r.env.c_str(), r.mode.c_str(),
+                r.steps_per_s, phys.c_str(), ratio.c_str(), paper.c_str(), gain.c_str());
+  }
+  std::fprintf(out, "\nenv/physics: cost of one env step over the bare physics step(s) it contains.\n");
+}
+
+nlohmann::json to_json(const std::vector<BenchRow>& rows, const BenchFpsOptions& o) {
+  nlohmann::json j = {{"runs", o.runs}, {"steps_per_run", o.steps}, {"threads", 1}, {"rows", nlohmann::json::array()}};
+  for (const auto& r : rows) {
+    nlohmann::json row = {{"env", r.env}, {"observation", r.mode}, {"steps_per_s", r.steps_per_s},
+                          {"runs_steps_per_s", r.runs}, {"episodes", r.episodes}};
+    row["physics_steps_per_s"] = r.physics_per_s ? nlohmann::json(*r.physics_per_s) : nlohmann::json(nullptr);
+    row["paper_steps_per_s"] = r.paper_steps_per_s ? nlohmann::json(*r.paper_steps_per_s) : nlohmann::json(nullptr);
+    j["rows"].push_back(row);
+  }
+  return j;
+}
+
+bool wanted(const std::vector<std::string>& filter, const std::string& value) {
+  return filter.empty() || std::find(filter.begin(), filter.end(), value) != filter.end();
+}
+
+}  // namespace
+
+int bench_fps_command(const BenchFpsOptions& o) {
+  for (const auto& name : o.envs) {
+    EnvConfig probe;
+    probe.name = name;
+    bool known = false;
+    for (const auto& e : env_registry()) known |= e.name == name;
+    if (!known) make_env(probe);  // throws the "unknown environment" error with the known names
+  }
+  std::vector<BenchRow> rows;
+  for (const auto& entry : env_registry()) {
+    if (!wanted(o.envs, entry.name)) continue;
+    for (std::string mode : {"ground_truth", "raw_pixels"}) {
+      if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.supports_pixels)) continue;
+      std::fprintf(stderr, "bench-fps: %s / %s ...\n", entry.name.c_str(), mode.c_str());
+      if (auto row = bench_row(entry, mode, o)) rows.push_back(std::move(*row));
+    }
+  }
+  if (rows.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
+  // With JSON on stdout the human table goes to stderr, so the JSON stays machine-readable.
+  print_table(o.json_path == "-" ? stderr : stdout, rows, o);
+  if (o.json_path == "-") {
+    std::cout << to_json(rows, o).dump(2) << "\n";
+  } else if (!o.json_path.empty()) {
+    write_file_atomic(o.json_path, to_json(rows, o).dump(2) + "\n");
+    std::printf("wrote %s\n", o.json_path.c_str());
+  }
+  return 0;
+}
+
+}  // namespace rdsim

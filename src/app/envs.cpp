@@ -1,0 +1,17 @@
+// `rdsim envs`: what can be named in a config's "env.name".
+#include <cstdio>
+
+#include "rdsim/app.hpp"
+#include "rdsim/env_registry.hpp"
+
+namespace rdsim {
+
+int envs_command() {
+  std::printf("%-16s %-7s %s\n", "name", "pixels", "description");
+  for (const auto& e : env_registry()) {
+    std::printf("%-16s %-7s %s\n", e.name.c_str(), e.supports_pixels ? "yes" : "no", e.description.c_str());
+  }
+  return 0;
+}
+
+}  // namespace rdsim

@@ -1,0 +1,25 @@
+#include "gl_api.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace rdsim::render {
+namespace {
+
+template <typename Fn>
+void load(Fn& slot, GlGetProc get_proc, const char* name) {
+  slot = reinterpret_cast<Fn>(get_proc(name));
+  if (!slot) throw std::runtime_error(std::string("renderer: GL function ") + name + " not available");
+}
+
+}  // namespace
+
+GlApi load_gl_api(GlGetProc get_proc) {
+  GlApi gl;
+#define RDSIM_GL_LOAD(name) load(gl.name, get_proc, #name);
+  RDSIM_GL_FUNCTIONS(RDSIM_GL_LOAD)
+#undef RDSIM_GL_LOAD
+  return gl;
+}
+
+}  // namespace rdsim::render

@@ -1,0 +1,143 @@
+#include "gl_scene_drawer.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <stdexcept>
+
+namespace rdsim::render {
+namespace {
+
+Eigen::Matrix4f scaled(const Eigen::Matrix4f& m, const Eigen::Vector3f& s) {
+  Eigen::Matrix4f out = m;
+  out.col(0) *= s.x();
+  out.col(1) *= s.y();
+  out.col(2) *= s.z();
+  return out;
+}
+
+Eigen::Matrix4f translated_z(const Eigen::Matrix4f& m, float z) {
+  Eigen::Matrix4f out = m;
+  out.col(3) += z * m.col(2);
+  return out;
+}
+
+std::uint8_t to_byte(float v) {
+  return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
+}
+
+// Swaps rows in place: GL reads bottom-up, our images are top-down.
+void flip_rows(std::uint8_t* rgb, int width, int height) {
+  const size_t row = static_cast<size_t>(width) * 3;
+  for (int top = 0, bottom = height - 1; top < bottom; ++top, --bottom)
+    std::swap_ranges(rgb + row * static_cast<size_t>(top), rgb + row * static_cast<size_t>(top + 1),
+                     rgb + row * static_cast<size_t>(bottom));
+}
+
+}  // namespace
+
+GlSceneDrawer::GlSceneDrawer(const GlApi& gl, int width, int height)
+    : gl_(gl), width_(width), height_(height), meshes_(build_unit_meshes()) {
+  gl_.glViewport(0, 0, width_, height_);
+  gl_.glEnable(GL_DEPTH_TEST);
+  gl_.glEnable(GL_CULL_FACE);
+  gl_.glCullFace(GL_BACK);
+  gl_.glFrontFace(GL_CCW);
+  gl_.glDisable(GL_LIGHTING);
+  gl_.glShadeModel(GL_SMOOTH);
+  gl_.glEnableClientState(GL_VERTEX_ARRAY);
+  gl_.glEnableClientState(GL_COLOR_ARRAY);
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  gl_.glMatrixMode(GL_MODELVIEW);
+  gl_.glLoadMatrixf(identity.data());
+  gl_.glMatrixMode(GL_PROJECTION);
+  gl_.glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  if (gl_.glGetError() != GL_NO_ERROR) throw std::runtime_error("renderer: GL setup failed");
+}
+
+void GlSceneDrawer::add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view,
+                             const Eigen::Vector3f& rgb, const Lighting& light) {
+  const MeshRange& r = meshes_.range(mesh);
+  const Eigen::Matrix3f linear = model_view.topLeftCorner<3, 3>();
+  const Eigen::Vector3f offset = model_view.topRightCorner<3, 1>();
+  // Normals transform by the inverse transpose, which undoes non-uniform scale.
+  const Eigen::Matrix3f normal_matrix = linear.inverse().transpose();
+  const auto base = static_cast<GLuint>(vertices_.size());
+  for (int i = r.first_vertex; i < r.first_vertex + r.vertex_count; ++i) {
+    const Eigen::Vector3f p = linear * meshes_.positions[static_cast<size_t>(i)] + offset;
+    const Eigen::Vector3f n = (normal_matrix * meshes_.normals[static_cast<size_t>(i)]).normalized();
+    const float shade = light.ambient + light.diffuse * std::max(0.0f, n.dot(light.to_light));
+    vertices_.push_back({p.x(), p.y(), p.z(),
+                         {to_byte(rgb.x() * shade), to_byte(rgb.y() * shade),
+                          to_byte(rgb.z() * shade), 255}});
+  }
+  // Back faces culled here rather than by GL: half the triangles then skip the rasteriser's
+  // per-triangle clip and setup work. In eye space the camera sits at the origin, so a triangle
+  // faces it when its (counter-clockwise) normal points back towards the origin.
+  const std::uint16_t* tri = meshes_.indices.data() + r.first_index;
+  for (int t = 0; t < r.index_count; t += 3, tri += 3) {
+    const Vertex& a = vertices_[base + tri[0]];
+    const Vertex& b = vertices_[base + tri[1]];
+    const Vertex& c = vertices_[base + tri[2]];
+    const Eigen::Vector3f pa(a.x, a.y, a.z);
+    const Eigen::Vector3f normal =
+        (Eigen::Vector3f(b.x, b.y, b.z) - pa).cross(Eigen::Vector3f(c.x, c.y, c.z) - pa);
+    if (normal.dot(pa) < 0.0f) indices_.insert(indices_.end(), {base + tri[0], base + tri[1], base + tri[2]});
+  }
+}
+
+void GlSceneDrawer::add_item(const DrawItem& item, const Eigen::Matrix4f& view, float far_extent,
+                             const Lighting& light) {
+  const Eigen::Matrix4f mv = view * item.pose.matrix();
+  const Eigen::Vector3f& s = item.size;
+  const Eigen::Vector3f rgb = item.rgba.head<3>();
+  switch (item.kind) {
+    case Shape::Box:
+      add_mesh(UnitMesh::Box, scaled(mv, s), rgb, light);
+      break;
+    case Shape::Cylinder:
+      add_mesh(UnitMesh::Cylinder, scaled(mv, {s.x(), s.x(), 0.5f * s.y()}), rgb, light);
+      break;
+    case Shape::Sphere:
+      add_mesh(UnitMesh::Sphere, scaled(mv, Eigen::Vector3f::Constant(s.x())), rgb, light);
+      break;
+    case Shape::Capsule: {
+      const float r = s.x(), half = 0.5f * s.y();
+      if (half > 0.0f) add_mesh(UnitMesh::Cylinder, scaled(mv, {r, r, half}), rgb, light);
+      // The lower cap is the upper one turned upside down (x and z flipped: a rotation).
+      add_mesh(UnitMesh::Hemisphere, scaled(translated_z(mv, half), Eigen::Vector3f::Constant(r)),
+               rgb, light);
+      add_mesh(UnitMesh::Hemisphere, scaled(translated_z(mv, -half), {-r, r, -r}), rgb, light);
+      break;
+    }
+    case Shape::Plane: {
+      const float hx = s.x() > 0.0f ? s.x() : far_extent;
+      const float hy = s.y() > 0.0f ? s.y() : far_extent;
+      add_mesh(UnitMesh::Quad, scaled(mv, {hx, hy, 1.0f}), rgb, light);
+      break;
+    }
+  }
+}
+
+void GlSceneDrawer::draw(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) {
+  const Eigen::Matrix4f view = view_matrix(camera);
+  const Lighting light{-(view.topLeftCorner<3, 3>() * scene.light_direction).normalized(),
+                       scene.ambient, scene.diffuse};
+  vertices_.clear();
+  indices_.clear();
+  for (const DrawItem& item : scene.items)
+    if (item.rgba[3] > 0.0f) add_item(item, view, camera.zfar, light);
+
+  gl_.glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+  gl_.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  gl_.glLoadMatrixf(projection_matrix(camera).data());
+  if (!indices_.empty()) {
+    gl_.glVertexPointer(3, GL_FLOAT, sizeof(Vertex), &vertices_[0].x);
+    gl_.glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(Vertex), vertices_[0].rgba);
+    gl_.glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indices_.size()), GL_UNSIGNED_INT,
+                       indices_.data());
+  }
+  gl_.glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb_out);
+  flip_rows(rgb_out, width_, height_);
+}
+
+}  // namespace rdsim::render

@@ -1,0 +1,49 @@
+#include "rdsim/scene.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace rdsim {
+namespace {
+DrawItem make_item(Shape kind, const Eigen::Vector3f& size, const Eigen::Vector4f& rgba) {
+  DrawItem item;
+  item.kind = kind;
+  item.size = size;
+  item.rgba = rgba;
+  return item;
+}
+}  // namespace
+
+DrawItem make_box(const Eigen::Vector3f& half_extents, const Eigen::Vector4f& rgba) {
+  return make_item(Shape::Box, half_extents, rgba);
+}
+
+DrawItem make_cylinder(float radius, float length, const Eigen::Vector4f& rgba) {
+  return make_item(Shape::Cylinder, {radius, length, 0.0f}, rgba);
+}
+
+DrawItem make_sphere(float radius, const Eigen::Vector4f& rgba) {
+  return make_item(Shape::Sphere, {radius, 0.0f, 0.0f}, rgba);
+}
+
+DrawItem make_capsule(float radius, float length, const Eigen::Vector4f& rgba) {
+  return make_item(Shape::Capsule, {radius, length, 0.0f}, rgba);
+}
+
+DrawItem make_plane(float half_x, float half_y, const Eigen::Vector4f& rgba) {
+  return make_item(Shape::Plane, {half_x, half_y, 0.0f}, rgba);
+}
+
+int Scene::add(const DrawItem& item) {
+  items.push_back(item);
+  return static_cast<int>(items.size()) - 1;
+}
+
+void Scene::set_pose(int index, const Eigen::Isometry3f& pose) {
+  if (index < 0 || index >= static_cast<int>(items.size()))
+    throw std::out_of_range("Scene::set_pose: no item " + std::to_string(index) + " (scene has " +
+                            std::to_string(items.size()) + ")");
+  items[static_cast<size_t>(index)].pose = pose;
+}
+
+}  // namespace rdsim

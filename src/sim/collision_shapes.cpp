@@ -1,0 +1,75 @@
+// Bullet collision shapes from rdsim Shapes.
+#include <algorithm>
+
+#include "src/sim/physics_world_impl.hpp"
+
+namespace rdsim {
+namespace {
+
+// Box and cylinder margins sit inside the shape in Bullet, so they only round its edges. The
+// default (4 cm) would swallow our small parts; 4 mm keeps edges nearly sharp while leaving GJK
+// its margin, and never more than a quarter of the thinnest half-extent.
+btScalar margin_for(const btVector3& half_extents) {
+  return std::min(btScalar(0.004), btScalar(0.25) * half_extents[half_extents.minAxis()]);
+}
+
+std::unique_ptr<btCollisionShape> make_primitive(const Shape& s) {
+  switch (s.type) {
+    case ShapeType::Box: {
+      const btVector3 half = to_bt(s.size) * btScalar(0.5);
+      auto box = std::make_unique<btBoxShape>(half);
+      box->setMargin(margin_for(half));
+      return box;
+    }
+    case ShapeType::Cylinder: {
+      const btVector3 half(static_cast<btScalar>(s.radius), static_cast<btScalar>(s.radius),
+                           static_cast<btScalar>(s.length * 0.5));
+      auto cylinder = std::make_unique<btCylinderShapeZ>(half);
+      cylinder->setMargin(margin_for(half));
+      return cylinder;
+    }
+    case ShapeType::Sphere:
+      return std::make_unique<btSphereShape>(static_cast<btScalar>(s.radius));
+  }
+  return nullptr;
+}
+
+bool is_identity(const Eigen::Isometry3d& t) { return t.matrix().isIdentity(1e-9); }
+
+}  // namespace
+
+btTransform to_bt(const Eigen::Isometry3f& t) {
+  const Eigen::Matrix3f& r = t.linear();
+  return btTransform(btMatrix3x3(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2)),
+                     to_bt(Eigen::Vector3f(t.translation())));
+}
+
+btTransform to_bt(const Eigen::Isometry3d& t) { return to_bt(Eigen::Isometry3f(t.cast<float>())); }
+
+Eigen::Isometry3f from_bt(const btTransform& t) {
+  Eigen::Isometry3f out = Eigen::Isometry3f::Identity();
+  const btMatrix3x3& r = t.getBasis();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) out.linear()(i, j) = r[i][j];
+  out.translation() = from_bt(t.getOrigin());
+  return out;
+}
+
+btCollisionShape* make_collision_shape(const std::vector<PlacedShape>& shapes,
+                                       std::vector<std::unique_ptr<btCollisionShape>>& store) {
+  if (shapes.empty()) return nullptr;
+  if (shapes.size() == 1 && is_identity(shapes[0].pose)) {
+    store.push_back(make_primitive(shapes[0].shape));
+    return store.back().get();
+  }
+  // A handful of children: a flat list is cheaper than the compound's AABB tree.
+  auto compound = std::make_unique<btCompoundShape>(shapes.size() > 8);
+  for (const auto& p : shapes) {
+    store.push_back(make_primitive(p.shape));
+    compound->addChildShape(to_bt(p.pose), store.back().get());
+  }
+  store.push_back(std::move(compound));
+  return store.back().get();
+}
+
+}  // namespace rdsim

@@ -1,0 +1,177 @@
+#include "rdsim/physics_world.hpp"
+
+#include <BulletCollision/CollisionShapes/btEmptyShape.h>
+
+#include <algorithm>
+#include <string>
+
+#include "rdsim/error.hpp"
+#include "src/sim/physics_world_impl.hpp"
+
+namespace rdsim {
+namespace {
+
+bool is_part_of(const btCollisionObject* o, BodyLink who) {
+  return o->getUserIndex() == who.body && (who.link < 0 || o->getUserIndex2() == who.link);
+}
+
+BodyLink body_link(const btCollisionObject* o) { return BodyLink{o->getUserIndex(), o->getUserIndex2()}; }
+
+// Calls f(point) for every contact point between a and b (either way round).
+template <class F>
+void for_each_point(const btCollisionDispatcher& dispatcher, BodyLink a, BodyLink b, F&& f) {
+  const int n = dispatcher.getNumManifolds();
+  for (int i = 0; i < n; ++i) {
+    const btPersistentManifold* m = dispatcher.getManifoldByIndexInternal(i);
+    const int points = m->getNumContacts();
+    if (points == 0) continue;
+    const bool direct = is_part_of(m->getBody0(), a) && is_part_of(m->getBody1(), b);
+    const bool swapped = !direct && is_part_of(m->getBody0(), b) && is_part_of(m->getBody1(), a);
+    if (!direct && !swapped) continue;
+    for (int k = 0; k < points; ++k) f(m->getContactPoint(k));
+  }
+}
+
+}  // namespace
+
+PhysicsWorld::Impl::~Impl() {
+  robots.clear();  // each Robot takes its Bullet objects out of `world`
+  for (auto& s : statics)
+    if (s && s->getBroadphaseHandle()) world.removeCollisionObject(s.get());
+}
+
+void PhysicsWorld::Impl::forget_pairs(btCollisionObject* object) {
+  if (btBroadphaseProxy* proxy = object->getBroadphaseHandle())
+    broadphase.getOverlappingPairCache()->removeOverlappingPairsContainingProxy(proxy, &dispatcher);
+}
+
+PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings), impl_(std::make_unique<Impl>()) {
+  if (!(settings.time_step > 0.0)) throw Error("physics: time_step must be > 0");
+  if (settings.solver_iterations < 1) throw Error("physics: solver_iterations must be >= 1");
+  impl_->world.setGravity(to_bt(settings.gravity));
+  btContactSolverInfo& info = impl_->world.getSolverInfo();
+  info.m_numIterations = settings.solver_iterations;
+  info.m_leastSquaresResidualThreshold = static_cast<btScalar>(settings.solver_residual_threshold);
+  info.m_timeStep = static_cast<btScalar>(settings.time_step);
+}
+
+PhysicsWorld::~PhysicsWorld() { impl_->robots.clear(); }
+
+int PhysicsWorld::add_static_body(const RobotModel& model, const Eigen::Isometry3f& pose) {
+  const int body = body_count();
+  const std::vector<Eigen::Isometry3d> frames = model.link_poses_at_zero();
+  std::vector<PlacedShape> placed;
+  for (size_t l = 0; l < model.links.size(); ++l)
+    for (const Shape& s : model.links[l].collisions) placed.push_back({s, frames[l] * s.origin});
+
+  // One shape: its offset goes into the object's transform instead of a compound shape.
+  Eigen::Isometry3f offset = Eigen::Isometry3f::Identity();
+  if (placed.size() == 1) {
+    offset = placed[0].pose.cast<float>();
+    placed[0].pose.setIdentity();
+  }
+  auto object = std::make_unique<btCollisionObject>();
+  btCollisionShape* shape = make_collision_shape(placed, impl_->shapes);
+  const bool collides = shape != nullptr;
+  if (!collides) {  // visual-only decoration: keeps its id and pose, never collides
+    impl_->shapes.push_back(std::make_unique<btEmptyShape>());
+    shape = impl_->shapes.back().get();
+  }
+  object->setCollisionShape(shape);
+  object->setWorldTransform(to_bt(Eigen::Isometry3f(pose * offset)));
+  object->setCollisionFlags(object->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
+  object->setUserIndex(body);
+  object->setUserIndex2(0);
+  if (collides) impl_->world.addCollisionObject(object.get(), kStaticGroup, kStaticMask);
+  impl_->statics.push_back(std::move(object));
+  impl_->static_offsets.push_back(offset);
+  impl_->robots.push_back(nullptr);
+  return body;
+}
+
+void PhysicsWorld::set_static_pose(int body, const Eigen::Isometry3f& pose) {
+  if (body < 0 || body >= body_count() || !impl_->statics[static_cast<size_t>(body)])
+    throw Error("physics: body " + std::to_string(body) + " is not a static body");
+  btCollisionObject* o = impl_->statics[static_cast<size_t>(body)].get();
+  o->setWorldTransform(to_bt(Eigen::Isometry3f(pose * impl_->static_offsets[static_cast<size_t>(body)])));
+  if (o->getBroadphaseHandle()) {
+    impl_->world.updateSingleAabb(o);
+    impl_->forget_pairs(o);
+  }
+}
+
+Eigen::Isometry3f PhysicsWorld::static_pose(int body) const {
+  if (body < 0 || body >= body_count() || !impl_->statics[static_cast<size_t>(body)])
+    throw Error("physics: body " + std::to_string(body) + " is not a static body");
+  return from_bt(impl_->statics[static_cast<size_t>(body)]->getWorldTransform()) *
+         impl_->static_offsets[static_cast<size_t>(body)].inverse();
+}
+
+Robot& PhysicsWorld::add_robot(const RobotModel& model, const Eigen::Isometry3f& base_pose,
+                               const RobotOptions& options) {
+  const int body = body_count();
+  impl_->robots.push_back(std::make_unique<Robot>(*this, body, model, base_pose, options));
+  impl_->statics.push_back(nullptr);
+  impl_->static_offsets.push_back(Eigen::Isometry3f::Identity());
+  return *impl_->robots.back();
+}
+
+Robot& PhysicsWorld::robot(int body) {
+  return const_cast<Robot&>(static_cast<const PhysicsWorld*>(this)->robot(body));
+}
+
+const Robot& PhysicsWorld::robot(int body) const {
+  if (body < 0 || body >= body_count() || !impl_->robots[static_cast<size_t>(body)])
+    throw Error("physics: body " + std::to_string(body) + " is not a robot");
+  return *impl_->robots[static_cast<size_t>(body)];
+}
+
+int PhysicsWorld::body_count() const { return static_cast<int>(impl_->robots.size()); }
+
+void PhysicsWorld::step() {
+  for (auto& r : impl_->robots)
+    if (r) r->before_step();
+  const auto dt = static_cast<btScalar>(settings_.time_step);
+  impl_->world.stepSimulation(dt, 0, dt);  // maxSubSteps = 0: exactly one step of dt
+  time_ += settings_.time_step;
+}
+
+std::vector<Contact> PhysicsWorld::contacts(float max_distance) const {
+  std::vector<Contact> out;
+  const int n = impl_->dispatcher.getNumManifolds();
+  for (int i = 0; i < n; ++i) {
+    const btPersistentManifold* m = impl_->dispatcher.getManifoldByIndexInternal(i);
+    for (int k = 0; k < m->getNumContacts(); ++k) {
+      const btManifoldPoint& p = m->getContactPoint(k);
+      if (p.getDistance() > max_distance) continue;
+      out.push_back(Contact{body_link(m->getBody0()), body_link(m->getBody1()), from_bt(p.getPositionWorldOnA()),
+                            from_bt(p.getPositionWorldOnB()), from_bt(p.m_normalWorldOnB), p.getDistance()});
+    }
+  }
+  return out;
+}
+
+bool PhysicsWorld::touching(BodyLink a, BodyLink b, float tolerance) const {
+  bool found = false;
+  for_each_point(impl_->dispatcher, a, b, [&](const btManifoldPoint& p) { found |= p.getDistance() < tolerance; });
+  return found;
+}
+
+float PhysicsWorld::penetration(BodyLink a, BodyLink b) const {
+  float deepest = 0.0f;
+  for_each_point(impl_->dispatcher, a, b, [&](const btManifoldPoint& p) { deepest = std::max(deepest, -p.getDistance()); });
+  return deepest;
+}
+
+void PhysicsWorld::forget_contacts(int body) {
+  if (body < 0 || body >= body_count()) throw Error("physics: no body " + std::to_string(body));
+  if (auto& s = impl_->statics[static_cast<size_t>(body)]) {
+    impl_->forget_pairs(s.get());
+    return;
+  }
+  btCollisionObjectArray& objects = impl_->world.getCollisionObjectArray();
+  for (int i = 0; i < objects.size(); ++i)
+    if (objects[i]->getUserIndex() == body) impl_->forget_pairs(objects[i]);
+}
+
+}  // namespace rdsim

@@ -1,0 +1,358 @@
+#include "rdsim/robot.hpp"
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "rdsim/error.hpp"
+#include "rdsim/joint_dynamics.hpp"
+#include "rdsim/physics_world.hpp"
+#include "src/sim/physics_world_impl.hpp"
+
+namespace rdsim {
+namespace {
+
+constexpr double kMovableMinMass = 1e-3;  // kg, for massless links on movable joints
+constexpr double kMinMoment = 1e-8;       // kg m^2, smallest principal moment of a massive link
+
+// The frame Bullet simulates a link in: its centre of mass with principal axes.
+struct BodyFrame {
+  Eigen::Isometry3d in_link = Eigen::Isometry3d::Identity();  // body frame in the URDF link frame
+  double mass = 0.0;
+  Eigen::Vector3d moments = Eigen::Vector3d::Zero();
+};
+
+BodyFrame body_frame(const Link& link, bool on_movable_joint) {
+  BodyFrame f;
+  f.mass = link.inertial.mass;
+  const Eigen::Matrix3d& inertia = link.inertial.inertia;
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+  f.moments = inertia.diagonal();
+  const double off_diagonal = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
+  if (off_diagonal > 1e-12 * std::max(inertia.trace(), 1e-30)) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia);
+    axes = eig.eigenvectors();
+    f.moments = eig.eigenvalues();
+    if (axes.determinant() < 0.0) axes.col(2) *= -1.0;  // keep a right-handed frame
+  }
+  if (on_movable_joint && f.mass <= 0.0) {
+    f.mass = kMovableMinMass;
+    f.moments.setConstant(kMinMoment);
+  }
+  if (f.mass > 0.0) f.moments = f.moments.cwiseMax(kMinMoment);
+  f.in_link = link.inertial.origin;
+  f.in_link.linear() = link.inertial.origin.linear() * axes;
+  return f;
+}
+
+btQuaternion to_bt(const Eigen::Quaterniond& q) {
+  return btQuaternion(static_cast<btScalar>(q.x()), static_cast<btScalar>(q.y()), static_cast<btScalar>(q.z()),
+                      static_cast<btScalar>(q.w()));
+}
+
+// Whether nothing can move this link: every joint between it and the (fixed) base is fixed.
+bool welded_to_base(const RobotModel& model, int link) {
+  for (int l = link; l > 0; l = model.joints[static_cast<size_t>(l - 1)].parent_link)
+    if (model.joints[static_cast<size_t>(l - 1)].movable()) return false;
+  return true;
+}
+
+}  // namespace
+
+struct Robot::TorqueDrive {
+  JointDynamics dynamics;
+  Eigen::Vector3d gravity;  // in the root link's frame
+  Eigen::VectorXd q, qd, v_target, bias, impulse, limit, v_next;
+  Eigen::MatrixXd mass, mass_inverse;
+  Eigen::LLT<Eigen::MatrixXd> llt;
+
+  TorqueDrive(const RobotModel& model, const std::vector<Inertial>& inertials, int dof)
+      : dynamics(model, inertials), q(dof), qd(dof), v_target(dof), bias(dof), impulse(dof), limit(dof),
+        v_next(dof), mass(dof, dof), mass_inverse(dof, dof), llt(dof) {}
+
+  // Joint impulses (N m s) over dt that bring the joint speeds to v_target, each within +-limit:
+  // the box-constrained problem the motor constraints pose, solved exactly when nothing saturates
+  // and by projected Gauss-Seidel on M's inverse otherwise.
+  void solve_impulses(double dt) {
+    impulse.noalias() = mass * (v_target - qd);
+    impulse += bias * dt;
+    if ((impulse.cwiseAbs().array() <= limit.array()).all()) return;
+    llt.compute(mass);
+    mass_inverse.setIdentity();
+    llt.solveInPlace(mass_inverse);
+    impulse = impulse.cwiseMax(-limit).cwiseMin(limit);
+    v_next = qd + mass_inverse * (impulse - bias * dt);
+    for (int sweep = 0; sweep < 50; ++sweep) {
+      double largest_change = 0.0;
+      for (int i = 0; i < impulse.size(); ++i) {
+        const double wanted = impulse[i] + (v_target[i] - v_next[i]) / mass_inverse(i, i);
+        const double change = std::clamp(wanted, -limit[i], limit[i]) - impulse[i];
+        if (change == 0.0) continue;
+        impulse[i] += change;
+        v_next += mass_inverse.col(i) * change;
+        largest_change = std::max(largest_change, std::abs(change));
+      }
+      if (largest_change < 1e-9) break;
+    }
+  }
+};
+
+Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen::Isometry3f& base_pose,
+             const RobotOptions& options)
+    : world_(world), body_(body), model_(model), position_gain_(options.position_gain),
+      velocity_gain_(options.velocity_gain) {
+  if (model.links.empty()) throw Error(model.source + ": a robot needs at least one link");
+  PhysicsWorld::Impl& impl = world.impl();
+  const size_t n = model.links.size();
+  std::vector<BodyFrame> frames(n);
+  body_to_link_.resize(n);
+  std::vector<Inertial> simulated(n);  // what Bullet gets, for the drive's dynamics
+  for (size_t i = 0; i < n; ++i) {
+    frames[i] = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable());
+    body_to_link_[i] = frames[i].in_link.inverse().cast<float>();
+    simulated[i].mass = frames[i].mass;
+    simulated[i].inertia = frames[i].moments.asDiagonal();
+    simulated[i].origin = frames[i].in_link;
+  }
+
+  multibody_ = new btMultiBody(static_cast<int>(n) - 1, static_cast<btScalar>(frames[0].mass), to_bt(frames[0].moments),
+                               /*fixedBase=*/true, /*canSleep=*/false);
+  multibody_->setBaseWorldTransform(to_bt(Eigen::Isometry3f(base_pose * frames[0].in_link.cast<float>())));
+  for (size_t i = 1; i < n; ++i) {
+    const Joint& j = model.joints[i - 1];
+    const BodyFrame& parent = frames[static_cast<size_t>(j.parent_link)];
+    const BodyFrame& child = frames[i];
+    // Bullet wants, at q = 0: the rotation taking parent-body vectors into child-body vectors,
+    // the pivot (joint origin) from the parent's centre of mass in parent-body axes, and the
+    // child's centre of mass from the pivot in child-body axes.
+    const Eigen::Isometry3d joint_in_parent = parent.in_link.inverse() * j.origin;
+    const Eigen::Isometry3d child_in_parent = joint_in_parent * child.in_link;
+    const btQuaternion parent_to_this = to_bt(Eigen::Quaterniond(child_in_parent.linear().transpose()));
+    const btVector3 pivot = to_bt(Eigen::Vector3d(joint_in_parent.translation()));
+    const btVector3 pivot_to_com = to_bt(Eigen::Vector3d(child.in_link.linear().transpose() * child.in_link.translation()));
+    const btVector3 axis = to_bt(Eigen::Vector3d(child.in_link.linear().transpose() * j.axis));
+    const int link = static_cast<int>(i) - 1, parent_link = j.parent_link - 1;
+    const auto mass = static_cast<btScalar>(child.mass);
+    const btVector3 moments = to_bt(child.moments);
+    switch (j.type) {
+      case JointType::Revolute:
+      case JointType::Continuous:
+        multibody_->setupRevolute(link, mass, moments, parent_link, parent_to_this, axis, pivot, pivot_to_com, true);
+        break;
+      case JointType::Prismatic:
+        multibody_->setupPrismatic(link, mass, moments, parent_link, parent_to_this, axis, pivot, pivot_to_com, true);
+        break;
+      case JointType::Fixed:
+        multibody_->setupFixed(link, mass, moments, parent_link, parent_to_this, pivot, pivot_to_com);
+        break;
+    }
+  }
+  multibody_->finalizeMultiDof();
+  multibody_->setHasSelfCollision(false);
+  multibody_->setCanSleep(false);
+  // Bullet's default 0.04 damping would slow every link a little on every step; the motors
+  // already damp the arm, so the simulated motion is left undamped, as the URDF describes it.
+  multibody_->setLinearDamping(0.0f);
+  multibody_->setAngularDamping(0.0f);
+  multibody_->setUserIndex(body);
+  impl.world.addMultiBody(multibody_, kRobotLinkGroup, kRobotLinkMask);
+
+  std::vector<std::pair<btMultiBodyLinkCollider*, bool>> new_colliders;  // collider, welded
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<PlacedShape> placed;
+    for (const Shape& s : model.links[i].collisions) placed.push_back({s, frames[i].in_link.inverse() * s.origin});
+    btCollisionShape* shape = make_collision_shape(placed, impl.shapes);
+    if (!shape) continue;
+    auto* collider = new btMultiBodyLinkCollider(multibody_, static_cast<int>(i) - 1);
+    collider->setCollisionShape(shape);
+    collider->setUserIndex(body);
+    collider->setUserIndex2(static_cast<int>(i));
+    const bool welded = welded_to_base(model, static_cast<int>(i));
+    if (welded) collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
+    if (i == 0)
+      multibody_->setBaseCollider(collider);
+    else
+      multibody_->getLink(static_cast<int>(i) - 1).m_collider = collider;
+    colliders_.push_back(collider);
+    new_colliders.emplace_back(collider, welded);
+  }
+  update_transforms();
+  for (auto [collider, welded] : new_colliders)
+    impl.world.addCollisionObject(collider, welded ? kRobotBaseGroup : kRobotLinkGroup,
+                                  welded ? kRobotBaseMask : kRobotLinkMask);
+
+  const auto dt = static_cast<btScalar>(world.settings().time_step);
+  for (size_t i = 1; i < n; ++i) {
+    const Joint& j = model.joints[i - 1];
+    if (!j.movable()) continue;
+    Dof d;
+    d.joint = static_cast<int>(i) - 1;
+    d.bullet_link = static_cast<int>(i) - 1;
+    d.lower = static_cast<float>(j.lower);
+    d.upper = static_cast<float>(j.upper);
+    d.velocity = static_cast<float>(j.velocity);
+    d.effort = static_cast<float>(j.effort);
+    if (options.drive == JointDrive::ConstraintMotor) {
+      d.motor = new btMultiBodyJointMotor(multibody_, d.bullet_link, 0, 0, static_cast<btScalar>(j.effort) * dt);
+      d.motor->setPositionTarget(0, position_gain_);
+      d.motor->setVelocityTarget(0, velocity_gain_);
+      d.motor->setErp(1);
+      d.motor->setRhsClamp(static_cast<btScalar>(j.velocity));
+      impl.world.addMultiBodyConstraint(d.motor);
+    }
+    if (options.limit_constraints && j.type != JointType::Continuous) {
+      auto* limit = new btMultiBodyJointLimitConstraint(multibody_, d.bullet_link, static_cast<btScalar>(j.lower),
+                                                        static_cast<btScalar>(j.upper));
+      impl.world.addMultiBodyConstraint(limit);
+      limits_.push_back(limit);
+    }
+    dofs_.push_back(d);
+  }
+  if (options.drive == JointDrive::ComputedTorque) {
+    drive_ = std::make_unique<TorqueDrive>(model, simulated, dof());
+    drive_->gravity = base_pose.linear().cast<double>().transpose() * world.settings().gravity.cast<double>();
+    for (int i = 0; i < dof(); ++i) drive_->limit[i] = static_cast<double>(dofs_[static_cast<size_t>(i)].effort) * dt;
+  }
+  // Start at q = 0, or the nearest in-limit position.
+  Eigen::VectorXf q0 = Eigen::VectorXf::Zero(dof());
+  reset_joints(q0);
+}
+
+Robot::~Robot() {
+  btMultiBodyDynamicsWorld& w = world_.impl().world;
+  for (auto& d : dofs_) {
+    if (!d.motor) continue;
+    w.removeMultiBodyConstraint(d.motor);
+    delete d.motor;
+  }
+  for (auto* l : limits_) {
+    w.removeMultiBodyConstraint(l);
+    delete l;
+  }
+  for (auto* c : colliders_) {
+    w.removeCollisionObject(c);
+    delete c;
+  }
+  w.removeMultiBody(multibody_);
+  delete multibody_;
+}
+
+int Robot::dof_of_joint(int model_joint) const {
+  for (size_t i = 0; i < dofs_.size(); ++i)
+    if (dofs_[i].joint == model_joint) return static_cast<int>(i);
+  return -1;
+}
+
+void Robot::set_position_target(int dof, float q) {
+  Dof& d = dofs_[static_cast<size_t>(dof)];
+  d.target = std::clamp(q, d.lower, d.upper);
+  if (d.motor) d.motor->setPositionTarget(d.target, position_gain_);
+}
+
+void Robot::set_position_targets(const Eigen::Ref<const Eigen::VectorXf>& q) {
+  if (q.size() != dof())
+    throw Error(model_.source + ": expected " + std::to_string(dof()) + " joint targets, got " + std::to_string(q.size()));
+  for (int i = 0; i < dof(); ++i) set_position_target(i, q[i]);
+}
+
+void Robot::set_gains(float position_gain, float velocity_gain) {
+  position_gain_ = position_gain;
+  velocity_gain_ = velocity_gain;
+  for (auto& d : dofs_) {
+    if (!d.motor) continue;
+    d.motor->setPositionTarget(d.target, position_gain_);
+    d.motor->setVelocityTarget(0, velocity_gain_);
+  }
+}
+
+float Robot::joint_position(int dof) const { return multibody_->getJointPos(dofs_[static_cast<size_t>(dof)].bullet_link); }
+float Robot::joint_velocity(int dof) const { return multibody_->getJointVel(dofs_[static_cast<size_t>(dof)].bullet_link); }
+
+void Robot::joint_positions(Eigen::Ref<Eigen::VectorXf> out) const {
+  for (int i = 0; i < dof(); ++i) out[i] = joint_position(i);
+}
+
+Eigen::VectorXf Robot::joint_positions() const {
+  Eigen::VectorXf q(dof());
+  joint_positions(q);
+  return q;
+}
+
+Eigen::VectorXf Robot::joint_velocities() const {
+  Eigen::VectorXf v(dof());
+  for (int i = 0; i < dof(); ++i) v[i] = joint_velocity(i);
+  return v;
+}
+
+void Robot::reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q) {
+  if (q.size() != dof())
+    throw Error(model_.source + ": expected " + std::to_string(dof()) + " joint positions, got " + std::to_string(q.size()));
+  for (int i = 0; i < dof(); ++i) {
+    Dof& d = dofs_[static_cast<size_t>(i)];
+    const float qi = std::clamp(q[i], d.lower, d.upper);
+    multibody_->setJointPos(d.bullet_link, qi);
+    multibody_->setJointVel(d.bullet_link, 0);
+    d.target = qi;
+    if (d.motor) d.motor->setPositionTarget(qi, position_gain_);
+  }
+  multibody_->clearVelocities();
+  multibody_->clearForcesAndTorques();
+  multibody_->clearConstraintForces();
+  update_transforms();
+  for (auto* c : colliders_) world_.impl().forget_pairs(c);
+}
+
+void Robot::update_transforms() {
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  multibody_->forwardKinematics(world_to_local, local_origin);
+  multibody_->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
+  btMultiBodyDynamicsWorld& w = world_.impl().world;
+  for (auto* c : colliders_)
+    if (c->getBroadphaseHandle()) w.updateSingleAabb(c);
+}
+
+void Robot::before_step() {
+  if (!drive_) return;
+  TorqueDrive& t = *drive_;
+  const double dt = world_.settings().time_step;
+  for (int i = 0; i < dof(); ++i) {
+    const Dof& d = dofs_[static_cast<size_t>(i)];
+    const double q = multibody_->getJointPos(d.bullet_link), qd = multibody_->getJointVel(d.bullet_link);
+    t.q[i] = q;
+    t.qd[i] = qd;
+    // Bullet's motor law (btMultiBodyJointMotor), so both drives aim at the same speed.
+    const double v = position_gain_ * (d.target - q) / dt + qd + velocity_gain_ * (0.0 - qd);
+    t.v_target[i] = std::clamp(v, -static_cast<double>(d.velocity), static_cast<double>(d.velocity));
+  }
+  t.dynamics.mass_matrix_and_bias(t.q, t.qd, t.gravity, t.mass, t.bias);
+  t.solve_impulses(dt);
+  for (int i = 0; i < dof(); ++i)
+    multibody_->addJointTorque(dofs_[static_cast<size_t>(i)].bullet_link, static_cast<btScalar>(t.impulse[i] / dt));
+}
+
+Eigen::Isometry3f Robot::link_pose(int link) const {
+  if (link == 0) return from_bt(multibody_->getBaseWorldTransform()) * body_to_link_[0];
+  if (const btMultiBodyLinkCollider* c = multibody_->getLink(link - 1).m_collider)
+    return from_bt(c->getWorldTransform()) * body_to_link_[static_cast<size_t>(link)];
+  // No collider to read: chain from the parent through this joint.
+  const Joint& j = model_.joints[static_cast<size_t>(link - 1)];
+  Eigen::Isometry3f pose = link_pose(j.parent_link) * j.origin.cast<float>();
+  if (j.movable()) {
+    const float q = multibody_->getJointPos(link - 1);
+    const Eigen::Vector3f axis = j.axis.cast<float>();
+    if (j.type == JointType::Prismatic)
+      pose.translation() += pose.linear() * (axis * q);
+    else
+      pose.linear() = pose.linear() * Eigen::AngleAxisf(q, axis).toRotationMatrix();
+  }
+  return pose;
+}
+
+}  // namespace rdsim

@@ -1,0 +1,281 @@
+#include <catch2/catch.hpp>
+#include <sstream>
+
+#include "rdsim/algorithm.hpp"
+#include "rdsim/dqn.hpp"
+#include "rdsim/env_state.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/replay_buffer.hpp"
+#include "rdsim/train_config.hpp"
+#include "rdsim/vec_env.hpp"
+
+using namespace rdsim;
+using Eigen::MatrixXf;
+using Eigen::VectorXf;
+
+TEST_CASE("TD targets bootstrap on truncation, never on termination", "[dqn]") {
+  const VectorXf rewards = (VectorXf(3) << 1.0f, 2.0f, 3.0f).finished();
+  // Transition 1 terminated; 0 and 2 did not (2 may have been truncated: it still bootstraps).
+  const VectorXf terminated = (VectorXf(3) << 0.0f, 1.0f, 0.0f).finished();
+  MatrixXf next_target(2, 3);
+  next_target << 5.0f, 7.0f, -1.0f,
+                 4.0f, 9.0f, -2.0f;
+  const VectorXf y = dqn::td_targets(rewards, terminated, next_target, nullptr, 0.9f);
+  CHECK(y[0] == Approx(1.0f + 0.9f * 5.0f));
+  CHECK(y[1] == Approx(2.0f));
+  CHECK(y[2] == Approx(3.0f + 0.9f * -1.0f));
+
+  // Double Q: the online network picks the action, the target network values it.
+  MatrixXf next_online(2, 3);
+  next_online << 0.0f, 1.0f, 0.0f,
+                 1.0f, 0.0f, 1.0f;
+  const VectorXf yd = dqn::td_targets(rewards, terminated, next_target, &next_online, 0.9f);
+  CHECK(yd[0] == Approx(1.0f + 0.9f * 4.0f));
+  CHECK(yd[1] == Approx(2.0f));
+  CHECK(yd[2] == Approx(3.0f + 0.9f * -2.0f));
+}
+
+TEST_CASE("Huber loss is quadratic near zero, linear beyond 1, with clipped gradients", "[dqn]") {
+  const VectorXf pred = (VectorXf(4) << 0.5f, -0.2f, 3.0f, -5.0f).finished();
+  const VectorXf target = VectorXf::Zero(4);
+  const dqn::TdLoss h = dqn::huber_loss(pred, target);
+  CHECK(h.loss == Approx((0.125f + 0.02f + 2.5f + 4.5f) / 4.0f));
+  CHECK(h.grad[0] == Approx(0.5f / 4));
+  CHECK(h.grad[1] == Approx(-0.2f / 4));
+  CHECK(h.grad[2] == Approx(1.0f / 4));
+  CHECK(h.grad[3] == Approx(-1.0f / 4));
+  // Gradient = derivative of the loss (central differences away from the kinks).
+  for (int i = 0; i < 4; ++i) {
+    VectorXf p = pred, m = pred;
+    p[i] += 1e-3f;
+    m[i] -= 1e-3f;
+    const float numeric = (dqn::huber_loss(p, target).loss - dqn::huber_loss(m, target).loss) / 2e-3f;
+    CHECK(h.grad[i] == Approx(numeric).epsilon(1e-2));
+  }
+  const dqn::TdLoss s = dqn::squared_loss(pred, target);
+  CHECK(s.loss == Approx((0.125f + 0.02f + 4.5f + 12.5f) / 4.0f));
+  CHECK(s.grad[3] == Approx(-5.0f / 4));
+}
+
+TEST_CASE("epsilon schedule is linear then flat", "[dqn]") {
+  CHECK(dqn::epsilon_at(0, 1000, 0.2, 1.0, 0.1) == Approx(1.0));
+  CHECK(dqn::epsilon_at(100, 1000, 0.2, 1.0, 0.1) == Approx(0.55));
+  CHECK(dqn::epsilon_at(200, 1000, 0.2, 1.0, 0.1) == Approx(0.1));
+  CHECK(dqn::epsilon_at(900, 1000, 0.2, 1.0, 0.1) == Approx(0.1));
+  CHECK(dqn::epsilon_at(5, 1000, 0.0, 1.0, 0.1) == Approx(0.1));
+}
+
+TEST_CASE("replay buffer is a ring and samples only stored transitions", "[dqn]") {
+  ReplayBuffer buffer(3, 2);
+  Rng rng(1);
+  ReplayBatch batch;
+  CHECK_THROWS_AS(buffer.sample(4, rng, batch), Error);
+  for (int t = 0; t < 5; ++t) {
+    const Eigen::Vector2f obs(static_cast<float>(t), 0.0f), next(static_cast<float>(t + 1), 0.0f);
+    buffer.add(obs, t % 2, 10.0f * static_cast<float>(t), next, t == 3);
+  }
+  CHECK(buffer.size() == 3);
+  buffer.sample(3000, rng, batch);
+  int counts[5] = {0, 0, 0, 0, 0};
+  for (int j = 0; j < 3000; ++j) {
+    const int t = static_cast<int>(batch.observations(0, j));
+    REQUIRE(t >= 2);  // transitions 0 and 1 were overwritten
+    ++counts[t];
+    // Every field of a sample comes from the same transition.
+    CHECK(batch.next_observations(0, j) == static_cast<float>(t + 1));
+    CHECK(batch.actions[j] == t % 2);
+    CHECK(batch.rewards[j] == 10.0f * static_cast<float>(t));
+    CHECK(batch.terminated[j] == (t == 3 ? 1.0f : 0.0f));
+  }
+  for (int t = 2; t < 5; ++t) CHECK(std::abs(counts[t] - 1000) < 150);  // ~5.8 standard deviations
+
+  Rng a(9), b(9);
+  ReplayBatch ba, bb;
+  buffer.sample(16, a, ba);
+  buffer.sample(16, b, bb);
+  CHECK(ba.observations == bb.observations);
+}
+
+TEST_CASE("replay buffer save/load round-trips and checks its shape", "[dqn]") {
+  ReplayBuffer buffer(4, 3);
+  for (int t = 0; t < 6; ++t) buffer.add(VectorXf::Constant(3, float(t)), t, float(t), VectorXf::Constant(3, float(t + 1)), false);
+  std::stringstream bytes;
+  buffer.save(bytes);
+  ReplayBuffer copy(4, 3);
+  copy.load(bytes, "ckpt.bin");
+  CHECK(copy.size() == 4);
+  Rng a(3), b(3);
+  ReplayBatch ba, bb;
+  buffer.sample(20, a, ba);
+  copy.sample(20, b, bb);
+  CHECK(ba.observations == bb.observations);
+  CHECK(ba.actions == bb.actions);
+  // The ring position survives too: the next add overwrites the same slot in both.
+  buffer.add(VectorXf::Constant(3, 100.0f), 0, 0.0f, VectorXf::Zero(3), true);
+  copy.add(VectorXf::Constant(3, 100.0f), 0, 0.0f, VectorXf::Zero(3), true);
+  buffer.sample(20, a, ba);
+  copy.sample(20, b, bb);
+  CHECK(ba.observations == bb.observations);
+
+  std::stringstream again;
+  buffer.save(again);
+  ReplayBuffer other(5, 3);
+  CHECK_THROWS_WITH(other.load(again, "ckpt.bin"), Catch::Contains("ckpt.bin") && Catch::Contains("buffer_size"));
+}
+
+namespace {
+
+// A corridor of 6 cells, one-hot observations; action 1 moves right, 0 left. Reaching the right
+// end gives +1 and terminates; each step costs 0.01; 30 steps truncate. Optimal: always right.
+class Corridor final : public Env, public EnvState {
+public:
+  Corridor() {
+    spec_.env_name = "corridor";
+    spec_.observation.shape = {kCells};
+    spec_.observation.low = VectorXf::Zero(kCells);
+    spec_.observation.high = VectorXf::Ones(kCells);
+    spec_.action.discrete = true;
+    spec_.action.n = 2;
+    spec_.max_episode_steps = 30;
+  }
+  const Spec& spec() const override { return spec_; }
+  Observation reset(std::optional<std::uint64_t>) override {
+    pos_ = 0;
+    steps_ = 0;
+    return observe();
+  }
+  StepResult step(const Action& a) override {
+    pos_ = std::clamp(pos_ + (a.index == 1 ? 1 : -1), 0, kCells - 1);
+    ++steps_;
+    StepResult r;
+    r.terminated = pos_ == kCells - 1;
+    r.truncated = !r.terminated && steps_ >= spec_.max_episode_steps;
+    r.reward = r.terminated ? 1.0f : -0.01f;
+    r.info.success = r.terminated;
+    r.observation = observe();
+    return r;
+  }
+
+  std::string save_state() const override { return std::to_string(pos_) + " " + std::to_string(steps_); }
+  void load_state(const std::string& bytes, const std::string&) override {
+    std::istringstream in(bytes);
+    in >> pos_ >> steps_;
+  }
+
+private:
+  static constexpr int kCells = 6;
+  Observation observe() const {
+    Observation o;
+    o.values = VectorXf::Zero(kCells);
+    o.values[pos_] = 1.0f;
+    return o;
+  }
+  Spec spec_;
+  int pos_ = 0, steps_ = 0;
+};
+
+TrainConfig corridor_config(std::uint64_t seed) {
+  TrainConfig c;
+  c.source = "corridor.json";
+  c.algorithm = "dqn";
+  c.seed = seed;
+  c.total_timesteps = 3000;
+  c.network.hidden_sizes = {32};
+  c.network.activation = "relu";
+  c.dqn.learning_rate = 3e-3;
+  c.dqn.batch_size = 32;
+  c.dqn.buffer_size = 5000;
+  c.dqn.learning_starts = 200;
+  c.dqn.target_update_interval = 50;
+  c.dqn.train_freq = 10;
+  c.dqn.gradient_steps = 5;
+  c.dqn.exploration_fraction = 0.3;
+  c.dqn.exploration_final_eps = 0.05;
+  c.dqn.double_q = true;
+  return c;
+}
+
+VecEnv corridor_envs(std::uint64_t seed) {
+  std::vector<std::unique_ptr<Env>> envs;
+  envs.push_back(std::make_unique<Corridor>());
+  envs.push_back(std::make_unique<Corridor>());
+  return VecEnv(std::move(envs), seed);
+}
+
+std::vector<Metrics> train(Algorithm& algo, VecEnv& envs, long long until, long long total) {
+  std::vector<Metrics> all;
+  while (envs.timesteps() < until) all.push_back(algo.update(envs, {envs.timesteps(), total}));
+  return all;
+}
+
+}  // namespace
+
+TEST_CASE("DQN learns the corridor and is deterministic", "[dqn]") {
+  const TrainConfig config = corridor_config(4);
+  VecEnv envs = corridor_envs(4);
+  auto algo = make_dqn(config, envs.spec());
+  const std::vector<Metrics> metrics = train(*algo, envs, config.total_timesteps, config.total_timesteps);
+  CHECK(envs.timesteps() == config.total_timesteps);  // the last phase stops at the goal
+  CHECK(metrics.back()[0].first == "loss");
+  CHECK(metrics.back()[3].second == Approx(0.05));  // epsilon reached its final value
+
+  // Greedy policy: right from every cell, so the goal is reached in 5 steps.
+  Corridor probe;
+  Observation o = probe.reset(std::nullopt);
+  Rng rng(0);
+  int steps = 0;
+  while (steps < 10) {
+    const StepResult r = probe.step(algo->act(o, true, rng));
+    ++steps;
+    if (r.terminated) break;
+    o = r.observation;
+  }
+  CHECK(steps == 5);
+  const EpisodeStats stats = envs.episodes().stats();
+  CHECK(stats.success_rate > 0.9);
+
+  VecEnv envs2 = corridor_envs(4);
+  auto algo2 = make_dqn(config, envs2.spec());
+  CHECK(train(*algo2, envs2, config.total_timesteps, config.total_timesteps) == metrics);
+}
+
+TEST_CASE("DQN checkpoint resumes identically; model round-trips", "[dqn]") {
+  const TrainConfig config = corridor_config(7);
+  VecEnv envs = corridor_envs(7);
+  auto algo = make_dqn(config, envs.spec());
+  train(*algo, envs, 1000, config.total_timesteps);
+  std::stringstream ckpt_algo, ckpt_envs;
+  algo->save(ckpt_algo, true);
+  envs.save(ckpt_envs);
+  const std::vector<Metrics> straight = train(*algo, envs, 1500, config.total_timesteps);
+
+  VecEnv envs2 = corridor_envs(99);
+  auto resumed = make_dqn(corridor_config(99), envs2.spec());
+  resumed->load(ckpt_algo, true, "ckpt.bin");
+  REQUIRE(envs2.load(ckpt_envs, "ckpt.bin"));
+  CHECK(train(*resumed, envs2, 1500, config.total_timesteps) == straight);
+
+  std::stringstream model;
+  algo->save(model, false);
+  auto fresh = make_dqn(corridor_config(1), envs.spec());
+  fresh->load(model, false, "model.bin");
+  Rng r1(0), r2(0);
+  for (int cell = 0; cell < 6; ++cell) {
+    Observation o;
+    o.values = VectorXf::Zero(6);
+    o.values[cell] = 1.0f;
+    CHECK(fresh->act(o, true, r1).index == algo->act(o, true, r2).index);
+  }
+  std::stringstream truncated(model.str().substr(0, model.str().size() / 2));
+  CHECK_THROWS_AS(fresh->load(truncated, false, "model.bin"), Error);
+}
+
+TEST_CASE("DQN rejects continuous action spaces", "[dqn]") {
+  Spec spec;
+  spec.env_name = "arm";
+  spec.observation.shape = {3};
+  spec.action.discrete = false;
+  spec.action.low = VectorXf::Constant(2, -1.0f);
+  spec.action.high = VectorXf::Constant(2, 1.0f);
+  CHECK_THROWS_WITH(make_dqn(corridor_config(0), spec), Catch::Contains("discrete") && Catch::Contains("corridor.json"));
+}

@@ -1,0 +1,98 @@
+#pragma once
+// A tiny env for algorithm tests (the algorithms suite does not link the real envs).
+// Observation (s, t / length) with s = +-1 drawn per step; discrete: reward 1 when the action is
+// 1 for s > 0 and 0 for s < 0; continuous: reward 1 - (a - 0.5 s)^2 with a in [-1, 1].
+// Episodes are truncated after `length` steps, or terminated at step `terminate_at` (> 0).
+#include <cstring>
+#include <string>
+
+#include "rdsim/env.hpp"
+#include "rdsim/env_state.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/rng.hpp"
+#include "rdsim/rng_bytes.hpp"
+
+namespace toy {
+
+class SignEnv final : public rdsim::Env, public rdsim::EnvState {
+public:
+  explicit SignEnv(bool discrete = true, int length = 10, int terminate_at = 0)
+      : length_(length), terminate_at_(terminate_at) {
+    spec_.env_name = "sign";
+    spec_.observation.shape = {2};
+    spec_.observation.low.resize(2);
+    spec_.observation.low << -1.0f, 0.0f;
+    spec_.observation.high = Eigen::VectorXf::Ones(2);
+    spec_.action.discrete = discrete;
+    if (discrete) {
+      spec_.action.n = 2;
+    } else {
+      spec_.action.low = Eigen::VectorXf::Constant(1, -1.0f);
+      spec_.action.high = Eigen::VectorXf::Constant(1, 1.0f);
+    }
+    spec_.max_episode_steps = length;
+  }
+
+  const rdsim::Spec& spec() const override { return spec_; }
+
+  rdsim::Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override {
+    if (seed) rng_.reseed(*seed);
+    t_ = 0;
+    draw();
+    return observe();
+  }
+
+  rdsim::StepResult step(const rdsim::Action& action) override {
+    rdsim::StepResult r;
+    if (spec_.action.discrete) {
+      r.reward = (action.index == 1) == (sign_ > 0) ? 1.0f : 0.0f;
+    } else {
+      const float d = action.values[0] - 0.5f * sign_;
+      r.reward = 1.0f - d * d;
+    }
+    ++t_;
+    r.terminated = terminate_at_ > 0 && t_ == terminate_at_;
+    r.truncated = !r.terminated && t_ >= length_;
+    r.info.success = r.truncated;
+    draw();
+    r.observation = observe();
+    return r;
+  }
+
+  std::string save_state() const override {
+    std::string s = rdsim::rng_to_bytes(rng_);
+    s.append(reinterpret_cast<const char*>(&t_), sizeof t_);
+    s.append(reinterpret_cast<const char*>(&sign_), sizeof sign_);
+    return s;
+  }
+  void load_state(const std::string& bytes, const std::string& source) override {
+    if (bytes.size() != sizeof(rdsim::Rng) + sizeof t_ + sizeof sign_) throw rdsim::Error(source + ": bad state");
+    rng_ = rdsim::rng_from_bytes(bytes.substr(0, sizeof(rdsim::Rng)), source);
+    std::memcpy(&t_, bytes.data() + sizeof(rdsim::Rng), sizeof t_);
+    std::memcpy(&sign_, bytes.data() + sizeof(rdsim::Rng) + sizeof t_, sizeof sign_);
+  }
+
+private:
+  void draw() { sign_ = rng_.uniform() < 0.5 ? -1.0f : 1.0f; }
+  rdsim::Observation observe() const {
+    rdsim::Observation o;
+    o.values.resize(2);
+    o.values << sign_, static_cast<float>(t_) / static_cast<float>(length_);
+    return o;
+  }
+
+  rdsim::Spec spec_;
+  rdsim::Rng rng_;
+  int length_, terminate_at_;
+  int t_ = 0;
+  float sign_ = 1.0f;
+};
+
+inline std::vector<std::unique_ptr<rdsim::Env>> make_envs(int n, bool discrete = true, int length = 10,
+                                                          int terminate_at = 0) {
+  std::vector<std::unique_ptr<rdsim::Env>> envs;
+  for (int i = 0; i < n; ++i) envs.push_back(std::make_unique<SignEnv>(discrete, length, terminate_at));
+  return envs;
+}
+
+}  // namespace toy

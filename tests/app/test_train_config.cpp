@@ -1,0 +1,91 @@
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "rdsim/error.hpp"
+#include "rdsim/train_config.hpp"
+#include "rl_test_util.hpp"
+
+using Catch::Matchers::Contains;
+
+namespace {
+
+// Writes `text` as <dir>/<name>.json and reads it; returns the error message ("" when none).
+std::string config_error(const rltest::ScratchDir& dir, const std::string& text) {
+  const std::string path = dir / "bad.json";
+  rltest::spit(path, text);
+  try {
+    rdsim::read_train_config(path);
+  } catch (const rdsim::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("the shipped CartPole configs parse with the documented values", "[train_config]") {
+  const auto ppo = rdsim::read_train_config("configs/cartpole_ppo.json");
+  CHECK(ppo.algorithm == "ppo");
+  CHECK(ppo.env.name == "cartpole");
+  CHECK(ppo.name == "cartpole_ppo");
+  CHECK(ppo.log_dir == "runs/cartpole_ppo");
+  CHECK(ppo.num_envs == 8);
+  CHECK(ppo.ppo.n_steps == 32);
+  CHECK(ppo.ppo.gae_lambda == 0.8);
+  CHECK(ppo.network.hidden_sizes == std::vector<int>{64, 64});
+  const auto a2c = rdsim::read_train_config("configs/cartpole_a2c.json");
+  CHECK(a2c.algorithm == "a2c");
+  CHECK(a2c.a2c.optimizer == "rmsprop");
+  CHECK(a2c.a2c.learning_rate == 7e-4);
+  const auto dqn = rdsim::read_train_config("configs/cartpole_dqn.json");
+  CHECK(dqn.algorithm == "dqn");
+}
+
+TEST_CASE("the resolved config has every default and reads back to itself", "[train_config]") {
+  rltest::ScratchDir dir("config_roundtrip");
+  rltest::spit(dir / "tiny.json", R"({"env": {"name": "cartpole"}})");
+  const auto c = rdsim::read_train_config(dir / "tiny.json");
+  CHECK(c.algorithm == "ppo");
+  CHECK(c.log_dir == "runs/tiny");
+  CHECK(c.ppo.n_steps == 2048);
+  const nlohmann::json j = rdsim::to_json(c);
+  CHECK(j.at("ppo").at("clip_range") == 0.2);
+  CHECK(j.at("network").at("activation") == "tanh");
+  CHECK_FALSE(j.contains("a2c"));
+  const auto back = rdsim::parse_train_config(j, "resolved", "tiny");
+  CHECK(rdsim::to_json(back) == j);
+}
+
+TEST_CASE("config errors name the file and the key", "[train_config]") {
+  rltest::ScratchDir dir("config_errors");
+  const std::string file = dir / "bad.json";
+  auto check = [&](const std::string& text, const std::string& key) {
+    const std::string msg = config_error(dir, text);
+    INFO(text << " -> " << msg);
+    CHECK_THAT(msg, Contains(file));
+    CHECK_THAT(msg, Contains(key));
+  };
+  check(R"({"env": {"name": "cartpole"}, "bogus": 1})", "bogus: unknown key");
+  check(R"({"env": {"name": "cartpole"}, "ppo": {"clip": 0.2}})", "ppo.clip: unknown key");
+  check(R"({"env": {"name": "cartpole", "colour": "red"}})", "env.colour: unknown key");
+  check(R"({"env": {"name": "cartpole"}, "num_envs": "eight"})", "num_envs: expected an integer");
+  check(R"({"env": {"name": "cartpole"}, "network": {"shared": 1}})", "network.shared: expected true or false");
+  check(R"({"env": {"name": "cartpole"}, "ppo": {"gamma": 1.5}})", "ppo.gamma: expected a number in [0, 1]");
+  check(R"({"env": {"name": "cartpole"}, "total_timesteps": 0})", "total_timesteps");
+  check(R"({"env": {"name": "cartpole"}, "a2c": {"optimizer": "sgd"}})", "a2c.optimizer");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "sac"})", "algorithm: expected one of");
+  check(R"({"seed": 1})", "env: missing");
+  check(R"({"env": {"name": "cartpole"}, "network": {"hidden_sizes": [64, -1]}})", "network.hidden_sizes");
+  check(R"({"env": {"name": "cartpole"}, "dqn": {"batch_size": 0}})", "dqn.batch_size");
+  check(R"({"env": {"name": "cartpole"}, "seed": 1,})", "not valid JSON");
+  check(R"([1, 2])", "expected a JSON object");
+}
+
+TEST_CASE("a missing config file is an error naming it", "[train_config]") {
+  try {
+    rdsim::read_train_config("configs/does_not_exist.json");
+    FAIL("no error");
+  } catch (const rdsim::Error& e) {
+    CHECK_THAT(e.what(), Contains("configs/does_not_exist.json"));
+  }
+}

@@ -1,0 +1,81 @@
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "rdsim/config_reader.hpp"
+#include "rdsim/env_config.hpp"
+#include "rdsim/error.hpp"
+
+using rdsim::ConfigReader;
+using Catch::Matchers::Contains;
+
+namespace {
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const rdsim::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST_CASE("config reader fills typed fields and keeps defaults for absent keys", "[config]") {
+  auto j = nlohmann::json::parse(R"({"a": 3, "b": 0.5, "c": true, "s": "x", "v": [1, 2]})");
+  ConfigReader r(j, "cfg.json");
+  int a = 0, untouched = 7;
+  double b = 0;
+  bool c = false;
+  std::string s;
+  std::vector<int> v;
+  r.read("a", a, 0, 10);
+  r.read("b", b, 0.0, 1.0);
+  r.read("c", c);
+  r.read("s", s);
+  r.read("v", v, 0, 5);
+  r.read("absent", untouched, 0, 10);
+  r.finish();
+  CHECK(a == 3);
+  CHECK(b == 0.5);
+  CHECK(c);
+  CHECK(s == "x");
+  CHECK(v == std::vector<int>{1, 2});
+  CHECK(untouched == 7);
+}
+
+TEST_CASE("config reader errors name the file and the key path", "[config]") {
+  auto j = nlohmann::json::parse(R"({"env": {"max_steps": -3}, "lr": "fast", "typo": 1})");
+  SECTION("out of range") {
+    ConfigReader r(j, "cfg.json");
+    auto env = r.child("env");
+    int steps = 0;
+    auto msg = error_of([&] { env.read("max_steps", steps, 1, 1000); });
+    CHECK_THAT(msg, Contains("cfg.json") && Contains("env.max_steps") && Contains("[1, 1000]"));
+  }
+  SECTION("wrong type") {
+    ConfigReader r(j, "cfg.json");
+    double lr = 0;
+    CHECK_THAT(error_of([&] { r.read("lr", lr, 0.0, 1.0); }), Contains("lr") && Contains("number"));
+  }
+  SECTION("unknown key") {
+    ConfigReader r(j, "cfg.json");
+    r.accept("env");
+    r.accept("lr");
+    CHECK_THAT(error_of([&] { r.finish(); }), Contains("typo") && Contains("unknown key"));
+  }
+}
+
+TEST_CASE("env config rejects a bad observation mode and unknown keys", "[config]") {
+  auto bad_mode = nlohmann::json::parse(R"({"name": "jaka_button", "observation": "pixels"})");
+  ConfigReader r1(bad_mode, "x.json", "env");
+  CHECK_THAT(error_of([&] { rdsim::read_env_config(r1); }),
+             Contains("env.observation") && Contains("raw_pixels"));
+  auto unknown = nlohmann::json::parse(R"({"name": "jaka_button", "is_discret": true})");
+  ConfigReader r2(unknown, "x.json", "env");
+  CHECK_THAT(error_of([&] { rdsim::read_env_config(r2); }), Contains("env.is_discret"));
+  auto good = nlohmann::json::parse(R"({"name": "jaka_button", "observation": "raw_pixels", "max_steps": 50})");
+  ConfigReader r3(good, "x.json", "env");
+  auto c = rdsim::read_env_config(r3);
+  CHECK(c.observation == rdsim::ObservationMode::RawPixels);
+  CHECK(c.max_steps == 50);
+  CHECK(rdsim::to_json(c)["max_steps"] == 50);
+}

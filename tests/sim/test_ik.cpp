@@ -1,0 +1,85 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "rdsim/ik.hpp"
+#include "rdsim/rng.hpp"
+#include "rdsim/urdf_loader.hpp"
+#include "sim_test_assets.hpp"
+
+using namespace rdsim;
+
+namespace {
+
+JointVector random_config(const KinematicChain& chain, Rng& rng) {
+  JointVector q(chain.dof());
+  for (int i = 0; i < chain.dof(); ++i)
+    q[i] = rng.uniform(std::max(chain.lower()[i], -M_PI), std::min(chain.upper()[i], M_PI));
+  return q;
+}
+
+bool within_limits(const KinematicChain& chain, const JointVector& q) {
+  return (q.array() >= chain.lower().array()).all() && (q.array() <= chain.upper().array()).all();
+}
+
+}  // namespace
+
+TEST_CASE("IK reaches 50 random reachable positions within 2 mm", "[ik]") {
+  const RobotModel m = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
+  const KinematicChain chain(m, "flange_link");
+  Rng rng(2024);
+  IkOptions options;
+  options.max_iterations = 300;
+  options.restarts = 10;
+  int reached = 0;
+  for (int t = 0; t < 50; ++t) {
+    const Eigen::Vector3d target = chain.forward(random_config(chain, rng)).translation();
+    const JointVector start = random_config(chain, rng);
+    const IkResult r = solve_ik(chain, target, start, options);
+    const double error = (chain.forward(r.q).translation() - target).norm();
+    INFO("target " << target.transpose() << " error " << error << " after " << r.iterations << " iterations");
+    CHECK(error < 2e-3);
+    CHECK(r.position_error == Approx(error).margin(1e-12));
+    CHECK(within_limits(chain, r.q));
+    reached += error < 2e-3;
+  }
+  CHECK(reached == 50);
+}
+
+TEST_CASE("Pose IK reaches position and orientation", "[ik]") {
+  const RobotModel m = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
+  const KinematicChain chain(m, "flange_link");
+  Rng rng(5);
+  for (int t = 0; t < 20; ++t) {
+    const JointVector truth = random_config(chain, rng);
+    JointVector start = truth;
+    for (int i = 0; i < 6; ++i) start[i] += rng.uniform(-0.3, 0.3);
+    const Eigen::Isometry3d target = chain.forward(truth);
+    const IkResult r = solve_ik(chain, target, start);
+    const Eigen::Isometry3d got = chain.forward(r.q);
+    CHECK(r.converged);
+    CHECK((got.translation() - target.translation()).norm() < 1e-3);
+    CHECK(Eigen::AngleAxisd(got.linear() * target.linear().transpose()).angle() < 1e-2);
+  }
+}
+
+TEST_CASE("IK from the current pose to a 1 cm move takes a few iterations", "[ik]") {
+  const RobotModel m = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
+  const KinematicChain chain(m, "flange_link");
+  JointVector q(6);
+  q << 0.0, 1.0, -1.8, 0.8, 1.5, 0.0;
+  Eigen::Isometry3d target = chain.forward(q);
+  target.translation() += Eigen::Vector3d(0.01, 0.0, 0.0);
+  const IkResult r = solve_ik(chain, target, q);
+  CHECK(r.converged);
+  CHECK(r.iterations <= 4);
+}
+
+TEST_CASE("Unreachable targets end inside the joint limits, not converged", "[ik]") {
+  const RobotModel m = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
+  const KinematicChain chain(m, "flange_link");
+  const IkResult r = solve_ik(chain, Eigen::Vector3d(2.0, 0.0, 0.5), JointVector::Zero(6));
+  CHECK_FALSE(r.converged);
+  CHECK(r.position_error > 1.0);
+  CHECK(within_limits(chain, r.q));
+}

@@ -1,0 +1,143 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "rdsim/error.hpp"
+#include "rdsim/ik.hpp"
+#include "rdsim/physics_world.hpp"
+#include "rdsim/urdf_loader.hpp"
+#include "sim_test_assets.hpp"
+
+using namespace rdsim;
+
+namespace {
+
+Eigen::Isometry3f at(float x, float y, float z) {
+  Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
+  t.translation() << x, y, z;
+  return t;
+}
+
+Eigen::VectorXf home() {
+  Eigen::VectorXf q(6);
+  q << 0.0f, 1.0f, -1.8f, 0.8f, 1.5708f, 0.0f;
+  return q;
+}
+
+struct Scene {
+  RobotModel jaka = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
+  PhysicsWorld world;
+  int table;
+  Robot* robot;
+  explicit Scene(JointDrive drive = JointDrive::ComputedTorque, WorldSettings settings = {}) : world(settings) {
+    // Table top at z = 0.75, robot standing on it.
+    table = world.add_static_body(load_urdf(test_asset("objects/table.urdf")), at(0.35f, 0.0f, 0.75f));
+    RobotOptions options;
+    options.drive = drive;
+    robot = &world.add_robot(jaka, at(0, 0, 0.75f), options);
+    robot->reset_joints(home());
+  }
+};
+
+}  // namespace
+
+TEST_CASE("Position control moves every joint to its target", "[physics]") {
+  for (JointDrive drive : {JointDrive::ComputedTorque, JointDrive::ConstraintMotor}) {
+    Scene s(drive);
+    const Eigen::VectorXf target = home() + Eigen::VectorXf::Constant(6, 0.3f);
+    s.robot->set_position_targets(target);
+    for (int k = 0; k < 240; ++k) s.world.step();
+    INFO("drive " << static_cast<int>(drive));
+    CHECK((s.robot->joint_positions() - target).cwiseAbs().maxCoeff() < 1e-3f);
+    CHECK(s.robot->joint_velocities().cwiseAbs().maxCoeff() < 1e-2f);
+  }
+}
+
+TEST_CASE("Joints never exceed their velocity limit", "[physics]") {
+  Scene s;
+  Eigen::VectorXf target = home();
+  target[0] += 1.5f;  // needs 0.48 s at 180 deg/s
+  s.robot->set_position_targets(target);
+  float fastest = 0.0f;
+  int steps = 0;
+  while (std::abs(s.robot->joint_position(0) - target[0]) > 1e-3f && steps < 480) {
+    s.world.step();
+    ++steps;
+    fastest = std::max(fastest, std::abs(s.robot->joint_velocity(0)));
+  }
+  CHECK(fastest <= 3.1416f * 1.001f);
+  CHECK(fastest > 3.0f);  // and it does run at the limit
+  CHECK(steps * s.world.settings().time_step >= 1.5 / 3.1416);
+}
+
+TEST_CASE("The arm holds its pose against gravity", "[physics]") {
+  Scene s;
+  for (int k = 0; k < 240; ++k) s.world.step();
+  CHECK((s.robot->joint_positions() - home()).cwiseAbs().maxCoeff() < 1e-4f);
+}
+
+TEST_CASE("A contact query sees the flange touching the table when driven into it", "[physics]") {
+  for (JointDrive drive : {JointDrive::ComputedTorque, JointDrive::ConstraintMotor}) {
+    Scene s(drive);
+    const int flange = s.jaka.require_link("flange_link");
+    const KinematicChain chain(s.jaka, "flange_link");
+    const BodyLink tool{s.robot->body(), flange}, table{s.table, -1};
+    // Start 10 cm above the table (robot frame z = 0.10), tool pointing down.
+    Eigen::Isometry3d above = Eigen::Isometry3d::Identity();
+    above.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    above.translation() << 0.45, 0.0, 0.10;
+    const IkResult start = solve_ik(chain, above, home().cast<double>());
+    REQUIRE(start.converged);
+    s.robot->reset_joints(start.q.cast<float>());
+    for (int k = 0; k < 10; ++k) s.world.step();
+    CHECK_FALSE(s.world.touching(tool, table));
+    CHECK(s.world.penetration(tool, table) == 0.0f);
+
+    // Ask for 5 cm below the surface: the table must stop the flange.
+    Eigen::Isometry3d below = above;
+    below.translation().z() = -0.05;
+    s.robot->set_position_targets(solve_ik(chain, below, start.q).q.cast<float>());
+    for (int k = 0; k < 240; ++k) s.world.step();
+    INFO("drive " << static_cast<int>(drive));
+    CHECK(s.world.touching(tool, table));
+    CHECK(s.world.touching(table, {s.robot->body(), -1}));  // either order, any link
+    CHECK(s.world.penetration(tool, table) < 0.01f);
+    CHECK(s.robot->link_pose(flange).translation().z() > 0.75f - 0.01f);
+    bool listed = false;
+    for (const Contact& c : s.world.contacts())
+      listed |= (c.a.body == s.robot->body() && c.a.link == flange && c.b.body == s.table) ||
+                (c.b.body == s.robot->body() && c.b.link == flange && c.a.body == s.table);
+    CHECK(listed);
+  }
+}
+
+TEST_CASE("Static bodies can be moved", "[physics]") {
+  PhysicsWorld world;
+  const int button = world.add_static_body(load_urdf(test_asset("objects/button.urdf")), at(0.5f, 0.0f, 0.75f));
+  CHECK(world.static_pose(button).translation().isApprox(Eigen::Vector3f(0.5f, 0.0f, 0.75f)));
+  world.set_static_pose(button, at(0.6f, 0.2f, 0.75f));
+  CHECK(world.static_pose(button).translation().isApprox(Eigen::Vector3f(0.6f, 0.2f, 0.75f)));
+  CHECK_THROWS_AS(world.robot(button), Error);
+}
+
+TEST_CASE("Same inputs give bit-identical simulations, also after a reset", "[physics]") {
+  auto run = [](Scene& s) {
+    Eigen::VectorXf target = home();
+    std::vector<float> trace;
+    for (int k = 0; k < 300; ++k) {
+      if (k % 50 == 0) {
+        target[1] -= 0.15f;  // pushes the arm down onto the table: contacts included
+        target[3] += 0.1f;
+        s.robot->set_position_targets(target);
+      }
+      s.world.step();
+      for (int i = 0; i < 6; ++i) trace.push_back(s.robot->joint_position(i));
+    }
+    return trace;
+  };
+  Scene a, b;
+  const std::vector<float> first = run(a);
+  CHECK(first == run(b));
+  a.robot->reset_joints(home());
+  CHECK(first == run(a));  // after a different history
+}
