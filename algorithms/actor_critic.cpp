@@ -38,9 +38,39 @@ void append(nn::ParamList& list, nn::ParamList more, const std::string& prefix) 
 
 }  // namespace
 
+bool is_image_space(const ObservationSpace& space) {
+  return space.type == ObsType::UInt8 && space.shape.size() == 3;
+}
+
+nn::CnnShape cnn_shape(const CnnConfig& config, const ObservationSpace& space, int outputs, const std::string& where) {
+  if (!is_image_space(space)) throw Error(where + ": a CNN needs UInt8 image observations {height, width, channels}");
+  const nn::ImageShape image{space.shape[0], space.shape[1], space.shape[2]};
+  std::string preset = config.preset;
+  if (preset == "auto") preset = image.height >= 84 && image.width >= 84 ? "nature" : "small";
+  nn::CnnShape shape = nn::cnn_preset(preset, image, outputs, where + ".preset");
+  if (!config.channels.empty()) {
+    if (config.kernels.size() != config.channels.size() || config.strides.size() != config.channels.size())
+      throw Error(where + ": channels, kernels and strides need the same length");
+    shape.convs.clear();
+    for (size_t i = 0; i < config.channels.size(); ++i)
+      shape.convs.push_back({config.channels[i], config.kernels[i], config.strides[i], 0});
+  }
+  if (!config.fc.empty()) shape.hidden_sizes = config.fc;
+  return shape;
+}
+
+nn::Cnn make_cnn(const nn::CnnShape& shape, float output_gain, Rng& rng, const std::string& where) {
+  try {
+    return nn::Cnn(shape, output_gain, rng);
+  } catch (const Error& e) {
+    throw Error(where + ": " + e.what());
+  }
+}
+
 ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng)
     : discrete_(spec.action.discrete),
       shared_(config.shared && !config.hidden_sizes.empty()),
+      cnn_(is_image_space(spec.observation)),
       obs_size_(observation_input_size(spec.observation)),
       action_dim_(spec.action.dim()),
       policy_outputs_(spec.action.discrete ? spec.action.n : spec.action.dim()),
@@ -49,7 +79,18 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
   if (policy_outputs_ <= 0) throw Error(spec.env_name + ": the env has an empty action space");
   int head_input = obs_size_;
   std::vector<int> head_hidden = config.hidden_sizes;
-  if (shared_) {
+  if (cnn_) {
+    // The CNN is the shared trunk; its last fc layer (ReLU) feeds two linear heads.
+    nn::CnnShape shape = cnn_shape(config.cnn, spec.observation, 1, "network.cnn");
+    if (shape.hidden_sizes.empty()) throw Error("network.cnn.fc: expected at least one dense layer");
+    shape.output_size = shape.hidden_sizes.back();
+    shape.hidden_sizes.pop_back();
+    cnn_trunk_ = make_cnn(shape, hidden_gain, rng, "network.cnn");
+    shared_ = true;
+    activation_ = nn::Activation::ReLU;
+    head_input = shape.output_size;
+    head_hidden.clear();
+  } else if (shared_) {
     std::vector<int> trunk_hidden(config.hidden_sizes.begin(), config.hidden_sizes.end() - 1);
     trunk_ = nn::Mlp({obs_size_, trunk_hidden, config.hidden_sizes.back(), activation_}, hidden_gain, rng);
     head_input = config.hidden_sizes.back();
@@ -67,7 +108,7 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
 
 const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& obs) {
   if (!shared_) return obs;
-  activate(trunk_.infer(obs), activation_, infer_features_);
+  activate(cnn_ ? cnn_trunk_.infer(obs) : trunk_.infer(obs), activation_, infer_features_);
   return infer_features_;
 }
 
@@ -93,7 +134,7 @@ Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
 
 const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& obs, const Eigen::MatrixXf& actions) {
   if (shared_) {
-    trunk_pre_ = trunk_.forward(obs);
+    trunk_pre_ = cnn_ ? cnn_trunk_.forward(obs) : trunk_.forward(obs);
     activate(trunk_pre_, activation_, features_);
   }
   const Eigen::MatrixXf& f = shared_ ? features_ : obs;
@@ -131,13 +172,19 @@ void ActorCritic::backward(const Eigen::VectorXf& d_log_prob, const Eigen::Vecto
   if (shared_) {
     d_features += d_features_value;
     activation_backward(d_features, features_, activation_);
-    trunk_.backward(d_features, false);
+    if (cnn_)
+      cnn_trunk_.backward(d_features, false);
+    else
+      trunk_.backward(d_features, false);
   }
 }
 
 nn::ParamList ActorCritic::params() {
   nn::ParamList list;
-  if (shared_) append(list, trunk_.params(), "trunk.");
+  if (cnn_)
+    append(list, cnn_trunk_.params(), "cnn.");
+  else if (shared_)
+    append(list, trunk_.params(), "trunk.");
   append(list, policy_.params(), "policy.");
   append(list, value_.params(), "value.");
   if (!discrete_) list.push_back(nn::param_of(log_std_, "log_std"));

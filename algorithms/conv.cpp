@@ -97,7 +97,7 @@ void transfer_patches(const Conv2d& conv, ImagePtr<dir> images, int count, Patch
             float* pixels = image + (iy * W + x0 + kx_begin) * C;
             const float* from = patch_row + kx_begin * C;
             const int len = (kx_end - kx_begin) * C;
-            for (int i = 0; i < len; ++i) pixels[i] = from[i];
+            for (int i = 0; i < len; ++i) pixels[i] += from[i];
           }
         }
       }

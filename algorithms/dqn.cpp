@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rdsim/actor_critic.hpp"
 #include "rdsim/algorithm.hpp"
 #include "rdsim/error.hpp"
 #include "rdsim/nn.hpp"
@@ -90,6 +91,55 @@ int argmax(const Eigen::Ref<const Eigen::VectorXf>& q) {
   return static_cast<int>(best);
 }
 
+// The Q-network: an MLP on vector observations, a CNN (network.cnn) on pixel observations.
+class QNet {
+public:
+  QNet() = default;
+  QNet(const TrainConfig& config, const Spec& spec, int num_actions, Rng& init) : cnn_(is_image_space(spec.observation)) {
+    if (cnn_) {
+      const std::string where = config.source + ": network.cnn";
+      cnn_net_ = make_cnn(cnn_shape(config.network.cnn, spec.observation, num_actions, where), 1.0f, init, where);
+    } else {
+      const nn::MlpShape shape{observation_input_size(spec.observation), config.network.hidden_sizes, num_actions,
+                               nn::activation_from_string(config.network.activation, config.source + ": network.activation")};
+      mlp_ = nn::Mlp(shape, 1.0f, init);
+    }
+  }
+
+  const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) { return cnn_ ? cnn_net_.infer(x) : mlp_.infer(x); }
+  const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) { return cnn_ ? cnn_net_.forward(x) : mlp_.forward(x); }
+  void backward(const Eigen::MatrixXf& grad) {
+    if (cnn_)
+      cnn_net_.backward(grad, false);
+    else
+      mlp_.backward(grad, false);
+  }
+  void zero_grad() {
+    if (cnn_)
+      cnn_net_.zero_grad();
+    else
+      mlp_.zero_grad();
+  }
+  nn::ParamList params() { return cnn_ ? cnn_net_.params() : mlp_.params(); }
+  void copy_values_from(const QNet& other) {
+    if (cnn_)
+      cnn_net_.copy_values_from(other.cnn_net_);
+    else
+      mlp_.copy_values_from(other.mlp_);
+  }
+  void blend_values_from(const QNet& other, float tau) {
+    if (cnn_)
+      cnn_net_.blend_values_from(other.cnn_net_, tau);
+    else
+      mlp_.blend_values_from(other.mlp_, tau);
+  }
+
+private:
+  bool cnn_ = false;
+  nn::Mlp mlp_;
+  nn::Cnn cnn_net_;
+};
+
 class Dqn final : public Algorithm {
 public:
   Dqn(const TrainConfig& config, const Spec& spec)
@@ -100,9 +150,7 @@ public:
         explore_rng_(Rng::derive(config.seed, rng_stream::exploration)),
         replay_rng_(Rng::derive(config.seed, rng_stream::replay_sampling)) {
     Rng init = Rng::derive(config.seed, rng_stream::network_init);
-    const nn::MlpShape shape{observation_input_size(spec.observation), config.network.hidden_sizes, num_actions_,
-                             nn::activation_from_string(config.network.activation, config.source + ": network.activation")};
-    q_ = nn::Mlp(shape, 1.0f, init);
+    q_ = QNet(config, spec, num_actions_, init);
     target_ = q_;
     nn::AdamConfig adam;
     adam.lr = static_cast<float>(cfg_.learning_rate);
@@ -122,7 +170,7 @@ private:
   DqnConfig cfg_;
   Spec spec_;
   int num_actions_;
-  nn::Mlp q_, target_;
+  QNet q_, target_;
   std::unique_ptr<nn::Adam> optimizer_;
   ReplayBuffer buffer_;
   Rng explore_rng_, replay_rng_;
@@ -184,7 +232,7 @@ void Dqn::gradient_step(double& loss_sum, double& q_sum, double& norm_sum) {
   grad_q_.setZero(num_actions_, b);
   for (int j = 0; j < b; ++j) grad_q_(batch_.actions[j], j) = loss.grad[j];
   q_.zero_grad();
-  q_.backward(grad_q_, false);
+  q_.backward(grad_q_);
   const nn::ParamList params = optimizer_->params();
   norm_sum += cfg_.max_grad_norm > 0 ? nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm))
                                      : nn::global_grad_norm(params);
@@ -233,10 +281,10 @@ Action Dqn::act(const Observation& observation, bool deterministic, Rng& rng) {
 }
 
 void Dqn::save(std::ostream& out, bool training_state) const {
-  nn::Mlp& q = const_cast<nn::Mlp&>(q_);  // params() hands out mutable views; saving only reads them
+  QNet& q = const_cast<QNet&>(q_);  // params() hands out mutable views; saving only reads them
   nn::save_params(q.params(), out);
   if (!training_state) return;
-  nn::save_params(const_cast<nn::Mlp&>(target_).params(), out);
+  nn::save_params(const_cast<QNet&>(target_).params(), out);
   optimizer_->save_state(out);
   write_string(out, rng_to_bytes(explore_rng_));
   write_string(out, rng_to_bytes(replay_rng_));

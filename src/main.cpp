@@ -44,6 +44,17 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
       ->default_str("-");
 }
 
+void add_render(CLI::App& app, rdsim::RenderOptions& o) {
+  auto* cmd = app.add_subcommand("render", "Write the raw-pixel observation an env gives after reset as a PNG");
+  cmd->add_option("--env", o.env, "Env name (see `rdsim envs`; needs pixels)")->required();
+  cmd->add_option("--out", o.out_path, "PNG file to write")->required();
+  cmd->add_option("--view", o.view, "Camera: 1 = main, 2 = second (multi-view) camera")->check(CLI::IsMember({1, 2}));
+  cmd->add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 4096));
+  cmd->add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 4096));
+  cmd->add_option("--seed", o.seed, "Reset seed");
+  cmd->add_flag("--random-target", o.random_target, "Randomise the target at reset (env.random_target)");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -59,6 +70,8 @@ int main(int argc, char** argv) {
   add_train(app, train, train_seed, timesteps);
   add_replay(app, replay, replay_seed);
   add_bench(app, bench);
+  rdsim::RenderOptions render;
+  add_render(app, render);
   app.add_subcommand("envs", "List the available environments");
 
   CLI11_PARSE(app, argc, argv);
@@ -83,6 +96,7 @@ int main(int argc, char** argv) {
       return rdsim::bench_fps_command(bench);
     }
     if (name == "envs") return rdsim::envs_command();
+    if (name == "render") return rdsim::render_command(render);
   } catch (const rdsim::Error& e) {
     std::fprintf(stderr, "rdsim: error: %s\n", e.what());
     return 1;

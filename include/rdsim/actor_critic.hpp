@@ -4,14 +4,27 @@
 
 #include "rdsim/env.hpp"
 #include "rdsim/nn.hpp"
+#include "rdsim/nn/cnn.hpp"
 #include "rdsim/rng.hpp"
 #include "rdsim/train_config.hpp"
 
 // Policy and value networks of the on-policy algorithms (PPO, A2C) over the nn:: API:
-// separate actor and critic MLPs, or one shared trunk with two linear heads. Discrete action
+// separate actor and critic MLPs, or one shared trunk with two linear heads. Pixel (UInt8)
+// observations always get a shared CNN trunk (network.cnn) with two linear heads. Discrete action
 // spaces get a Categorical over logits, Box spaces a DiagGaussian with a state-independent,
 // trainable log std. Observations come in encoded (see observation_batch.hpp).
 namespace rdsim {
+
+// True when observations of this space are images that need a CNN (UInt8, {height, width, channels}).
+bool is_image_space(const ObservationSpace& space);
+
+// The network described by `config` (network.cnn) for images of `space`, `outputs` outputs
+// (its last fc layer when used as a feature trunk). rdsim::Error naming `where` (e.g.
+// "cfg.json: network.cnn") when the space is not an image or the convs do not fit it.
+nn::CnnShape cnn_shape(const CnnConfig& config, const ObservationSpace& space, int outputs, const std::string& where);
+
+// Builds the Cnn of cnn_shape(), turning shape errors into messages naming `where`.
+nn::Cnn make_cnn(const nn::CnnShape& shape, float output_gain, Rng& rng, const std::string& where);
 
 // The result of acting on a batch (one column per observation).
 struct ActBatch {
@@ -55,16 +68,20 @@ public:
   int action_dim() const { return action_dim_; }
   bool discrete() const { return discrete_; }
 
+  bool uses_cnn() const { return cnn_; }
+
 private:
   const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
 
   bool discrete_;
   bool shared_;
+  bool cnn_;  // pixels: cnn_trunk_ replaces trunk_
   int obs_size_;
   int action_dim_;
   int policy_outputs_;
   nn::Activation activation_;
   nn::Mlp trunk_;   // shared only: obs -> last hidden layer (pre-activation)
+  nn::Cnn cnn_trunk_;  // pixels only: image -> last fc layer (pre-activation)
   nn::Mlp policy_;  // -> logits or Gaussian mean
   nn::Mlp value_;   // -> V
   nn::Tensor log_std_;

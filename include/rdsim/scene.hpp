@@ -5,7 +5,8 @@
 namespace rdsim {
 
 // Primitive kinds the renderer draws. Every shape is centred on its pose's origin.
-enum class Shape { Box, Cylinder, Sphere, Capsule, Plane };
+// (DrawShape, not Shape: rdsim::Shape is the URDF geometry of robot_model.hpp, and envs include both.)
+enum class DrawShape { Box, Cylinder, Sphere, Capsule, Plane };
 
 // One drawable primitive. Meaning of `size` per kind (MuJoCo/Bullet conventions):
 //   Box:      size = half extents (x, y, z)
@@ -17,7 +18,7 @@ enum class Shape { Box, Cylinder, Sphere, Capsule, Plane };
 //             camera sees" (zfar). Seen from below (-z side) it is not drawn.
 // rgba: colours in [0, 1]. Items are opaque; alpha == 0 hides the item without removing it.
 struct DrawItem {
-  Shape kind = Shape::Box;
+  DrawShape kind = DrawShape::Box;
   Eigen::Vector3f size{0.05f, 0.05f, 0.05f};
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
   Eigen::Vector4f rgba{0.7f, 0.7f, 0.7f, 1.0f};

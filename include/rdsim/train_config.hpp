@@ -12,11 +12,26 @@
 // model.bin, so a model file alone rebuilds its env and policy.
 namespace rdsim {
 
+// "network.cnn": the convolutional trunk used when the env observes pixels (UInt8 images).
+// "preset": "auto" (default) = "small" below 84x84, "nature" at 84x84 and above;
+//   "small"  = 16 8x8/4, 32 4x4/2, fc 256   (Mnih et al. 2013; 64x64 -> 6x6x32 features);
+//   "nature" = 32 8x8/4, 64 4x4/2, 64 3x3/1, fc 512 (Mnih et al. 2015).
+// "channels", "kernels", "strides" (same length, no padding) replace the preset's conv stack and
+// "fc" its dense layers (at least one) when given. Convs and fc use ReLU; with pixels the
+// actor and critic always share the CNN (policy and value are linear heads on its features)
+// and hidden_sizes/activation/shared are not used.
+struct CnnConfig {
+  std::string preset = "auto";
+  std::vector<int> channels, kernels, strides;  // empty = the preset's
+  std::vector<int> fc;                          // empty = the preset's
+};
+
 struct NetworkConfig {
   std::vector<int> hidden_sizes = {64, 64};  // "hidden_sizes"
   std::string activation = "tanh";           // "activation": "tanh" | "relu"
   bool shared = false;        // "shared": actor and critic share the hidden layers (one trunk)
   double log_std_init = 0.0;  // "log_std_init": initial log std of Gaussian (Box) policies
+  CnnConfig cnn;              // "cnn": pixel observations only (see CnnConfig)
 };
 
 // Proximal Policy Optimisation (clipped surrogate). Defaults: Stable-Baselines3's.

@@ -11,12 +11,34 @@ namespace {
 
 constexpr long long max_steps = 1'000'000'000'000LL;
 
+CnnConfig read_cnn(ConfigReader r) {
+  CnnConfig c;
+  r.read_choice("preset", c.preset, {"auto", "small", "nature"});
+  r.read("channels", c.channels, 1, 4096);
+  r.read("kernels", c.kernels, 1, 1024);
+  r.read("strides", c.strides, 1, 1024);
+  r.read("fc", c.fc, 1, 65536);
+  if (c.kernels.size() != c.channels.size())
+    r.fail("kernels", "expected one kernel size per entry of channels (" + std::to_string(c.channels.size()) + "), got " +
+                          std::to_string(c.kernels.size()));
+  if (c.strides.size() != c.channels.size())
+    r.fail("strides", "expected one stride per entry of channels (" + std::to_string(c.channels.size()) + "), got " +
+                          std::to_string(c.strides.size()));
+  r.finish();
+  return c;
+}
+
+nlohmann::json cnn_json(const CnnConfig& c) {
+  return {{"preset", c.preset}, {"channels", c.channels}, {"kernels", c.kernels}, {"strides", c.strides}, {"fc", c.fc}};
+}
+
 NetworkConfig read_network(ConfigReader r) {
   NetworkConfig c;
   r.read("hidden_sizes", c.hidden_sizes, 1, 65536);
   r.read_choice("activation", c.activation, {"tanh", "relu"});
   r.read("shared", c.shared);
   r.read("log_std_init", c.log_std_init, -20.0, 5.0);
+  c.cnn = read_cnn(r.child("cnn"));
   r.finish();
   return c;
 }
@@ -193,7 +215,8 @@ nlohmann::json to_json(const TrainConfig& c) {
                        {{"hidden_sizes", c.network.hidden_sizes},
                         {"activation", c.network.activation},
                         {"shared", c.network.shared},
-                        {"log_std_init", c.network.log_std_init}}}};
+                        {"log_std_init", c.network.log_std_init},
+                        {"cnn", cnn_json(c.network.cnn)}}}};
   if (c.algorithm == "ppo") j["ppo"] = ppo_json(c.ppo);
   if (c.algorithm == "a2c") j["a2c"] = a2c_json(c.a2c);
   if (c.algorithm == "dqn") j["dqn"] = dqn_json(c.dqn);

@@ -91,16 +91,16 @@ void GlSceneDrawer::add_item(const DrawItem& item, const Eigen::Matrix4f& view, 
   const Eigen::Vector3f& s = item.size;
   const Eigen::Vector3f rgb = item.rgba.head<3>();
   switch (item.kind) {
-    case Shape::Box:
+    case DrawShape::Box:
       add_mesh(UnitMesh::Box, scaled(mv, s), rgb, light);
       break;
-    case Shape::Cylinder:
+    case DrawShape::Cylinder:
       add_mesh(UnitMesh::Cylinder, scaled(mv, {s.x(), s.x(), 0.5f * s.y()}), rgb, light);
       break;
-    case Shape::Sphere:
+    case DrawShape::Sphere:
       add_mesh(UnitMesh::Sphere, scaled(mv, Eigen::Vector3f::Constant(s.x())), rgb, light);
       break;
-    case Shape::Capsule: {
+    case DrawShape::Capsule: {
       const float r = s.x(), half = 0.5f * s.y();
       if (half > 0.0f) add_mesh(UnitMesh::Cylinder, scaled(mv, {r, r, half}), rgb, light);
       // The lower cap is the upper one turned upside down (x and z flipped: a rotation).
@@ -109,7 +109,7 @@ void GlSceneDrawer::add_item(const DrawItem& item, const Eigen::Matrix4f& view, 
       add_mesh(UnitMesh::Hemisphere, scaled(translated_z(mv, -half), {-r, r, -r}), rgb, light);
       break;
     }
-    case Shape::Plane: {
+    case DrawShape::Plane: {
       const float hx = s.x() > 0.0f ? s.x() : far_extent;
       const float hy = s.y() > 0.0f ? s.y() : far_extent;
       add_mesh(UnitMesh::Quad, scaled(mv, {hx, hy, 1.0f}), rgb, light);

@@ -5,7 +5,7 @@
 
 namespace rdsim {
 namespace {
-DrawItem make_item(Shape kind, const Eigen::Vector3f& size, const Eigen::Vector4f& rgba) {
+DrawItem make_item(DrawShape kind, const Eigen::Vector3f& size, const Eigen::Vector4f& rgba) {
   DrawItem item;
   item.kind = kind;
   item.size = size;
@@ -15,23 +15,23 @@ DrawItem make_item(Shape kind, const Eigen::Vector3f& size, const Eigen::Vector4
 }  // namespace
 
 DrawItem make_box(const Eigen::Vector3f& half_extents, const Eigen::Vector4f& rgba) {
-  return make_item(Shape::Box, half_extents, rgba);
+  return make_item(DrawShape::Box, half_extents, rgba);
 }
 
 DrawItem make_cylinder(float radius, float length, const Eigen::Vector4f& rgba) {
-  return make_item(Shape::Cylinder, {radius, length, 0.0f}, rgba);
+  return make_item(DrawShape::Cylinder, {radius, length, 0.0f}, rgba);
 }
 
 DrawItem make_sphere(float radius, const Eigen::Vector4f& rgba) {
-  return make_item(Shape::Sphere, {radius, 0.0f, 0.0f}, rgba);
+  return make_item(DrawShape::Sphere, {radius, 0.0f, 0.0f}, rgba);
 }
 
 DrawItem make_capsule(float radius, float length, const Eigen::Vector4f& rgba) {
-  return make_item(Shape::Capsule, {radius, length, 0.0f}, rgba);
+  return make_item(DrawShape::Capsule, {radius, length, 0.0f}, rgba);
 }
 
 DrawItem make_plane(float half_x, float half_y, const Eigen::Vector4f& rgba) {
-  return make_item(Shape::Plane, {half_x, half_y, 0.0f}, rgba);
+  return make_item(DrawShape::Plane, {half_x, half_y, 0.0f}, rgba);
 }
 
 int Scene::add(const DrawItem& item) {

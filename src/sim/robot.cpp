@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "rdsim/error.hpp"
 #include "rdsim/joint_dynamics.hpp"
@@ -68,21 +69,89 @@ bool welded_to_base(const RobotModel& model, int link) {
 struct Robot::TorqueDrive {
   JointDynamics dynamics;
   Eigen::Vector3d gravity;  // in the root link's frame
-  Eigen::VectorXd q, qd, v_target, bias, impulse, limit, v_next;
-  Eigen::MatrixXd mass, mass_inverse;
+  Eigen::VectorXd q, qd, v_target, bias, impulse, limit, v_next, rest, rhs;
+  Eigen::MatrixXd mass, mass_inverse, block;
   Eigen::LLT<Eigen::MatrixXd> llt;
+  std::vector<int> free_set, clamped_set;  // active-set partition of the joints
+  std::vector<signed char> side;           // per joint: 0 free, +1 / -1 impulse at +limit / -limit
 
   TorqueDrive(const RobotModel& model, const std::vector<Inertial>& inertials, int dof)
       : dynamics(model, inertials), q(dof), qd(dof), v_target(dof), bias(dof), impulse(dof), limit(dof),
-        v_next(dof), mass(dof, dof), mass_inverse(dof, dof), llt(dof) {}
+        v_next(dof), rest(dof), rhs(dof), mass(dof, dof), mass_inverse(dof, dof), block(dof, dof), llt(dof),
+        side(static_cast<size_t>(dof)) {
+    free_set.reserve(static_cast<size_t>(dof));
+    clamped_set.reserve(static_cast<size_t>(dof));
+  }
 
   // Joint impulses (N m s) over dt that bring the joint speeds to v_target, each within +-limit:
-  // the box-constrained problem the motor constraints pose, solved exactly when nothing saturates
-  // and by projected Gauss-Seidel on M's inverse otherwise.
+  // the box-constrained problem the motor constraints pose (M positive definite, so its solution is
+  // unique), solved exactly when nothing saturates, else by an active set and, should that cycle,
+  // by projected Gauss-Seidel on M's inverse.
   void solve_impulses(double dt) {
     impulse.noalias() = mass * (v_target - qd);
     impulse += bias * dt;
     if ((impulse.cwiseAbs().array() <= limit.array()).all()) return;
+    if (solve_active_set(dt)) return;
+    solve_gauss_seidel(dt);
+  }
+
+  // Why an active set: a moving arm saturates a few joints on most steps; the clamped joints' speeds
+  // then follow from a |clamped| x |clamped| solve, where Gauss-Seidel needs M's full inverse (for the
+  // 54-joint InMoov that inverse was most of a physics step). Returns false if it did not settle.
+  bool solve_active_set(double dt) {
+    const int n = static_cast<int>(impulse.size());
+    rest.noalias() = mass * qd;
+    rest -= bias * dt;  // M v_next = rest + impulse
+    for (int i = 0; i < n; ++i) side[static_cast<size_t>(i)] = impulse[i] > limit[i] ? 1 : impulse[i] < -limit[i] ? -1 : 0;
+    for (int round = 0; round < 2 * n + 2; ++round) {
+      free_set.clear();
+      clamped_set.clear();
+      for (int i = 0; i < n; ++i) (side[static_cast<size_t>(i)] ? clamped_set : free_set).push_back(i);
+      const int c = static_cast<int>(clamped_set.size());
+      // Clamped joints: impulse at its limit, speed from their rows of M v_next = rest + impulse with the
+      // free joints at their target speeds.
+      for (int a = 0; a < c; ++a) {
+        const int i = clamped_set[static_cast<size_t>(a)];
+        impulse[i] = side[static_cast<size_t>(i)] * limit[i];
+        double r = rest[i] + impulse[i];
+        for (int j : free_set) r -= mass(i, j) * v_target[j];
+        rhs[a] = r;
+        for (int b = 0; b < c; ++b) block(a, b) = mass(i, clamped_set[static_cast<size_t>(b)]);
+      }
+      if (c > 0) {
+        Eigen::Ref<Eigen::MatrixXd> clamped_block = block.topLeftCorner(c, c);
+        Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> factor(clamped_block);  // in place: no allocation
+        if (factor.info() != Eigen::Success) return false;
+        factor.solveInPlace(rhs.head(c));
+      }
+      for (int j : free_set) v_next[j] = v_target[j];
+      for (int a = 0; a < c; ++a) v_next[clamped_set[static_cast<size_t>(a)]] = rhs[a];
+      // Free joints: the impulse their target speed needs.
+      for (int i : free_set) impulse[i] = mass.row(i).dot(v_next) - rest[i];
+      bool changed = false;
+      const double slack = 1e-9;
+      for (int i : free_set)
+        if (std::abs(impulse[i]) > limit[i] * (1.0 + slack)) {
+          side[static_cast<size_t>(i)] = impulse[i] > 0.0 ? 1 : -1;
+          changed = true;
+        }
+      if (changed) continue;
+      // A clamped joint whose speed passes its target does not need all of its limit: free it.
+      for (int i : clamped_set) {
+        const double over = side[static_cast<size_t>(i)] * (v_next[i] - v_target[i]);
+        if (over > slack * (1.0 + std::abs(v_target[i]))) {
+          side[static_cast<size_t>(i)] = 0;
+          changed = true;
+        }
+      }
+      if (!changed) return true;
+    }
+    return false;
+  }
+
+  void solve_gauss_seidel(double dt) {
+    impulse.noalias() = mass * (v_target - qd);
+    impulse += bias * dt;
     llt.compute(mass);
     mass_inverse.setIdentity();
     llt.solveInPlace(mass_inverse);

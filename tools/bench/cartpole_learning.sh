@@ -29,16 +29,16 @@ for algo in "${algos[@]}"; do
   ok=0; runs=0; steps_sum=0; wall_sum=0
   for seed in $seeds; do
     dir="$out/${algo}_seed${seed}"
-    start=$(date +%s.%N)
+    start=$(date +%s%N)
     if ! "$bin" train --quiet --config "$config" --seed "$seed" --log-dir "$dir"; then
       echo "$algo seed $seed: training failed"
       runs=$((runs + 1))
       continue
     fi
-    wall=$(echo "$(date +%s.%N) - $start" | bc)
+    wall=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { printf "%.1f", (b - a) / 1e9 }')
     at=$(solved_at "$dir/episodes.csv")
     runs=$((runs + 1))
-    wall_sum=$(echo "$wall_sum + $wall" | bc)
+    wall_sum=$(awk -v a="$wall_sum" -v b="$wall" 'BEGIN { print a + b }')
     if [ "$at" != "not reached" ] && [ "$at" -le "${target[$algo]}" ]; then
       ok=$((ok + 1)); steps_sum=$((steps_sum + at))
     fi
@@ -47,5 +47,5 @@ for algo in "${algos[@]}"; do
   mean_steps="-"
   [ $ok -gt 0 ] && mean_steps=$((steps_sum / ok))
   printf 'SUMMARY %s: %d/%d seeds reached 475 within %d steps (mean %s steps); mean wall %.1f s per run\n' \
-    "$algo" "$ok" "$runs" "${target[$algo]}" "$mean_steps" "$(echo "$wall_sum / ($runs + ($runs == 0))" | bc -l)"
+    "$algo" "$ok" "$runs" "${target[$algo]}" "$mean_steps" "$(awk -v s="$wall_sum" -v n="$runs" 'BEGIN { print (n > 0 ? s / n : 0) }')"
 done

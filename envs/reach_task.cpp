@@ -1,0 +1,173 @@
+#include "rdsim/envs/reach_task.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "rdsim/error.hpp"
+#include "rdsim/urdf_loader.hpp"
+
+namespace rdsim {
+namespace {
+
+constexpr double kIkDamping = 0.02;  // m: keeps the step bounded near singular poses
+
+}  // namespace
+
+void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
+  auto positive = [](double value, const char* key) {
+    if (value < 0.0 || !std::isfinite(value))
+      throw Error(std::string("env.") + key + ": expected a positive number (0 = the env's default), got " +
+                  std::to_string(value));
+    return value > 0.0;
+  };
+  if (positive(config.action_step, "action_step")) spec.step = static_cast<float>(config.action_step);
+  if (positive(config.success_threshold, "success_threshold"))
+    spec.success_threshold = static_cast<float>(config.success_threshold);
+  if (positive(config.max_distance, "max_distance")) spec.max_distance = static_cast<float>(config.max_distance);
+  if (config.max_steps < 0)
+    throw Error("env.max_steps: expected a positive step count (0 = the env's default), got " +
+                std::to_string(config.max_steps));
+  if (config.max_steps > 0) spec.max_steps = config.max_steps;
+  if (config.action_repeat < 0)
+    throw Error("env.action_repeat: expected a positive count of physics steps, got " +
+                std::to_string(config.action_repeat));
+  if (config.action_repeat > 0) spec.action_repeat = config.action_repeat;
+  if (spec.step > 0.2f) throw Error("env.action_step: at most 0.2 m per move, got " + std::to_string(spec.step));
+}
+
+ActionSpace reach_action_space(bool discrete) {
+  ActionSpace a;
+  a.discrete = discrete;
+  if (discrete) {
+    a.n = 6;
+  } else {
+    a.low = Eigen::VectorXf::Constant(3, -1.0f);
+    a.high = Eigen::VectorXf::Constant(3, 1.0f);
+  }
+  return a;
+}
+
+Eigen::Vector3f move_for_action(const Action& action, bool discrete, float step, const std::string& env_name) {
+  Eigen::Vector3f d = Eigen::Vector3f::Zero();
+  if (discrete) {
+    if (action.index < 0 || action.index > 5)
+      throw Error(env_name + ": discrete action must be 0..5 (-x, +x, -y, +y, -z, +z), got " +
+                  std::to_string(action.index));
+    d[action.index / 2] = action.index % 2 ? step : -step;
+    return d;
+  }
+  if (action.values.size() != 3)
+    throw Error(env_name + ": continuous action must have 3 values (dx, dy, dz), got " +
+                std::to_string(action.values.size()));
+  for (int i = 0; i < 3; ++i) {
+    const float v = action.values[i];
+    d[i] = step * (std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f);
+  }
+  return d;
+}
+
+ReachTask::ReachTask(ReachTaskSpec spec) : spec_(std::move(spec)) {
+  if (spec_.target_body >= static_cast<int>(spec_.statics.size()))
+    throw Error("ReachTaskSpec: target_body " + std::to_string(spec_.target_body) + " is not a static body");
+  world_ = std::make_unique<PhysicsWorld>(spec_.world);
+  static_models_.reserve(spec_.statics.size());
+  for (const auto& s : spec_.statics) {
+    static_models_.push_back(load_urdf(s.urdf));
+    static_ids_.push_back(world_->add_static_body(static_models_.back(), s.pose));
+  }
+  const RobotModel model = load_urdf(spec_.robot_urdf);
+  robot_ = &world_->add_robot(model, spec_.base_pose, spec_.robot);
+  ee_link_ = robot_->model().require_link(spec_.ee_link);
+  chain_ = std::make_unique<KinematicChain>(robot_->model(), spec_.ee_link);
+  const double control_dt = spec_.world.time_step * std::max(spec_.action_repeat, 1);
+  max_joint_move_.resize(chain_->dof());
+  for (int i = 0; i < chain_->dof(); ++i) {
+    chain_dofs_.push_back(robot_->dof_of_joint(chain_->model_joint(i)));
+    const double v = robot_->model().joints[static_cast<size_t>(chain_->model_joint(i))].velocity;
+    max_joint_move_[i] = v > 0.0 ? v * control_dt : 1e9;
+  }
+  if (spec_.home.size() != robot_->dof())
+    throw Error(spec_.robot_urdf + ": the home pose has " + std::to_string(spec_.home.size()) +
+                " joint values, the robot has " + std::to_string(robot_->dof()));
+  base_inverse_ = spec_.base_pose.inverse();
+  scratch_q_ = spec_.home;
+  robot_->reset_joints(spec_.home);
+  ee_ = robot_->link_pose(ee_link_).translation();
+  set_target(spec_.nominal_target);
+}
+
+ReachTask::~ReachTask() = default;
+
+void ReachTask::set_target(const Eigen::Vector3f& point) {
+  target_ = point;
+  if (spec_.target_body < 0) return;
+  Eigen::Isometry3f pose = spec_.statics[static_cast<size_t>(spec_.target_body)].pose;
+  pose.translation() = point - pose.linear() * spec_.target_offset;
+  const int body = static_ids_[static_cast<size_t>(spec_.target_body)];
+  world_->set_static_pose(body, pose);
+}
+
+void ReachTask::reset(Rng& rng, bool random_target) {
+  scratch_q_ = spec_.home;
+  if (spec_.home_noise > 0.0f)
+    for (int dof : chain_dofs_) scratch_q_[dof] += static_cast<float>(rng.uniform(-1.0, 1.0)) * spec_.home_noise;
+  robot_->reset_joints(scratch_q_);
+  Eigen::Vector3f target = spec_.nominal_target;
+  if (random_target && spec_.random_centre) target = *spec_.random_centre;
+  if (random_target)
+    for (int i = 0; i < 3; ++i) target[i] += static_cast<float>(rng.uniform(-1.0, 1.0)) * spec_.target_half_range[i];
+  set_target(target);
+  for (int body : static_ids_) world_->forget_contacts(body);
+  world_->forget_contacts(robot_->body());
+  ee_ = robot_->link_pose(ee_link_).translation();
+}
+
+void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
+  Eigen::Vector3f goal = ee_ + delta;
+  if (spec_.move_noise > 0.0f) {
+    const double sigma = static_cast<double>(spec_.move_noise * spec_.step);
+    for (int i = 0; i < 3; ++i) goal[i] += static_cast<float>(rng.normal(0.0, sigma));
+  }
+  goal = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
+  const Eigen::Vector3d goal_root = (base_inverse_ * goal).cast<double>();
+  JointVector q(chain_->dof());
+  for (int i = 0; i < chain_->dof(); ++i) q[i] = robot_->joint_position(chain_dofs_[static_cast<size_t>(i)]);
+  // Damped least squares steps, each one FK + Jacobian (solve_ik's accept/reject test would cost a
+  // second FK per iteration; a move of a centimetre or two is well inside the linear regime).
+  JointVector solution = q;
+  for (int it = 0; it < spec_.ik_iterations; ++it) {
+    ChainJacobian jacobian;
+    const Eigen::Vector3d error = goal_root - chain_->forward(solution, jacobian).translation();
+    const auto jp = jacobian.topRows<3>();
+    Eigen::Matrix3d a = jp * jp.transpose();
+    a.diagonal().array() += kIkDamping * kIkDamping;
+    solution = chain_->clamp(solution + jp.transpose() * a.llt().solve(error));
+  }
+  // Joints the drive would have to clamp at their speed limit would bend the move; slowing the whole
+  // joint step instead keeps the end effector on the requested line.
+  JointVector dq = solution - q;
+  double over = 1.0;
+  for (int i = 0; i < dq.size(); ++i) over = std::max(over, std::abs(dq[i]) / max_joint_move_[i]);
+  dq /= over;
+  for (int i = 0; i < chain_->dof(); ++i)
+    robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(q[i] + dq[i]));
+}
+
+void ReachTask::step_physics() {
+  for (int k = 0; k < spec_.action_repeat; ++k) world_->step();
+  ee_ = robot_->link_pose(ee_link_).translation();
+}
+
+bool ReachTask::out_of_bounds() const {
+  const Eigen::Vector3f m = Eigen::Vector3f::Constant(spec_.workspace_margin);
+  const bool outside = (ee_.array() < (spec_.workspace.min() - m).array()).any() ||
+                       (ee_.array() > (spec_.workspace.max() + m).array()).any();
+  return outside || distance() > spec_.max_distance;
+}
+
+bool ReachTask::robot_touches(int static_index) const {
+  return world_->touching({robot_->body(), -1}, {static_ids_[static_cast<size_t>(static_index)], -1});
+}
+
+}  // namespace rdsim

@@ -1,0 +1,58 @@
+#include "rdsim/envs/robot_scene.hpp"
+
+namespace rdsim {
+
+DrawItem visual_item(const VisualShape& visual) {
+  const Shape& s = visual.shape;
+  DrawItem item;
+  switch (s.type) {
+    case ShapeType::Box: item = make_box((0.5 * s.size).cast<float>(), visual.rgba); break;
+    case ShapeType::Cylinder:
+      item = make_cylinder(static_cast<float>(s.radius), static_cast<float>(s.length), visual.rgba);
+      break;
+    case ShapeType::Sphere: item = make_sphere(static_cast<float>(s.radius), visual.rgba); break;
+  }
+  item.pose = s.origin.cast<float>();
+  return item;
+}
+
+void add_robot(RobotScene& scene, const Robot& robot) {
+  const RobotModel& model = robot.model();
+  for (size_t l = 0; l < model.links.size(); ++l) {
+    const int link = static_cast<int>(l);
+    for (const VisualShape& v : model.links[l].visuals) {
+      DrawItem item = visual_item(v);
+      const Eigen::Isometry3f offset = item.pose;
+      item.pose = robot.link_pose(link) * offset;
+      scene.parts.push_back({robot.body(), link, scene.scene.add(item), offset});
+    }
+  }
+}
+
+void add_static_body(RobotScene& scene, const PhysicsWorld& world, int body, const RobotModel& model) {
+  const std::vector<Eigen::Isometry3d> frames = model.link_poses_at_zero();
+  const Eigen::Isometry3f pose = world.static_pose(body);
+  for (size_t l = 0; l < model.links.size(); ++l)
+    for (const VisualShape& v : model.links[l].visuals) {
+      DrawItem item = visual_item(v);
+      const Eigen::Isometry3f offset = frames[l].cast<float>() * item.pose;
+      item.pose = pose * offset;
+      scene.parts.push_back({body, -1, scene.scene.add(item), offset});
+    }
+}
+
+void update_poses(RobotScene& scene, const PhysicsWorld& world) {
+  // Parts of one link are adjacent (added link by link), so each link pose is computed once.
+  int last_body = -1, last_link = -2;
+  Eigen::Isometry3f frame = Eigen::Isometry3f::Identity();
+  for (const ScenePart& p : scene.parts) {
+    if (p.body != last_body || p.link != last_link) {
+      frame = p.link < 0 ? world.static_pose(p.body) : world.robot(p.body).link_pose(p.link);
+      last_body = p.body;
+      last_link = p.link;
+    }
+    scene.scene.items[static_cast<size_t>(p.item)].pose = frame * p.offset;
+  }
+}
+
+}  // namespace rdsim

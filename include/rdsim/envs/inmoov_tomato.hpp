@@ -1,0 +1,93 @@
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "rdsim/env.hpp"
+#include "rdsim/env_config.hpp"
+#include "rdsim/envs/pixel_view.hpp"
+#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/rng.hpp"
+
+// inmoov_tomato — RobotDrlSim section 4.3: the InMoov humanoid (assets/inmoov/inmoov.urdf, 54
+// joints) moves its right palm to a tomato of a tomato tree standing in front of it. Built on
+// ReachTask (envs/reach_task.hpp), which does the IK moves, bounds and distance checks.
+//
+// Scene (world frame = robot base frame, z up, metres): the InMoov's pedestal on the floor at the
+// origin, facing +x; the tomato tree (assets/objects/tomato_tree.urdf) stands at (0.65, -0.20, 0),
+// its six tomatoes (r 3.5 cm, solid) at (0.40,-0.42,1.05) (0.42,-0.22,1.02) (0.45,-0.45,1.25)
+// (0.38,-0.28,1.18) (0.42,-0.15,1.30) (0.48,-0.32,1.38) (assets/README.md). No floor body: nothing
+// the hand can reach is near it.
+// Target: the centre of tomato_<index> (default index 3, straight ahead of the right shoulder);
+// random_target: a tomato drawn uniformly from the six at each reset (seeded Rng).
+// End effector: r_hand_ee, the centre of the right palm's face.
+//
+// Numbers (EnvConfig value 0 = the default given here):
+//   physics          Bullet Featherstone, 1/240 s per physics step, gravity -9.8, 10 solver iterations
+//                    (contacts only: ComputedTorque drive, no joint-limit constraint rows; the targets
+//                    are clamped to the limits), action_repeat 1. The robot's links do not collide with
+//                    each other; they collide with the tree.
+//   home pose        every joint 0 except the right arm: upper-arm rotation -30 deg, elbow 90 deg
+//                    (forearm forward, palm facing forward-left, palm centre at about (0.28,-0.34,1.02));
+//                    + U(-0.02, 0.02) rad on each IK joint at each reset (seeded).
+//   held joints      head, jaw, eyes, left arm, all fingers and the torso keep their home targets; only
+//                    the IK chain moves.
+//   actions          Discrete(6): -x, +x, -y, +y, -z, +z palm moves of action_step (default 0.004 m:
+//                    ~1 m/s at 240 Hz, what the shoulder's 1.5 rad/s allows); continuous: Box(3) of
+//                    dx, dy, dz in [-1, 1] times action_step. Gaussian move noise sigma = action_step/30;
+//                    goal clipped into the workspace; 3 damped-least-squares IK iterations warm-started
+//                    from the current joint angles on the chain base_link -> r_hand_ee.
+//   workspace box    x 0.10..0.70, y -0.70..0.15, z 0.80..1.65; leaving it by more than 3 cm, or being
+//                    farther than max_distance (default 0.6 m) from the tomato, ends the episode:
+//                    terminated, info.out_of_bounds, reward -(max_distance x steps left).
+//   observation      ground truth, 6 floats: tomato - palm (3), palm position (3); bounds in the Spec.
+//   reward           -|palm - tomato| (m) every step.
+//   success          |palm - tomato| < success_threshold (default 0.06 m): the tomato is solid, so the
+//                    palm centre cannot come closer than its radius (0.035 m); 0.06 = palm within 2.5 cm
+//                    of the skin. Terminated, info.success.
+//   truncation       max_steps (default 400).
+//   raw_pixels       UInt8 image_height x image_width x 3 (x 6 with multi_view) from
+//                    inmoov_main_view() / inmoov_second_view() (pixel_view.hpp): tree, tomatoes, right arm.
+namespace rdsim {
+
+ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config);
+
+class InmoovTomato final : public Env {
+public:
+  explicit InmoovTomato(const EnvConfig& config);
+
+  const Spec& spec() const override { return spec_; }
+  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepResult step(const Action& action) override;
+  bool step_physics_only() override;
+
+  const ReachTask& task() const { return *task_; }
+  ReachTask& task() { return *task_; }
+  int steps() const { return steps_; }
+  // World positions of the tree's tomatoes, tomato_0 first.
+  const std::vector<Eigen::Vector3f>& tomatoes() const { return tomatoes_; }
+  int target_index() const { return target_index_; }
+  // Makes tomato `index` the target of the current episode (after reset; for evaluation and tests).
+  // rdsim::Error when there is no such tomato.
+  void select_target(int index);
+
+  static constexpr int tree_index = 0;      // index of the tree in task().spec().statics
+  static constexpr int default_target = 3;  // tomato_3 without random_target
+
+private:
+  Observation observe() const;
+
+  Spec spec_;
+  std::unique_ptr<ReachTask> task_;
+  std::unique_ptr<PixelView> pixels_;  // raw_pixels only
+  std::vector<Eigen::Vector3f> tomatoes_;
+  Rng rng_;
+  bool discrete_ = true;
+  bool random_target_ = false;
+  int target_index_ = default_target;
+  int steps_ = 0;
+  bool done_ = true;
+};
+
+std::unique_ptr<Env> make_inmoov_tomato(const EnvConfig& config);
+
+}  // namespace rdsim

@@ -1,0 +1,80 @@
+#pragma once
+#include <memory>
+
+#include "rdsim/env.hpp"
+#include "rdsim/env_config.hpp"
+#include "rdsim/envs/pixel_view.hpp"
+#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/rng.hpp"
+
+// jaka_button — RobotDrlSim section 4.1: a JAKA Zu 7 arm moves its flange to a push button on a table.
+//
+// Scene (world frame = robot base frame, z up, metres): the table top (assets/objects/table.urdf,
+// 1.2 x 1.2 m) is the plane z = 0, its centre at (0.35, 0); the robot base stands on it at the
+// origin; the button (assets/objects/button.urdf, r 4 cm, 3 cm high) stands on it at (0.5, 0, 0)
+// as in the paper. The target point is the centre of the button's top, (0.5, 0, 0.03).
+// random_target: the button moves by x += 0.15 U(-1,1), y += 0.3 U(-1,1) (the paper's box: x 0.35..0.65,
+// y -0.3..0.3), drawn from the env's Rng at each reset; every such point is reachable tool-down.
+// End effector: flange_link (centre of the flange face).
+//
+// Numbers (EnvConfig value 0 = the default given here):
+//   physics          Bullet Featherstone, 1/240 s per physics step, gravity -9.8, 10 solver
+//                    iterations (contacts only: ComputedTorque drive, no limit constraint rows;
+//                    set_position_targets clamps to the joint limits), action_repeat 1.
+//   home pose        joints (-0.26, 1.44, -1.85, 1.98, 1.5708, 0) rad: flange at about (0.45, 0, 0.25),
+//                    pointing down; + U(-0.02, 0.02) rad per joint at each reset (seeded).
+//   actions          Discrete(6) (is_discrete): -x, +x, -y, +y, -z, +z flange moves of action_step
+//                    (default 0.015 m); continuous: Box(3) of dx, dy, dz in [-1, 1] times action_step.
+//                    Each move gets Gaussian noise sigma = action_step / 30 per axis (as the original),
+//                    the goal is clipped into the workspace box and turned into joint targets by one
+//                    damped-least-squares IK step (damping 0.02 m) from the current joint angles; when
+//                    a joint would exceed its speed limit (180 deg/s) within the step, the whole joint
+//                    step is scaled down, so the flange slows down rather than leaving the line.
+//                    The arm's dynamics limit what a move achieves: a steady direction gives about
+//                    6-7 mm per step, random actions about 2 mm along the chosen axis.
+//   workspace box    x 0.15..0.85, y -0.5..0.5, z 0.02..0.55 (robot frame); leaving it by more than
+//                    3 cm, or being farther than max_distance (default 0.7 m) from the target, ends
+//                    the episode: terminated, info.out_of_bounds, reward -(max_distance x steps left).
+//   observation      ground truth, 6 floats: target - flange (3), flange position (3); bounds in the Spec.
+//                    raw_pixels: UInt8 image_height x image_width x 3 (x 6 with multi_view) from the
+//                    paper's cameras re-aimed at this layout (pixel_view.hpp reach_main_view / reach_second_view).
+//   reward           -|flange - target| (m) every step.
+//   success          |flange - target| < success_threshold (default 0.025 m) or the flange touching
+//                    the button: terminated, info.success.
+//   truncation       max_steps (default 200; the paper used 1000).
+namespace rdsim {
+
+// The jaka_button scene and numbers above, with `config`'s overrides applied.
+ReachTaskSpec jaka_button_spec(const EnvConfig& config);
+
+class JakaButton final : public Env {
+public:
+  explicit JakaButton(const EnvConfig& config);
+
+  const Spec& spec() const override { return spec_; }
+  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepResult step(const Action& action) override;
+  bool step_physics_only() override;
+
+  const ReachTask& task() const { return *task_; }
+  ReachTask& task() { return *task_; }
+  int steps() const { return steps_; }
+
+  static constexpr int button_index = 1;  // index of the button in task().spec().statics
+
+private:
+  Observation observe() const;
+
+  Spec spec_;
+  std::unique_ptr<ReachTask> task_;
+  std::unique_ptr<PixelView> pixels_;  // raw_pixels only
+  Rng rng_;
+  bool discrete_ = true;
+  bool random_target_ = false;
+  int steps_ = 0;
+  bool done_ = true;
+};
+
+std::unique_ptr<Env> make_jaka_button(const EnvConfig& config);
+
+}  // namespace rdsim

@@ -1,0 +1,72 @@
+#pragma once
+#include <memory>
+
+#include "rdsim/env.hpp"
+#include "rdsim/env_config.hpp"
+#include "rdsim/envs/pixel_view.hpp"
+#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/rng.hpp"
+
+// jaka_obstacle — RobotDrlSim section 4.2: jaka_button's scene and numbers (see jaka_button.hpp) with
+// an obstacle column the arm must go around.
+//
+// Column: assets/objects/column.urdf (cylinder r 0.05 m, 0.60 m high) standing on the table at
+// (0.35, 0.15, 0), i.e. beside the base-to-button line, not on it: the 0.6 m column is taller than the
+// Zu 7's links at that distance, so a column ON that line would leave no collision-free way to the
+// button at all. Instead the flange starts on the column's far side from the button:
+//   home pose        joints (0.66, 1.50, -2.32, 2.39, 1.5708, 0) rad: flange at about (0.20, 0.30, 0.15),
+//                    pointing down (+ U(-0.02, 0.02) rad per joint at reset, seeded);
+// so the straight line (and the greedy axis-by-axis staircase) from there to every button position runs
+// through the column, while the way round its near side (flange passing about (0.25, -0.05), between
+// the column and the robot base) is free. Going round the far side is not: the arm would sweep over
+// the column.
+//   button           nominal (0.5, 0, 0) as in jaka_button; random_target: x 0.45..0.65, y -0.2..0.0
+//                    (the part of the paper's box that the column leaves clear by >= 0.1 m and that the
+//                    near-side detour reaches).
+//   observation      9 floats: button - flange (3), flange - column (3; the column's base centre),
+//                    flange position (3).
+//                    raw_pixels: UInt8 image_height x image_width x 3 (x 6 with multi_view), cameras
+//                    pixel_view.hpp obstacle_main_view (steeper than jaka_button's, so the column does not
+//                    hide the flange) and reach_second_view.
+//   reward           -|flange - button| per step; touching the column with ANY robot link: reward -200,
+//                    terminated, info.collision.
+//   truncation       max_steps, default 300 (the way round is about twice as long as jaka_button's).
+//   max_distance     default 0.9 m (the home flange is up to 0.68 m from a random button).
+//   success, workspace, out-of-bounds, physics, actions: as jaka_button.
+namespace rdsim {
+
+ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config);
+
+class JakaObstacle final : public Env {
+public:
+  explicit JakaObstacle(const EnvConfig& config);
+
+  const Spec& spec() const override { return spec_; }
+  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepResult step(const Action& action) override;
+  bool step_physics_only() override;
+
+  const ReachTask& task() const { return *task_; }
+  ReachTask& task() { return *task_; }
+
+  static constexpr int button_index = 1;  // in task().spec().statics
+  static constexpr int column_index = 2;
+  static constexpr float collision_reward = -200.0f;
+
+private:
+  Observation observe() const;
+
+  Spec spec_;
+  std::unique_ptr<ReachTask> task_;
+  std::unique_ptr<PixelView> pixels_;  // raw_pixels only
+  Rng rng_;
+  Eigen::Vector3f column_ = Eigen::Vector3f::Zero();
+  bool discrete_ = true;
+  bool random_target_ = false;
+  int steps_ = 0;
+  bool done_ = true;
+};
+
+std::unique_ptr<Env> make_jaka_obstacle(const EnvConfig& config);
+
+}  // namespace rdsim

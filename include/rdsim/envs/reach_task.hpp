@@ -1,0 +1,131 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rdsim/env.hpp"
+#include "rdsim/env_config.hpp"
+#include "rdsim/kinematics.hpp"
+#include "rdsim/physics_world.hpp"
+#include "rdsim/rng.hpp"
+
+// Shared machinery of every "move an end effector to a target by IK" environment (jaka_button,
+// jaka_obstacle, inmoov_tomato): a robot and static bodies in a PhysicsWorld, end-effector moves
+// turned into joint position targets by a few warm-started IK iterations, a target point, and the
+// distance / workspace / contact checks. Robot-agnostic: an env fills a ReachTaskSpec and adds its
+// own observation, reward and termination terms. Nothing here allocates per step.
+//
+// Frames: everything in ReachTaskSpec and ReachTask is in the WORLD frame; the IK works in the
+// robot's root frame and ReachTask converts with the robot's base pose.
+namespace rdsim {
+
+// A body that never moves by itself (table, button, column, tree).
+struct StaticBodySpec {
+  std::string urdf;  // path of the URDF file
+  Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+};
+
+struct ReachTaskSpec {
+  std::string robot_urdf;  // path of the robot's URDF file
+  Eigen::Isometry3f base_pose = Eigen::Isometry3f::Identity();
+  std::string ee_link;          // end-effector link (the IK chain runs from the root link to it)
+  Eigen::VectorXf home;         // joint positions at reset, one per robot dof (Robot::dof order)
+  float home_noise = 0.0f;      // rad; uniform +-home_noise added to every IK-chain joint at reset
+
+  std::vector<StaticBodySpec> statics;
+  // Index into `statics` of the body that carries the target (moved with it), -1 for none; the
+  // target point is that body's frame moved by `target_offset` (in the body frame).
+  int target_body = -1;
+  Eigen::Vector3f target_offset = Eigen::Vector3f::Zero();
+
+  Eigen::Vector3f nominal_target = Eigen::Vector3f::Zero();      // target point without randomisation
+  Eigen::Vector3f target_half_range = Eigen::Vector3f::Zero();   // random_target: += U(-1,1) * this, per axis
+  // random_target draws around this point instead of nominal_target when set.
+  std::optional<Eigen::Vector3f> random_centre;
+  Eigen::AlignedBox3f workspace;  // move targets are clipped into it; the ee leaving it ends an episode
+
+  float step = 0.015f;            // m per discrete move / largest continuous move
+  float move_noise = 1.0f / 30.0f;  // Gaussian noise on each move component, sigma = move_noise * step
+  float success_threshold = 0.025f;  // m
+  float max_distance = 0.7f;         // m from the target: farther ends the episode
+  float workspace_margin = 0.02f;    // m the ee may lag outside `workspace` before it counts as out
+  int max_steps = 200;
+  int action_repeat = 1;             // physics steps per env step
+  int ik_iterations = 1;             // damped least squares steps per move (one FK + Jacobian each), from the current joints
+
+  WorldSettings world;
+  RobotOptions robot;
+};
+
+// Applies the EnvConfig overrides shared by reaching envs (0 = keep the spec's default) to `spec`,
+// rejecting bad values with an rdsim::Error naming the env.* key. Also sets the workspace-independent
+// defaults documented by each env.
+void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec);
+
+// Discrete(6) = -x, +x, -y, +y, -z, +z; continuous Box(3) in [-1, 1] scaled by `step`.
+// rdsim::Error (naming `env_name`) for an index outside 0..5 or a box action of the wrong size.
+Eigen::Vector3f move_for_action(const Action& action, bool discrete, float step, const std::string& env_name);
+ActionSpace reach_action_space(bool discrete);
+
+class ReachTask {
+public:
+  explicit ReachTask(ReachTaskSpec spec);  // loads the URDFs (rdsim::Error on bad files)
+  ~ReachTask();
+  ReachTask(const ReachTask&) = delete;
+  ReachTask& operator=(const ReachTask&) = delete;
+
+  // Home pose (+ seeded noise), target at the nominal point or (random_target) drawn from the Rng.
+  void reset(Rng& rng, bool random_target);
+  // Puts the target at `point` (moving the target body, if any) and forgets its contacts.
+  void set_target(const Eigen::Vector3f& point);
+
+  // Joint targets for "end effector + delta" (delta plus Gaussian move noise from `rng`, clipped into
+  // the workspace), by ik_iterations damped least squares steps (damping 0.02 m) from the current
+  // joint angles, clamped to the joint limits; the joint step is scaled
+  // down as a whole when a joint would exceed its URDF speed limit over one control period (so the
+  // move is slowed, never bent). Does not step physics.
+  void apply_move(const Eigen::Vector3f& delta, Rng& rng);
+  // action_repeat physics steps, then refreshes the end-effector position.
+  void step_physics();
+
+  const Eigen::Vector3f& ee_position() const { return ee_; }  // world frame, as of the last step/reset
+  const Eigen::Vector3f& target() const { return target_; }
+  float distance() const { return (ee_ - target_).norm(); }
+  bool reached() const { return distance() < spec_.success_threshold; }
+  // Outside the workspace box (plus margin) or farther than max_distance from the target.
+  bool out_of_bounds() const;
+  // Whether any robot link touches static body `index` (index into spec().statics).
+  bool robot_touches(int static_index) const;
+
+  const ReachTaskSpec& spec() const { return spec_; }
+  // For renderers and tests.
+  PhysicsWorld& world() { return *world_; }
+  const PhysicsWorld& world() const { return *world_; }
+  Robot& robot() { return *robot_; }
+  const Robot& robot() const { return *robot_; }
+  const RobotModel& robot_model() const { return robot_->model(); }
+  int ee_link() const { return ee_link_; }
+  int static_body(int index) const { return static_ids_[static_cast<size_t>(index)]; }  // PhysicsWorld body id
+  const RobotModel& static_model(int index) const { return static_models_[static_cast<size_t>(index)]; }
+  const KinematicChain& chain() const { return *chain_; }
+
+private:
+  ReachTaskSpec spec_;
+  std::unique_ptr<PhysicsWorld> world_;
+  Robot* robot_ = nullptr;
+  std::vector<RobotModel> static_models_;
+  std::vector<int> static_ids_;
+  std::unique_ptr<KinematicChain> chain_;
+  std::vector<int> chain_dofs_;  // robot dof of each chain joint
+  JointVector max_joint_move_;   // per chain joint: URDF speed limit x control period
+  int ee_link_ = -1;
+  Eigen::Isometry3f base_inverse_;
+  Eigen::VectorXf scratch_q_;    // reset pose, sized once
+  Eigen::Vector3f ee_ = Eigen::Vector3f::Zero();
+  Eigen::Vector3f target_ = Eigen::Vector3f::Zero();
+};
+
+}  // namespace rdsim

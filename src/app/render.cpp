@@ -1,0 +1,43 @@
+// `rdsim render`: what the agent of a raw-pixel env sees after reset, as a PNG file.
+#include <cstdio>
+#include <vector>
+
+#include "rdsim/app.hpp"
+#include "rdsim/env_registry.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/png.hpp"
+
+namespace rdsim {
+
+int render_command(const RenderOptions& o) {
+  if (o.view != 1 && o.view != 2) throw Error("render: --view must be 1 or 2, got " + std::to_string(o.view));
+  EnvConfig config;
+  config.name = o.env;
+  config.observation = ObservationMode::RawPixels;
+  config.multi_view = o.view == 2;
+  config.random_target = o.random_target;
+  config.image_width = o.width;
+  config.image_height = o.height;
+  for (const EnvEntry& e : env_registry())
+    if (e.name == o.env && !e.supports_pixels)
+      throw Error("render: env \"" + o.env + "\" has no raw-pixel observations (see `rdsim envs`)");
+  const std::unique_ptr<Env> env = make_env(config);  // rdsim::Error listing the names when unknown
+  const ObservationSpace& space = env->spec().observation;
+  const Observation obs = env->reset(o.seed);
+  const int channels = 3 * o.view;
+  if (space.type != ObsType::UInt8 || space.shape.size() != 3 || space.shape[2] != channels ||
+      obs.pixels.size() != static_cast<size_t>(space.size()))
+    throw Error("render: env \"" + o.env + "\" did not return " + std::to_string(channels) + "-channel pixels");
+  const int h = space.shape[0], w = space.shape[1];
+  // View 2 is channels 3..5 of each pixel of the stacked observation.
+  std::vector<std::uint8_t> rgb(static_cast<size_t>(w) * static_cast<size_t>(h) * 3);
+  const size_t first = static_cast<size_t>(channels - 3);
+  for (size_t p = 0; p < rgb.size() / 3; ++p)
+    for (size_t c = 0; c < 3; ++c) rgb[3 * p + c] = obs.pixels[p * static_cast<size_t>(channels) + first + c];
+  write_png(o.out_path, w, h, 3, rgb.data());
+  std::printf("wrote %s (%s, %dx%d, view %d, seed %llu)\n", o.out_path.c_str(), o.env.c_str(), w, h, o.view,
+              static_cast<unsigned long long>(o.seed));
+  return 0;
+}
+
+}  // namespace rdsim

@@ -1,0 +1,77 @@
+// The robot envs through the real binary: bad assets, the shipped configs, a short learning check.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include "rl_test_util.hpp"
+
+using Catch::Matchers::Contains;
+using Catch::Matchers::StartsWith;
+using rltest::run_rdsim;
+using rltest::ScratchDir;
+
+namespace {
+
+// Column `index` (0-based) of a CSV line.
+std::string cell(const std::string& line, int index) {
+  std::string rest = line;
+  for (int k = 0; k < index; ++k) rest = rest.substr(rest.find(',') + 1);
+  return rest.substr(0, rest.find(','));
+}
+
+// Success rate over the last `n` rows of episodes.csv (column 4 = success).
+double last_success_rate(const std::string& episodes_csv, std::size_t n) {
+  const auto rows = rltest::lines(rltest::slurp(episodes_csv));
+  REQUIRE(rows.size() > n);
+  double successes = 0;
+  for (std::size_t i = rows.size() - n; i < rows.size(); ++i) successes += std::stod(cell(rows[i], 4));
+  return successes / static_cast<double>(n);
+}
+
+}  // namespace
+
+TEST_CASE("train: a broken robot URDF exits non-zero with one message naming the file", "[cli][urdf]") {
+  ScratchDir dir("cli_bad_urdf");
+  // A copy of the asset folder whose Jaka file is malformed XML.
+  const std::filesystem::path assets = dir.path / "assets";
+  std::filesystem::copy("assets", assets, std::filesystem::copy_options::recursive);
+  const std::string urdf = (assets / "jaka" / "jaka_zu7.urdf").string();
+  rltest::spit(urdf, "<robot name=\"jaka\"><link name=\"base\">");
+  const std::string config = dir / "bad_urdf.json";
+  rltest::spit(config, R"({"env": {"name": "jaka_button", "urdf_root": ")" + assets.string() + R"("},
+                           "total_timesteps": 1024})");
+  const auto r = run_rdsim("train --quiet --config " + config + " --log-dir " + (dir / "run"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, StartsWith("rdsim: error: "));
+  CHECK_THAT(r.err, Contains(urdf));
+  CHECK_FALSE(std::filesystem::exists(dir.path / "run" / "model.bin"));
+}
+
+TEST_CASE("the shipped robot configs train and replay", "[cli]") {
+  ScratchDir dir("cli_robot_configs");
+  for (const char* name : {"jaka_button", "jaka_obstacle", "inmoov_tomato"}) {
+    INFO(name);
+    const std::string run = dir / name;
+    auto r = run_rdsim(std::string("train --quiet --config configs/") + name + ".json --timesteps 2048 --log-dir " + run,
+                       dir);
+    REQUIRE(r.exit_code == 0);
+    r = run_rdsim("replay " + run + "/model.bin -n 2", dir);
+    CHECK(r.exit_code == 0);
+    CHECK_THAT(r.out, Contains("over 2 episodes"));
+  }
+}
+
+// The full check (configs/jaka_button.json: >= 95% success over the last 100 episodes, about 300k
+// steps) is tools/bench/learning.sh; this short one guards against a broken learning path.
+TEST_CASE("PPO learns jaka_button with random targets: most of the last 100 episodes succeed within 100k steps",
+          "[cli][learning]") {
+  ScratchDir dir("cli_jaka_learning");
+  const auto r = run_rdsim("train --quiet --config configs/jaka_button.json --timesteps 100000 --log-dir " +
+                               (dir / "run"),
+                           dir);
+  REQUIRE(r.exit_code == 0);
+  const double rate = last_success_rate(dir / "run/episodes.csv", 100);
+  INFO("success rate of the last 100 episodes after 100k steps: " << rate << " (random play: about 0.1)");
+  CHECK(rate > 0.6);
+}

@@ -1,0 +1,46 @@
+#pragma once
+#include <Eigen/Core>
+#include <cmath>
+#include <string>
+
+#include "rdsim/env.hpp"
+#include "rdsim/env_config.hpp"
+
+// Helpers shared by the reaching-env tests.
+namespace rdsim::test {
+
+inline EnvConfig env_config(const std::string& name, bool random_target = false) {
+  EnvConfig c;
+  c.name = name;
+  c.random_target = random_target;
+  return c;
+}
+
+// Discrete(6) move along the largest component of `to_target` (-x, +x, -y, +y, -z, +z).
+inline Action greedy_action(const Eigen::Vector3f& to_target) {
+  int axis = 0;
+  to_target.cwiseAbs().maxCoeff(&axis);
+  return Action::discrete(2 * axis + (to_target[axis] > 0.0f ? 1 : 0));
+}
+
+struct EpisodeEnd {
+  StepResult last;
+  int steps = 0;
+  float total_reward = 0.0f;
+};
+
+// Runs `policy(observation) -> Action` until the episode ends.
+template <class Policy>
+EpisodeEnd run_episode(Env& env, std::uint64_t seed, Policy&& policy) {
+  EpisodeEnd e;
+  Observation obs = env.reset(seed);
+  for (;;) {
+    e.last = env.step(policy(obs));
+    obs = e.last.observation;
+    ++e.steps;
+    e.total_reward += e.last.reward;
+    if (e.last.terminated || e.last.truncated) return e;
+  }
+}
+
+}  // namespace rdsim::test

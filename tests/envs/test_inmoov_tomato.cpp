@@ -1,0 +1,176 @@
+// inmoov_tomato (envs/inmoov_tomato.cpp): the InMoov's right palm reaching a tomato by IK moves.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <vector>
+
+#include "rdsim/env_registry.hpp"
+#include "rdsim/envs/inmoov_tomato.hpp"
+#include "rdsim/error.hpp"
+#include "rdsim/rng.hpp"
+
+using rdsim::Action;
+using rdsim::EnvConfig;
+using rdsim::InmoovTomato;
+
+namespace {
+
+EnvConfig inmoov_config() {
+  EnvConfig c;
+  c.name = "inmoov_tomato";
+  return c;
+}
+
+// The discrete move that shrinks the largest component of tomato - palm (observation[0..2]).
+Action greedy(const rdsim::Observation& o) {
+  int axis = 0;
+  o.values.head<3>().cwiseAbs().maxCoeff(&axis);
+  return Action::discrete(2 * axis + (o.values[axis] > 0.0f ? 1 : 0));
+}
+
+struct Trace {
+  std::vector<float> values;  // observations and rewards, in order
+  int resets = 0;
+};
+
+// 200 steps of seeded random discrete actions, resetting (next seed) whenever an episode ends.
+Trace run_random(std::uint64_t seed) {
+  EnvConfig c = inmoov_config();
+  c.random_target = true;
+  auto env = rdsim::make_env(c);
+  rdsim::Rng actions(seed + 1000);
+  Trace t;
+  auto o = env->reset(seed);
+  t.values.insert(t.values.end(), o.values.data(), o.values.data() + o.values.size());
+  for (int i = 0; i < 200; ++i) {
+    const auto r = env->step(Action::discrete(static_cast<int>(actions.below(6))));
+    t.values.insert(t.values.end(), r.observation.values.data(), r.observation.values.data() + r.observation.values.size());
+    t.values.push_back(r.reward);
+    if (r.terminated || r.truncated) {
+      o = env->reset(seed + static_cast<std::uint64_t>(++t.resets));
+      t.values.insert(t.values.end(), o.values.data(), o.values.data() + o.values.size());
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("inmoov_tomato: spec, registry and rejected options", "[envs][inmoov]") {
+  auto env = rdsim::make_env(inmoov_config());
+  const auto& spec = env->spec();
+  CHECK(spec.env_name == "inmoov_tomato");
+  CHECK(spec.action.discrete);
+  CHECK(spec.action.n == 6);
+  CHECK(spec.observation.shape == std::vector<int>{6});
+  CHECK(spec.max_episode_steps == 400);
+  CHECK(spec.control_dt == Approx(1.0 / 240.0));
+
+  EnvConfig pixels = inmoov_config();
+  pixels.observation = rdsim::ObservationMode::RawPixels;
+  // Raw pixels (added by "pixels"): see tests/envs/test_pixels.cpp.
+  CHECK(rdsim::make_env(pixels)->spec().observation.shape == std::vector<int>{64, 64, 3});
+
+  InmoovTomato tomato(inmoov_config());
+  CHECK(tomato.tomatoes().size() == 6);
+  CHECK(tomato.task().robot().dof() > 50);
+  tomato.reset(1);
+  CHECK_THROWS_AS(tomato.select_target(6), rdsim::Error);
+  CHECK_THROWS_AS(tomato.step(Action::discrete(6)), rdsim::Error);
+}
+
+TEST_CASE("inmoov_tomato: the same seed gives bit-identical 200-step trajectories", "[envs][inmoov]") {
+  const Trace a = run_random(7);
+  const Trace b = run_random(7);
+  REQUIRE(a.values.size() == b.values.size());
+  CHECK(a.values == b.values);  // exact float equality, element by element
+  const Trace c = run_random(8);
+  CHECK(c.values != a.values);
+}
+
+TEST_CASE("inmoov_tomato: reward is minus the palm-tomato distance; other joints hold", "[envs][inmoov]") {
+  InmoovTomato env(inmoov_config());
+  auto o = env.reset(3);
+  CHECK(env.target_index() == InmoovTomato::default_target);
+  const auto& task = env.task();
+  const Eigen::VectorXf home = task.robot().joint_positions();
+  std::vector<int> chain_dofs;
+  for (int i = 0; i < task.chain().dof(); ++i) chain_dofs.push_back(task.robot().dof_of_joint(task.chain().model_joint(i)));
+  rdsim::Rng rng(5);
+  for (int i = 0; i < 60; ++i) {
+    const auto r = env.step(Action::discrete(static_cast<int>(rng.below(6))));
+    const Eigen::Vector3f palm = task.robot().link_pose(task.ee_link()).translation();
+    const Eigen::Vector3f tomato = env.tomatoes()[InmoovTomato::default_target];
+    CHECK(r.reward == Approx(-(palm - tomato).norm()).margin(1e-6));
+    CHECK(r.observation.values.head<3>().isApprox(tomato - palm, 1e-6f));
+    CHECK(r.info.distance == Approx(-r.reward));
+    if (r.terminated || r.truncated) break;
+  }
+  // Head, left arm and fingers keep their home angles (within the drive's tracking error).
+  const Eigen::VectorXf q = task.robot().joint_positions();
+  for (int d = 0; d < task.robot().dof(); ++d) {
+    if (std::find(chain_dofs.begin(), chain_dofs.end(), d) != chain_dofs.end()) continue;
+    INFO("dof " << d << " " << task.robot_model().joints[static_cast<size_t>(task.robot().dof_joint(d))].name);
+    CHECK(std::abs(q[d] - home[d]) < 0.05f);
+  }
+}
+
+TEST_CASE("inmoov_tomato: episodes are truncated at max_steps", "[envs][inmoov]") {
+  EnvConfig c = inmoov_config();
+  c.max_steps = 20;
+  auto env = rdsim::make_env(c);
+  env->reset(11);
+  rdsim::StepResult r;
+  for (int i = 0; i < 20; ++i) {
+    REQUIRE_FALSE(r.truncated);
+    r = env->step(Action::discrete(i % 2));  // back and forth along x: stays in bounds, far from success
+    REQUIRE_FALSE(r.terminated);
+  }
+  CHECK(r.truncated);
+  const auto after = env->step(Action::discrete(0));
+  CHECK(after.reward == 0.0f);
+  CHECK(after.terminated);
+}
+
+TEST_CASE("inmoov_tomato: a greedy policy brings the palm to every tomato", "[envs][inmoov]") {
+  InmoovTomato env(inmoov_config());
+  for (int t = 0; t < static_cast<int>(env.tomatoes().size()); ++t) {
+    INFO("tomato_" << t);
+    env.reset(static_cast<std::uint64_t>(100 + t));
+    env.select_target(t);
+    auto o = env.task().distance();
+    (void)o;
+    rdsim::Observation obs;
+    obs.values.resize(6);
+    obs.values << env.task().target() - env.task().ee_position(), env.task().ee_position();
+    rdsim::StepResult r;
+    int steps = 0;
+    while (!r.terminated && !r.truncated) {
+      r = env.step(greedy(obs));
+      obs = r.observation;
+      ++steps;
+    }
+    CHECK(r.info.success);
+    CHECK(r.info.distance < 0.06f);
+    CHECK_FALSE(r.info.out_of_bounds);
+    // The palm stops at the tomato's skin instead of passing through it.
+    CHECK(env.task().world().penetration({env.task().robot().body(), -1},
+                                         {env.task().static_body(InmoovTomato::tree_index), -1}) < 0.005f);
+    INFO("steps " << steps);
+  }
+}
+
+TEST_CASE("inmoov_tomato: continuous moves go where they are told", "[envs][inmoov]") {
+  EnvConfig c = inmoov_config();
+  c.is_discrete = false;
+  auto env = rdsim::make_env(c);
+  CHECK_FALSE(env->spec().action.discrete);
+  CHECK(env->spec().action.dim() == 3);
+  const auto start = env->reset(2);
+  rdsim::StepResult r;
+  for (int i = 0; i < 30; ++i) r = env->step(Action::continuous(Eigen::Vector3f(0.0f, 0.0f, 1.0f)));
+  // Palm position is observation[3..5]; 30 moves of 4 mm up.
+  const float rise = r.observation.values[5] - start.values[5];
+  CHECK(rise > 0.06f);
+  CHECK(rise < 0.14f);
+  CHECK(std::abs(r.observation.values[3] - start.values[3]) < 0.03f);
+}

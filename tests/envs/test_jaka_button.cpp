@@ -1,0 +1,184 @@
+#include <catch2/catch.hpp>
+
+#include "env_test_util.hpp"
+#include "rdsim/env_registry.hpp"
+#include "rdsim/envs/jaka_button.hpp"
+#include "rdsim/error.hpp"
+
+using namespace rdsim;
+using rdsim::test::env_config;
+using rdsim::test::greedy_action;
+using rdsim::test::run_episode;
+
+namespace {
+
+Eigen::Vector3f to_target(const Observation& o) { return o.values.head<3>(); }
+
+// The target point read back from the physics world: top of the button body.
+Eigen::Vector3f button_top(const JakaButton& env) {
+  const ReachTask& t = env.task();
+  return t.world().static_pose(t.static_body(JakaButton::button_index)) * Eigen::Vector3f(0.0f, 0.0f, 0.03f);
+}
+
+}  // namespace
+
+TEST_CASE("jaka_button: spec and registry", "[jaka_button]") {
+  auto env = make_env(env_config("jaka_button"));
+  const Spec& s = env->spec();
+  CHECK(s.env_name == "jaka_button");
+  CHECK(s.action.discrete);
+  CHECK(s.action.n == 6);
+  CHECK(s.observation.shape == std::vector<int>{6});
+  CHECK(s.max_episode_steps == 200);
+  CHECK(s.control_dt == Approx(1.0 / 240.0));
+  // The observation stays within the declared bounds over a random episode.
+  const Observation o = env->reset(3);
+  CHECK((o.values.array() >= s.observation.low.array()).all());
+  CHECK((o.values.array() <= s.observation.high.array()).all());
+}
+
+TEST_CASE("jaka_button: same seed gives bit-identical episodes, other seeds differ", "[jaka_button]") {
+  auto trace = [](std::uint64_t seed) {
+    auto env = make_env(env_config("jaka_button", true));
+    Rng actions(99);
+    std::vector<float> out;
+    Observation o = env->reset(seed);
+    out.insert(out.end(), o.values.data(), o.values.data() + o.values.size());
+    for (int k = 0; k < 200; ++k) {
+      StepResult r = env->step(Action::discrete(static_cast<int>(actions.below(6))));
+      out.insert(out.end(), r.observation.values.data(), r.observation.values.data() + r.observation.values.size());
+      out.push_back(r.reward);
+      if (r.terminated || r.truncated) r.observation = env->reset();
+    }
+    return out;
+  };
+  const std::vector<float> a = trace(7);
+  CHECK(a == trace(7));
+  CHECK(a != trace(8));
+}
+
+TEST_CASE("jaka_button: reward is minus the flange-button distance", "[jaka_button]") {
+  JakaButton env(env_config("jaka_button", true));
+  env.reset(5);
+  Rng actions(1);
+  for (int k = 0; k < 50; ++k) {
+    const StepResult r = env.step(Action::discrete(static_cast<int>(actions.below(6))));
+    const ReachTask& t = env.task();
+    const Eigen::Vector3f flange = t.robot().link_pose(t.robot_model().require_link("flange_link")).translation();
+    const float d = (flange - button_top(env)).norm();
+    CHECK(r.reward == Approx(-d).margin(1e-6));
+    CHECK(r.info.distance == Approx(d).margin(1e-6));
+    CHECK((to_target(r.observation) - (button_top(env) - flange)).norm() < 1e-6f);
+    if (r.terminated || r.truncated) env.reset();
+  }
+}
+
+TEST_CASE("jaka_button: truncated exactly at the step limit", "[jaka_button]") {
+  EnvConfig c = env_config("jaka_button");
+  c.max_steps = 40;
+  auto env = make_env(c);
+  env->reset(1);
+  for (int k = 1; k <= 40; ++k) {
+    // Up and down above the home pose: never near the button, never out of the workspace.
+    const StepResult r = env->step(Action::discrete(k % 2 ? 5 : 4));
+    REQUIRE_FALSE(r.terminated);
+    CHECK(r.truncated == (k == 40));
+  }
+}
+
+TEST_CASE("jaka_button: a greedy policy presses the button, fixed and random targets", "[jaka_button]") {
+  auto greedy = [](const Observation& o) { return greedy_action(to_target(o)); };
+  JakaButton fixed(env_config("jaka_button"));
+  const auto e = run_episode(fixed, 1, greedy);
+  CHECK(e.last.terminated);
+  CHECK(e.last.info.success);
+  CHECK_FALSE(e.last.info.out_of_bounds);
+  CHECK(e.steps < 200);
+  CHECK(fixed.task().target().isApprox(Eigen::Vector3f(0.5f, 0.0f, 0.03f)));
+
+  JakaButton random(env_config("jaka_button", true));
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo;
+  for (std::uint64_t seed = 0; seed < 12; ++seed) {
+    const auto r = run_episode(random, seed, greedy);
+    INFO("seed " << seed << " steps " << r.steps << " distance " << r.last.info.distance);
+    CHECK(r.last.info.success);
+    lo = lo.cwiseMin(random.task().target());
+    hi = hi.cwiseMax(random.task().target());
+  }
+  // The targets really are spread over the paper's box.
+  CHECK(hi.x() - lo.x() > 0.1f);
+  CHECK(hi.y() - lo.y() > 0.2f);
+  CHECK(lo.x() >= 0.35f - 1e-6f);
+  CHECK(hi.x() <= 0.65f + 1e-6f);
+  CHECK(lo.y() >= -0.3f - 1e-6f);
+  CHECK(hi.y() <= 0.3f + 1e-6f);
+}
+
+TEST_CASE("jaka_button: continuous actions move the flange", "[jaka_button]") {
+  EnvConfig c = env_config("jaka_button", true);
+  c.is_discrete = false;
+  auto env = make_env(c);
+  CHECK_FALSE(env->spec().action.discrete);
+  CHECK(env->spec().action.dim() == 3);
+  // Proportional control: full-scale moves toward the button.
+  const auto e = run_episode(*env, 3, [](const Observation& o) {
+    const Eigen::Vector3f d = to_target(o);
+    return Action::continuous((d / std::max(d.cwiseAbs().maxCoeff(), 1e-6f)).eval());
+  });
+  CHECK(e.last.info.success);
+  CHECK_THROWS_AS(env->step(Action::continuous(Eigen::VectorXf::Zero(2))), Error);
+}
+
+TEST_CASE("jaka_button: leaving the workspace ends the episode with a penalty", "[jaka_button]") {
+  EnvConfig c = env_config("jaka_button");
+  c.max_distance = 0.35;  // m: moving sideways gets there long before the step limit
+  auto env = make_env(c);
+  const auto e = run_episode(*env, 2, [](const Observation&) { return Action::discrete(3); });  // +y
+  CHECK(e.last.terminated);
+  CHECK(e.last.info.out_of_bounds);
+  CHECK_FALSE(e.last.info.success);
+  CHECK(e.last.info.distance > 0.35f);
+  // Penalty: what staying at max_distance for the remaining steps would have cost.
+  CHECK(e.last.reward == Approx(-e.last.info.distance - 0.35f * (200 - e.steps)).epsilon(1e-4));
+}
+
+TEST_CASE("jaka_button: bad config values name their key", "[jaka_button]") {
+  EnvConfig c = env_config("jaka_button");
+  c.action_step = -0.01;
+  CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.action_step"));
+  c = env_config("jaka_button");
+  c.success_threshold = -1;
+  CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.success_threshold"));
+  c = env_config("jaka_button");
+  c.max_steps = -5;
+  CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.max_steps"));
+  c = env_config("jaka_button");
+  c.urdf_root = "/nonexistent";
+  CHECK_THROWS_WITH(make_env(c), Catch::Contains("/nonexistent"));
+  auto env = make_env(env_config("jaka_button"));
+  env->reset(0);
+  CHECK_THROWS_WITH(env->step(Action::discrete(6)), Catch::Contains("0..5"));
+}
+
+TEST_CASE("jaka_button: the world's settings keep the table solid", "[jaka_button]") {
+  // The env's physics (10 solver iterations, ComputedTorque drive, no limit rows) with the workspace
+  // floor lowered below the table top, and the flange driven down into the table.
+  ReachTaskSpec spec = jaka_button_spec(env_config("jaka_button"));
+  spec.workspace.min().z() = -0.2f;
+  spec.move_noise = 0.0f;
+  ReachTask task(spec);
+  Rng rng(0);
+  task.reset(rng, false);
+  task.set_target(Eigen::Vector3f(0.7f, 0.3f, 0.03f));  // button out of the way
+  const int table = task.static_body(0);
+  float lowest = 1.0f;
+  for (int k = 0; k < 150; ++k) {
+    task.apply_move(Eigen::Vector3f(-0.02f, 0.0f, -0.015f) * (k < 10 ? 1.0f : 0.0f) +
+                        Eigen::Vector3f(0.0f, 0.0f, -0.015f),
+                    rng);
+    task.step_physics();
+    lowest = std::min(lowest, task.ee_position().z());
+  }
+  CHECK(task.world().touching({task.robot().body(), -1}, {table, -1}));
+  CHECK(lowest > -0.01f);  // the table top is z = 0: at most a centimetre of penetration
+}

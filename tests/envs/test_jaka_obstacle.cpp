@@ -1,0 +1,100 @@
+#include <catch2/catch.hpp>
+
+#include "env_test_util.hpp"
+#include "rdsim/env_registry.hpp"
+#include "rdsim/envs/jaka_obstacle.hpp"
+
+using namespace rdsim;
+using rdsim::test::env_config;
+using rdsim::test::greedy_action;
+using rdsim::test::run_episode;
+
+namespace {
+
+Eigen::Vector3f to_button(const Observation& o) { return o.values.head<3>(); }
+Eigen::Vector3f flange(const Observation& o) { return o.values.segment<3>(6); }
+
+// Greedy moves to a via point on the column's near side (between it and the robot base), then to the button.
+struct Detour {
+  bool via_reached = false;
+  Action operator()(const Observation& o) {
+    const Eigen::Vector3f via(0.25f, -0.05f, 0.12f);
+    if (!via_reached && (via - flange(o)).norm() < 0.03f) via_reached = true;
+    return greedy_action(via_reached ? to_button(o) : Eigen::Vector3f(via - flange(o)));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("jaka_obstacle: spec, observation and column placement", "[jaka_obstacle]") {
+  JakaObstacle env(env_config("jaka_obstacle"));
+  CHECK(env.spec().observation.shape == std::vector<int>{9});
+  const Observation o = env.reset(0);
+  const Eigen::Vector3f column = env.task().world().static_pose(env.task().static_body(JakaObstacle::column_index)).translation();
+  CHECK((o.values.segment<3>(3) - (flange(o) - column)).norm() < 1e-6f);
+  CHECK((o.values.array() >= env.spec().observation.low.array()).all());
+  CHECK((o.values.array() <= env.spec().observation.high.array()).all());
+  // Nothing touches the column at home.
+  for (int k = 0; k < 5; ++k) CHECK_FALSE(env.step(Action::discrete(k % 2 ? 4 : 5)).info.collision);
+}
+
+TEST_CASE("jaka_obstacle: the straight way hits the column", "[jaka_obstacle]") {
+  for (bool random : {false, true}) {
+    JakaObstacle env(env_config("jaka_obstacle", random));
+    for (std::uint64_t seed = 0; seed < (random ? 4u : 1u); ++seed) {
+      const auto e = run_episode(env, seed, [](const Observation& o) { return greedy_action(to_button(o)); });
+      INFO("random " << random << " seed " << seed << " steps " << e.steps);
+      CHECK(e.last.terminated);
+      CHECK(e.last.info.collision);
+      CHECK_FALSE(e.last.info.success);
+      CHECK(e.last.reward == -200.0f);
+    }
+  }
+}
+
+TEST_CASE("jaka_obstacle: going round the column's near side reaches the button", "[jaka_obstacle]") {
+  for (bool random : {false, true}) {
+    JakaObstacle env(env_config("jaka_obstacle", random));
+    for (std::uint64_t seed = 0; seed < (random ? 8u : 1u); ++seed) {
+      const auto e = run_episode(env, seed, Detour{});
+      INFO("random " << random << " seed " << seed << " steps " << e.steps << " d " << e.last.info.distance);
+      CHECK(e.last.info.success);
+      CHECK_FALSE(e.last.info.collision);
+      const Eigen::Vector3f b = env.task().target();
+      CHECK((b - Eigen::Vector3f(0.35f, 0.15f, b.z())).norm() >= 0.1f);  // button clear of the column
+    }
+  }
+}
+
+TEST_CASE("jaka_obstacle: deterministic per seed", "[jaka_obstacle]") {
+  auto trace = [](std::uint64_t seed) {
+    auto env = make_env(env_config("jaka_obstacle", true));
+    Rng actions(4);
+    std::vector<float> out;
+    env->reset(seed);
+    for (int k = 0; k < 200; ++k) {
+      StepResult r = env->step(Action::discrete(static_cast<int>(actions.below(6))));
+      out.insert(out.end(), r.observation.values.data(), r.observation.values.data() + r.observation.values.size());
+      out.push_back(r.reward);
+      if (r.terminated || r.truncated) env->reset();
+    }
+    return out;
+  };
+  const std::vector<float> a = trace(11);
+  CHECK(a == trace(11));
+  CHECK(a != trace(12));
+}
+
+TEST_CASE("jaka_obstacle: bad config gives clear errors; raw pixels are 64x64x3", "[jaka_obstacle]") {
+  EnvConfig c = env_config("jaka_obstacle");
+  c.observation = ObservationMode::RawPixels;  // added by "pixels"; see tests/envs/test_pixels.cpp
+  CHECK(make_env(c)->spec().observation.shape == std::vector<int>{64, 64, 3});
+  c = env_config("jaka_obstacle");
+  c.action_step = -1;
+  CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.action_step"));
+  // Config overrides reach the env.
+  c = env_config("jaka_obstacle");
+  c.max_steps = 17;
+  CHECK(make_env(c)->spec().max_episode_steps == 17);
+  CHECK(make_env(env_config("jaka_obstacle"))->spec().max_episode_steps == 300);
+}

@@ -1,0 +1,181 @@
+#include <catch2/catch.hpp>
+
+#include "rdsim/env_registry.hpp"
+#include "rdsim/envs/jaka_button.hpp"
+#include "rdsim/envs/robot_scene.hpp"
+#include "rdsim/error.hpp"
+
+using rdsim::EnvConfig;
+using rdsim::ObsType;
+
+namespace {
+
+EnvConfig pixel_config(bool random_target = false) {
+  EnvConfig c;
+  c.name = "jaka_button";
+  c.observation = rdsim::ObservationMode::RawPixels;
+  c.random_target = random_target;
+  return c;
+}
+
+// Mean image position (x, y) of the button's red top in a 3-channel-per-view image; count = 0 when absent.
+struct RedBlob {
+  int count = 0;
+  double x = 0, y = 0;
+};
+
+RedBlob red_blob(const std::vector<std::uint8_t>& pixels, int width, int height, int channels) {
+  RedBlob b;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const std::uint8_t* p = pixels.data() + (y * width + x) * channels;
+      if (p[0] > 120 && p[1] < 60 && p[2] < 60) {
+        ++b.count;
+        b.x += x;
+        b.y += y;
+      }
+    }
+  if (b.count > 0) {
+    b.x /= b.count;
+    b.y /= b.count;
+  }
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("jaka_button raw pixels: UInt8 images of the configured size, 6 channels with two views", "[pixels]") {
+  rdsim::JakaButton env(pixel_config());
+  const rdsim::ObservationSpace& space = env.spec().observation;
+  CHECK(space.type == ObsType::UInt8);
+  CHECK(space.shape == std::vector<int>{64, 64, 3});
+  const rdsim::Observation obs = env.reset(0);
+  CHECK(obs.pixels.size() == 64u * 64u * 3u);
+  CHECK(obs.values.size() == 0);
+  // Not a blank frame: the scene has several colours.
+  CHECK(*std::max_element(obs.pixels.begin(), obs.pixels.end()) - *std::min_element(obs.pixels.begin(), obs.pixels.end()) > 100);
+  CHECK(env.step(rdsim::Action::discrete(1)).observation.pixels.size() == obs.pixels.size());
+
+  EnvConfig two = pixel_config();
+  two.multi_view = true;
+  two.image_width = 48;
+  two.image_height = 32;
+  rdsim::JakaButton stacked(two);
+  CHECK(stacked.spec().observation.shape == std::vector<int>{32, 48, 6});
+  const rdsim::Observation o2 = stacked.reset(0);
+  REQUIRE(o2.pixels.size() == 32u * 48u * 6u);
+  // The two cameras see different things.
+  bool differ = false;
+  for (size_t p = 0; p < 32u * 48u && !differ; ++p)
+    for (size_t c = 0; c < 3; ++c) differ = differ || o2.pixels[6 * p + c] != o2.pixels[6 * p + 3 + c];
+  CHECK(differ);
+
+  EnvConfig bad = pixel_config();
+  bad.image_width = 0;
+  CHECK_THROWS_WITH(rdsim::JakaButton(bad), Catch::Contains("env.image_width"));
+  const auto& registry = rdsim::env_registry();
+  const auto entry = std::find_if(registry.begin(), registry.end(), [](const auto& e) { return e.name == "jaka_button"; });
+  REQUIRE(entry != registry.end());
+  CHECK(entry->supports_pixels);
+}
+
+TEST_CASE("jaka_button raw pixels: the button is visible and moves with a random target", "[pixels]") {
+  rdsim::JakaButton env(pixel_config(true));
+  RedBlob first;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    INFO("seed " << seed);
+    const rdsim::Observation obs = env.reset(seed);
+    const RedBlob blob = red_blob(obs.pixels, 64, 64, 3);
+    CHECK(blob.count >= 2);  // visible at 64x64
+    if (seed == 1) first = blob;
+    else CHECK(std::abs(blob.x - first.x) + std::abs(blob.y - first.y) > 0.5);
+  }
+}
+
+TEST_CASE("raw pixels are deterministic, and two envs render independently in one process", "[pixels]") {
+  EnvConfig config = pixel_config(true);
+  config.multi_view = true;
+  rdsim::JakaButton a(config), b(config);
+  std::vector<std::vector<std::uint8_t>> alone;
+  alone.push_back(a.reset(3).pixels);
+  for (int t = 0; t < 4; ++t) alone.push_back(a.step(rdsim::Action::discrete(t % 6)).observation.pixels);
+  // Interleaved with another env (different seed) drawing between every frame.
+  rdsim::JakaButton c(config);
+  CHECK(b.reset(3).pixels == alone[0]);
+  const std::vector<std::uint8_t> other = c.reset(4).pixels;
+  CHECK(other != alone[0]);
+  for (int t = 0; t < 4; ++t) {
+    CHECK(b.step(rdsim::Action::discrete(t % 6)).observation.pixels == alone[static_cast<size_t>(t + 1)]);
+    c.step(rdsim::Action::discrete(5));
+  }
+  CHECK(alone[4] != alone[0]);  // the arm moved
+}
+
+TEST_CASE("RobotScene: one item per URDF visual, poses follow the robot", "[pixels]") {
+  EnvConfig config;
+  config.name = "jaka_button";
+  rdsim::JakaButton env(config);
+  env.reset(0);
+  const rdsim::ReachTask& task = env.task();
+  rdsim::RobotScene scene;
+  rdsim::add_robot(scene, task.robot());
+  size_t visuals = 0;
+  for (const auto& link : task.robot_model().links) visuals += link.visuals.size();
+  CHECK(scene.scene.items.size() == visuals);
+  const size_t robot_items = visuals;
+  rdsim::add_static_body(scene, task.world(), task.static_body(rdsim::JakaButton::button_index),
+                         task.static_model(rdsim::JakaButton::button_index));
+  REQUIRE(scene.scene.items.size() > robot_items);
+  // The button's top sits at the target (its frame plus the 3 cm offset), within the shape's height.
+  const Eigen::Vector3f button = scene.scene.items.back().pose.translation();
+  CHECK((button.head<2>() - task.target().head<2>()).norm() < 1e-4f);
+
+  const Eigen::Isometry3f before = scene.scene.items[robot_items - 1].pose;
+  for (int t = 0; t < 10; ++t) env.step(rdsim::Action::discrete(5));  // +z moves
+  rdsim::update_poses(scene, env.task().world());
+  const Eigen::Isometry3f after = scene.scene.items[robot_items - 1].pose;
+  CHECK((after.translation() - before.translation()).norm() > 0.02f);
+  const int last_link = scene.parts[robot_items - 1].link;
+  CHECK(after.isApprox(task.robot().link_pose(last_link) * scene.parts[robot_items - 1].offset, 1e-5f));
+}
+
+TEST_CASE("inmoov_tomato raw pixels: the tomatoes are visible, the target choice is deterministic", "[pixels]") {
+  EnvConfig config;
+  config.name = "inmoov_tomato";
+  config.observation = rdsim::ObservationMode::RawPixels;
+  config.random_target = true;
+  const auto env = rdsim::make_env(config);
+  CHECK(env->spec().observation.type == ObsType::UInt8);
+  CHECK(env->spec().observation.shape == std::vector<int>{64, 64, 3});
+  const std::vector<std::uint8_t> first = env->reset(1).pixels;
+  CHECK(red_blob(first, 64, 64, 3).count >= 6);  // six red tomatoes, a few pixels each
+  const auto again = rdsim::make_env(config);
+  CHECK(again->reset(1).pixels == first);
+  CHECK(env->step(rdsim::Action::discrete(5)).observation.pixels != first);  // the palm moved
+}
+
+TEST_CASE("jaka_obstacle raw pixels: button and column in view, two views stack", "[pixels]") {
+  EnvConfig config;
+  config.name = "jaka_obstacle";
+  config.observation = rdsim::ObservationMode::RawPixels;
+  config.random_target = true;
+  config.multi_view = true;
+  const auto env = rdsim::make_env(config);
+  REQUIRE(env->spec().observation.shape == std::vector<int>{64, 64, 6});
+  for (std::uint64_t seed : {1, 2, 3}) {
+    INFO("seed " << seed);
+    const std::vector<std::uint8_t> px = env->reset(seed).pixels;
+    std::vector<std::uint8_t> view(64 * 64 * 3);
+    for (int v = 0; v < 2; ++v) {
+      INFO("view " << v + 1);
+      for (size_t p = 0; p < 64u * 64u; ++p)
+        for (size_t c = 0; c < 3; ++c) view[3 * p + c] = px[6 * p + 3 * static_cast<size_t>(v) + c];
+      CHECK(red_blob(view, 64, 64, 3).count >= 2);  // the button's red top
+      // The orange column (its URDF colour: strong red, medium green, low blue).
+      int column = 0;
+      for (size_t p = 0; p < 64u * 64u; ++p)
+        column += view[3 * p] > 150 && view[3 * p + 1] > 50 && view[3 * p + 1] < 120 && view[3 * p + 2] < 40;
+      CHECK(column >= 10);
+    }
+  }
+}
