@@ -9,14 +9,16 @@ namespace rdsim {
 EpisodeTracker::EpisodeTracker(int num_envs, int window)
     : running_(static_cast<std::size_t>(num_envs)), window_(std::max(1, window)) {}
 
-void EpisodeTracker::on_step(int env, double reward, bool success, bool done, long long timesteps,
+void EpisodeTracker::on_step(int env, double reward, const StepInfo& info, bool done, long long timesteps,
                              double wall_time) {
   Running& r = running_[static_cast<std::size_t>(env)];
   r.ret += reward;
   ++r.length;
-  r.success = r.success || success;
+  r.success = r.success || info.success;
+  r.collision = r.collision || info.collision;
+  r.out_of_bounds = r.out_of_bounds || info.out_of_bounds;
   if (!done) return;
-  EpisodeRecord rec{++episodes_, timesteps, r.ret, r.length, r.success, wall_time};
+  EpisodeRecord rec{++episodes_, timesteps, r.ret, r.length, r.success, r.collision, r.out_of_bounds, wall_time};
   finished_.push_back(rec);
   recent_.push_back(rec);
   while (static_cast<int>(recent_.size()) > window_) recent_.pop_front();
@@ -54,12 +56,17 @@ EpisodeStats EpisodeTracker::stats() const {
 
 namespace {
 
+// The episode's outcome flags in one word (bit 0 success, 1 collision, 2 out of bounds).
+std::uint32_t outcome_bits(bool success, bool collision, bool out_of_bounds) {
+  return (success ? 1u : 0u) | (collision ? 2u : 0u) | (out_of_bounds ? 4u : 0u);
+}
+
 void write_record(std::ostream& out, const EpisodeRecord& e) {
   nn::write_u64(out, static_cast<std::uint64_t>(e.episode));
   nn::write_u64(out, static_cast<std::uint64_t>(e.timesteps));
   write_f64(out, e.episode_return);
   nn::write_u32(out, static_cast<std::uint32_t>(e.length));
-  nn::write_u32(out, e.success ? 1 : 0);
+  nn::write_u32(out, outcome_bits(e.success, e.collision, e.out_of_bounds));
   write_f64(out, e.wall_time);
 }
 
@@ -69,7 +76,10 @@ EpisodeRecord read_record(std::istream& in, const std::string& source) {
   e.timesteps = static_cast<long long>(nn::read_u64(in, source));
   e.episode_return = read_f64(in, source);
   e.length = static_cast<int>(nn::read_u32(in, source));
-  e.success = nn::read_u32(in, source) != 0;
+  const std::uint32_t bits = nn::read_u32(in, source);
+  e.success = (bits & 1u) != 0;
+  e.collision = (bits & 2u) != 0;
+  e.out_of_bounds = (bits & 4u) != 0;
   e.wall_time = read_f64(in, source);
   return e;
 }
@@ -82,7 +92,7 @@ void EpisodeTracker::save(std::ostream& out) const {
   for (const auto& r : running_) {
     write_f64(out, r.ret);
     nn::write_u32(out, static_cast<std::uint32_t>(r.length));
-    nn::write_u32(out, r.success ? 1 : 0);
+    nn::write_u32(out, outcome_bits(r.success, r.collision, r.out_of_bounds));
   }
   nn::write_u32(out, static_cast<std::uint32_t>(recent_.size()));
   for (const auto& e : recent_) write_record(out, e);
@@ -101,7 +111,10 @@ void EpisodeTracker::load(std::istream& in, const std::string& source) {
   for (auto& r : running) {
     r.ret = read_f64(in, source);
     r.length = static_cast<int>(nn::read_u32(in, source));
-    r.success = nn::read_u32(in, source) != 0;
+    const std::uint32_t bits = nn::read_u32(in, source);
+    r.success = (bits & 1u) != 0;
+    r.collision = (bits & 2u) != 0;
+    r.out_of_bounds = (bits & 4u) != 0;
   }
   std::deque<EpisodeRecord> recent;
   for (std::uint32_t n = nn::read_u32(in, source), i = 0; i < n; ++i) recent.push_back(read_record(in, source));

@@ -58,7 +58,7 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions) {
     s.terminated = r.terminated;
     s.truncated = r.truncated;
     s.info = r.info;
-    tracker_.on_step(static_cast<int>(i), r.reward, r.info.success, s.done(), timesteps_, now);
+    tracker_.on_step(static_cast<int>(i), r.reward, r.info, s.done(), timesteps_, now);
     if (s.done()) {
       s.final_observation = std::move(r.observation);
       observations_[i] = envs_[i]->reset();

@@ -29,6 +29,9 @@ void add_replay(CLI::App& app, rdsim::ReplayOptions& o, std::uint64_t& seed) {
   cmd->add_option("-n,--episodes", o.episodes, "Number of episodes")->check(CLI::PositiveNumber);
   cmd->add_option("--seed", seed, "Seed of the first episode (default: the model's training seed)");
   cmd->add_flag("--stochastic", o.stochastic, "Sample actions instead of taking the most likely one");
+  cmd->add_option("--record", o.record_dir,
+                  "Write what happens as PNG frames DIR/episode_NNN/frame_NNNN.png (robot envs; "
+                  "size: env.render_width x render_height of the model's config)");
 }
 
 void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {

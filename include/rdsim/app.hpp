@@ -24,6 +24,7 @@ struct ReplayOptions {
   int episodes = 10;
   std::optional<std::uint64_t> seed;  // default: the model's training seed
   bool stochastic = false;            // sample actions instead of taking the most likely one
+  std::string record_dir;             // write every frame as PNG here (empty: no recording)
 };
 int replay_command(const ReplayOptions& options);
 

@@ -56,6 +56,12 @@ struct Observation {
   std::vector<std::uint8_t> pixels;    // UInt8 observations (HWC)
 };
 
+// An RGB picture for people (Env::render), row 0 at the top.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;  // height x width x 3
+};
+
 // Typed episode facts every reaching task reports; fields an env does not use keep defaults.
 struct StepInfo {
   bool success = false;       // task solved on this step
@@ -86,6 +92,9 @@ public:
   // observation or reward work: lets benchmarks show the env's own overhead.
   // Returns false for envs without a physics world.
   virtual bool step_physics_only() { return false; }
+  // Draws the current state for people when the env was made with render_mode "rgb_array"
+  // (EnvConfig::render_width x render_height, the main camera). Returns false otherwise.
+  virtual bool render(Image& /*frame*/) { return false; }
 };
 
 }  // namespace rdsim

@@ -26,6 +26,8 @@ struct EnvConfig {
   int action_repeat = 1;            // physics steps per env step
   int image_width = 64;             // raw-pixel observation size
   int image_height = 64;
+  int render_width = 320;           // Env::render frames (render_mode rgb_array)
+  int render_height = 240;
 };
 
 // Reads the "env" object of a config (unknown keys rejected).

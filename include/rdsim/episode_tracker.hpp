@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/env.hpp"
+
 // Per-episode bookkeeping shared by every algorithm: running return/length per env, one record
 // per finished episode (-> episodes.csv) and statistics over the most recent episodes
 // (-> progress.csv). Fed by VecEnv::step, so algorithms never call it directly.
@@ -15,6 +17,8 @@ struct EpisodeRecord {
   double episode_return = 0;  // undiscounted sum of rewards
   int length = 0;             // env steps
   bool success = false;       // StepInfo::success on any of its steps
+  bool collision = false;     // StepInfo::collision on any of its steps
+  bool out_of_bounds = false; // StepInfo::out_of_bounds on any of its steps
   double wall_time = 0;       // seconds of training when it finished
 };
 
@@ -31,7 +35,7 @@ public:
   explicit EpisodeTracker(int num_envs = 1, int window = 20);
 
   // One env step of env `env`. When `done`, the episode is recorded and the env's counters restart.
-  void on_step(int env, double reward, bool success, bool done, long long timesteps, double wall_time);
+  void on_step(int env, double reward, const StepInfo& info, bool done, long long timesteps, double wall_time);
 
   // Drops the episodes in progress (their envs were reset without finishing them).
   void forget_running();
@@ -52,7 +56,7 @@ private:
   struct Running {
     double ret = 0;
     int length = 0;
-    bool success = false;
+    bool success = false, collision = false, out_of_bounds = false;
   };
   std::vector<Running> running_;
   std::deque<EpisodeRecord> recent_;   // at most window_ records

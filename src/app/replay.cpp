@@ -1,5 +1,6 @@
 // `rdsim replay`: runs a saved policy from its model file alone.
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "rdsim/algorithm.hpp"
@@ -7,14 +8,55 @@
 #include "rdsim/env_registry.hpp"
 #include "rdsim/error.hpp"
 #include "rdsim/model_file.hpp"
+#include "rdsim/png.hpp"
 #include "rdsim/train_config.hpp"
 
 namespace rdsim {
+namespace {
+
+// Writes frames of the episodes being replayed as DIR/episode_NNN/frame_NNNN.png.
+class FrameRecorder {
+public:
+  FrameRecorder(std::string dir, Env& env) : dir_(std::move(dir)), env_(env) {}
+  bool on() const { return !dir_.empty(); }
+  void start_episode(int episode) {
+    if (!on()) return;
+    char name[32];
+    std::snprintf(name, sizeof name, "episode_%03d", episode);
+    episode_dir_ = (std::filesystem::path(dir_) / name).string();
+    std::error_code ec;
+    std::filesystem::create_directories(episode_dir_, ec);
+    if (ec) throw Error(episode_dir_ + ": cannot create the folder (" + ec.message() + ")");
+    frame_ = 0;
+  }
+  void capture() {
+    if (!on()) return;
+    if (!env_.render(image_))
+      throw Error("replay --record: env \"" + env_.spec().env_name + "\" cannot draw frames");
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d.png", frame_++);
+    write_png((std::filesystem::path(episode_dir_) / name).string(), image_.width, image_.height, 3,
+              image_.rgb.data());
+    ++total_;
+  }
+  long long total() const { return total_; }
+
+private:
+  std::string dir_, episode_dir_;
+  Env& env_;
+  Image image_;
+  int frame_ = 0;
+  long long total_ = 0;
+};
+
+}  // namespace
 
 int replay_command(const ReplayOptions& o) {
   const ModelFile file = read_model_file(o.model_path);
-  const TrainConfig config = parse_train_config(file.config, o.model_path + " (embedded config)", "replay");
+  TrainConfig config = parse_train_config(file.config, o.model_path + " (embedded config)", "replay");
+  if (!o.record_dir.empty()) config.env.render_mode = RenderMode::RgbArray;
   auto env = make_env(config.env);
+  FrameRecorder recorder(o.record_dir, *env);
   auto algo = make_algorithm(config, env->spec());
   std::istringstream in(file.payload);
   algo->load(in, false, o.model_path);  // a checkpoint's payload starts with the same weights
@@ -29,6 +71,8 @@ int replay_command(const ReplayOptions& o) {
               o.stochastic ? "sampled" : "deterministic");
   for (int k = 0; k < o.episodes; ++k) {
     Observation obs = k == 0 ? env->reset(seed) : env->reset();
+    recorder.start_episode(k + 1);
+    recorder.capture();
     double ret = 0;
     long long length = 0;
     bool success = false;
@@ -39,6 +83,7 @@ int replay_command(const ReplayOptions& o) {
       success = success || r.info.success;
       done = r.terminated || r.truncated;
       obs = std::move(r.observation);
+      recorder.capture();
     }
     std::printf("episode %d: return %.2f, length %lld, success %s\n", k + 1, ret, length, success ? "yes" : "no");
     sum_return += ret;
@@ -47,6 +92,7 @@ int replay_command(const ReplayOptions& o) {
   }
   std::printf("mean return %.2f, mean length %.1f, success rate %.2f over %d episodes\n", sum_return / o.episodes,
               sum_length / o.episodes, successes / o.episodes, o.episodes);
+  if (recorder.on()) std::printf("wrote %lld frames to %s\n", recorder.total(), o.record_dir.c_str());
   return 0;
 }
 

@@ -19,7 +19,7 @@
 namespace rdsim {
 namespace {
 
-const std::vector<std::string> episode_columns = {"episode", "timesteps", "return", "length", "success", "wall_time"};
+const std::vector<std::string> episode_columns = {"episode", "timesteps", "return", "length", "success", "collision", "out_of_bounds", "wall_time"};
 const std::vector<std::string> progress_head = {"timesteps", "updates", "episodes", "mean_return", "min_return",
                                                 "max_return", "mean_length", "success_rate"};
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
@@ -93,7 +93,8 @@ TrainerState restore(const std::string& payload, Algorithm& algo, VecEnv& vec, c
 
 std::vector<std::string> episode_row(const EpisodeRecord& e) {
   return {CsvWriter::cell(e.episode), CsvWriter::cell(e.timesteps), CsvWriter::cell(e.episode_return),
-          CsvWriter::cell(e.length),  CsvWriter::cell(e.success),   CsvWriter::cell(e.wall_time)};
+          CsvWriter::cell(e.length),  CsvWriter::cell(e.success),   CsvWriter::cell(e.collision),
+          CsvWriter::cell(e.out_of_bounds), CsvWriter::cell(e.wall_time)};
 }
 
 }  // namespace

@@ -32,6 +32,8 @@ EnvConfig read_env_config(ConfigReader& r) {
   r.read("action_repeat", c.action_repeat, 1, 1000);
   r.read("image_width", c.image_width, 8, 4096);
   r.read("image_height", c.image_height, 8, 4096);
+  r.read("render_width", c.render_width, 8, 4096);
+  r.read("render_height", c.render_height, 8, 4096);
   r.finish();
   return c;
 }
@@ -50,7 +52,9 @@ nlohmann::json to_json(const EnvConfig& c) {
           {"success_threshold", c.success_threshold},
           {"action_repeat", c.action_repeat},
           {"image_width", c.image_width},
-          {"image_height", c.image_height}};
+          {"image_height", c.image_height},
+          {"render_width", c.render_width},
+          {"render_height", c.render_height}};
 }
 
 std::string asset_root(const EnvConfig& config) {

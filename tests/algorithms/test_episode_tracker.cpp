@@ -6,20 +6,36 @@
 #include "rdsim/vec_env.hpp"
 #include "toy_env.hpp"
 
+namespace {
+rdsim::StepInfo outcome(bool success, bool collision = false, bool out_of_bounds = false) {
+  rdsim::StepInfo info;
+  info.success = success;
+  info.collision = collision;
+  info.out_of_bounds = out_of_bounds;
+  return info;
+}
+}  // namespace
+
 TEST_CASE("episode tracker records finished episodes and windowed stats", "[episodes]") {
   rdsim::EpisodeTracker tracker(2, 2);
   CHECK(tracker.stats().count == 0);
   long long t = 0;
   // env 0: episodes of returns 3 (success) then 1; env 1: one episode of return 5.
-  for (int k = 0; k < 3; ++k) tracker.on_step(0, 1.0, k == 1, k == 2, ++t, 0.5);
-  for (int k = 0; k < 5; ++k) tracker.on_step(1, 1.0, false, k == 4, ++t, 1.0);
-  tracker.on_step(0, 1.0, false, true, ++t, 2.0);
+  for (int k = 0; k < 3; ++k) tracker.on_step(0, 1.0, outcome(k == 1), k == 2, ++t, 0.5);
+  for (int k = 0; k < 5; ++k) tracker.on_step(1, 1.0, outcome(false, k == 2), k == 4, ++t, 1.0);
+  tracker.on_step(0, 1.0, outcome(false, false, true), true, ++t, 2.0);
   auto finished = tracker.take_finished();
   REQUIRE(finished.size() == 3);
   CHECK(finished[0].episode == 1);
   CHECK(finished[0].episode_return == 3.0);
   CHECK(finished[0].length == 3);
   CHECK(finished[0].success);
+  CHECK_FALSE(finished[0].collision);
+  CHECK_FALSE(finished[0].out_of_bounds);
+  CHECK(finished[1].collision);
+  CHECK_FALSE(finished[1].success);
+  CHECK(finished[2].out_of_bounds);
+  CHECK_FALSE(finished[2].collision);
   CHECK(finished[0].timesteps == 3);
   CHECK(finished[1].episode_return == 5.0);
   CHECK(finished[2].episode_return == 1.0);
@@ -36,16 +52,22 @@ TEST_CASE("episode tracker records finished episodes and windowed stats", "[epis
 
 TEST_CASE("episode tracker state round-trips", "[episodes]") {
   rdsim::EpisodeTracker a(1, 5);
-  a.on_step(0, 2.0, false, true, 1, 0.1);
-  a.on_step(0, 1.5, true, false, 2, 0.2);
+  a.on_step(0, 2.0, outcome(false, true), true, 1, 0.1);
+  a.on_step(0, 1.5, outcome(true, false, true), false, 2, 0.2);
   std::stringstream buf;
   a.save(buf);
   rdsim::EpisodeTracker b(1, 5);
   b.load(buf, "test");
   CHECK(b.episodes() == 1);
-  a.on_step(0, 1.0, false, true, 3, 0.3);
-  b.on_step(0, 1.0, false, true, 3, 0.3);
-  CHECK(b.take_finished().back().episode_return == a.take_finished().back().episode_return);
+  a.on_step(0, 1.0, outcome(false), true, 3, 0.3);
+  b.on_step(0, 1.0, outcome(false), true, 3, 0.3);
+  const auto from_a = a.take_finished(), from_b = b.take_finished();
+  CHECK(from_b.back().episode_return == from_a.back().episode_return);
+  // Outcome flags survive the round trip: the first episode collided, the running one succeeded
+  // and left the workspace.
+  CHECK(from_b.front().collision);
+  CHECK(from_b.back().success);
+  CHECK(from_b.back().out_of_bounds);
   CHECK(b.stats().mean_return == a.stats().mean_return);
   std::stringstream wrong;
   a.save(wrong);

@@ -75,3 +75,34 @@ TEST_CASE("PPO learns jaka_button with random targets: most of the last 100 epis
   INFO("success rate of the last 100 episodes after 100k steps: " << rate << " (random play: about 0.1)");
   CHECK(rate > 0.6);
 }
+
+TEST_CASE("replay --record writes one PNG per observation; envs that cannot draw say so", "[cli][record]") {
+  ScratchDir dir("cli_record");
+  const std::string run = dir / "run";
+  auto r = run_rdsim("train --quiet --config configs/jaka_button.json --timesteps 1024 --log-dir " + run, dir);
+  REQUIRE(r.exit_code == 0);
+  r = run_rdsim("replay " + run + "/model.bin -n 1 --record " + (dir / "frames"), dir);
+  REQUIRE(r.exit_code == 0);
+  // "episode 1: return R, length L, success S": one frame after reset and one per step.
+  const std::string out = r.out;
+  const auto at = out.find("length ");
+  REQUIRE(at != std::string::npos);
+  const int length = std::stoi(out.substr(at + 7));
+  const std::filesystem::path episode = dir.path / "frames" / "episode_001";
+  int frames = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(episode)) {
+    const std::string png = rltest::slurp(entry.path().string());
+    CHECK(png.substr(1, 3) == "PNG");
+    ++frames;
+  }
+  CHECK(frames == length + 1);
+  CHECK(std::filesystem::exists(episode / "frame_0000.png"));
+  CHECK_THAT(r.out, Contains("wrote " + std::to_string(length + 1) + " frames"));
+
+  r = run_rdsim("train --quiet --config configs/cartpole_ppo.json --timesteps 512 --log-dir " + (dir / "cp"), dir);
+  REQUIRE(r.exit_code == 0);
+  r = run_rdsim("replay " + (dir / "cp") + "/model.bin -n 1 --record " + (dir / "cp_frames"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains("cartpole"));
+  CHECK_THAT(r.err, Contains("cannot draw frames"));
+}

@@ -3,9 +3,7 @@
 
 #include "rdsim/env.hpp"
 #include "rdsim/env_config.hpp"
-#include "rdsim/envs/pixel_view.hpp"
-#include "rdsim/envs/reach_task.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/envs/reach_env.hpp"
 
 // jaka_button — RobotDrlSim section 4.1: a JAKA Zu 7 arm moves its flange to a push button on a table.
 //
@@ -47,32 +45,13 @@ namespace rdsim {
 // The jaka_button scene and numbers above, with `config`'s overrides applied.
 ReachTaskSpec jaka_button_spec(const EnvConfig& config);
 
-class JakaButton final : public Env {
+// What makes jaka_button a task on top of ReachEnv: the button is pressed, nothing is forbidden.
+ReachTerms jaka_button_terms();
+
+class JakaButton final : public ReachEnv {
 public:
-  explicit JakaButton(const EnvConfig& config);
-
-  const Spec& spec() const override { return spec_; }
-  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
-  StepResult step(const Action& action) override;
-  bool step_physics_only() override;
-
-  const ReachTask& task() const { return *task_; }
-  ReachTask& task() { return *task_; }
-  int steps() const { return steps_; }
-
+  explicit JakaButton(const EnvConfig& config) : ReachEnv(jaka_button_spec(config), jaka_button_terms(), config) {}
   static constexpr int button_index = 1;  // index of the button in task().spec().statics
-
-private:
-  Observation observe() const;
-
-  Spec spec_;
-  std::unique_ptr<ReachTask> task_;
-  std::unique_ptr<PixelView> pixels_;  // raw_pixels only
-  Rng rng_;
-  bool discrete_ = true;
-  bool random_target_ = false;
-  int steps_ = 0;
-  bool done_ = true;
 };
 
 std::unique_ptr<Env> make_jaka_button(const EnvConfig& config);

@@ -4,8 +4,7 @@
 #include "rdsim/env.hpp"
 #include "rdsim/env_config.hpp"
 #include "rdsim/envs/pixel_view.hpp"
-#include "rdsim/envs/reach_task.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/envs/reach_env.hpp"
 
 // jaka_obstacle — RobotDrlSim section 4.2: jaka_button's scene and numbers (see jaka_button.hpp) with
 // an obstacle column the arm must go around.
@@ -37,34 +36,18 @@ namespace rdsim {
 
 ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config);
 
-class JakaObstacle final : public Env {
+// What makes jaka_obstacle a task on top of ReachEnv: the button is pressed, the column is
+// forbidden and observed.
+ReachTerms jaka_obstacle_terms();
+
+class JakaObstacle final : public ReachEnv {
 public:
-  explicit JakaObstacle(const EnvConfig& config);
-
-  const Spec& spec() const override { return spec_; }
-  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
-  StepResult step(const Action& action) override;
-  bool step_physics_only() override;
-
-  const ReachTask& task() const { return *task_; }
-  ReachTask& task() { return *task_; }
+  explicit JakaObstacle(const EnvConfig& config)
+      : ReachEnv(jaka_obstacle_spec(config), jaka_obstacle_terms(), config) {}
 
   static constexpr int button_index = 1;  // in task().spec().statics
   static constexpr int column_index = 2;
   static constexpr float collision_reward = -200.0f;
-
-private:
-  Observation observe() const;
-
-  Spec spec_;
-  std::unique_ptr<ReachTask> task_;
-  std::unique_ptr<PixelView> pixels_;  // raw_pixels only
-  Rng rng_;
-  Eigen::Vector3f column_ = Eigen::Vector3f::Zero();
-  bool discrete_ = true;
-  bool random_target_ = false;
-  int steps_ = 0;
-  bool done_ = true;
 };
 
 std::unique_ptr<Env> make_jaka_obstacle(const EnvConfig& config);

@@ -1,0 +1,155 @@
+#include "rdsim/envs/reach_env.hpp"
+
+#include "rdsim/error.hpp"
+
+namespace rdsim {
+namespace {
+
+// Float32 bounds of the ground-truth observation: target - ee, ee - landmark..., ee.
+ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Eigen::Vector3f>& landmarks) {
+  const Eigen::Vector3f lo = s.workspace.min() - Eigen::Vector3f::Constant(s.workspace_margin);
+  const Eigen::Vector3f hi = s.workspace.max() + Eigen::Vector3f::Constant(s.workspace_margin);
+  const Eigen::Vector3f reach = (hi - lo).cwiseMax(Eigen::Vector3f::Constant(s.max_distance));
+  const int n = 3 * (2 + static_cast<int>(landmarks.size()));
+  ObservationSpace space;
+  space.type = ObsType::Float32;
+  space.shape = {n};
+  space.low.resize(n);
+  space.high.resize(n);
+  space.low.head<3>() = -reach;
+  space.high.head<3>() = reach;
+  for (size_t k = 0; k < landmarks.size(); ++k) {
+    const Eigen::Index at = 3 * static_cast<Eigen::Index>(k + 1);
+    space.low.segment<3>(at) = lo - landmarks[k];
+    space.high.segment<3>(at) = hi - landmarks[k];
+  }
+  space.low.tail<3>() = lo;
+  space.high.tail<3>() = hi;
+  return space;
+}
+
+void check_static_index(const ReachTaskSpec& s, int index, const std::string& env_name, const char* what) {
+  if (index < -1 || index >= static_cast<int>(s.statics.size()))
+    throw Error(env_name + ": " + what + " " + std::to_string(index) + " is not one of its " +
+                std::to_string(s.statics.size()) + " static bodies");
+}
+
+}  // namespace
+
+ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config) : terms_(std::move(terms)) {
+  check_static_index(task, terms_.press_body, terms_.env_name, "press body");
+  check_static_index(task, terms_.forbidden_body, terms_.env_name, "forbidden body");
+  for (int landmark : terms_.landmarks) {
+    check_static_index(task, landmark, terms_.env_name, "landmark");
+    landmark_points_.push_back(task.statics[static_cast<size_t>(landmark)].pose.translation());
+  }
+  task_ = std::make_unique<ReachTask>(std::move(task));
+  discrete_ = config.is_discrete;
+  random_target_ = config.random_target;
+  if (!terms_.target_choices.empty()) select_target(terms_.default_choice);
+
+  const ReachTaskSpec& s = task_->spec();
+  spec_.env_name = terms_.env_name;
+  spec_.action = reach_action_space(discrete_);
+  spec_.max_episode_steps = s.max_steps;
+  spec_.control_dt = s.world.time_step * s.action_repeat;
+  spec_.observation = ground_truth_space(s, landmark_points_);
+  if (config.observation == ObservationMode::RawPixels) {
+    pixels_ = std::make_unique<PixelView>(*task_, config, terms_.main_view, terms_.second_view);
+    spec_.observation = pixels_->space();
+  }
+  if (config.render_mode == RenderMode::RgbArray) {
+    EnvConfig view = config;
+    view.image_width = config.render_width;
+    view.image_height = config.render_height;
+    view.multi_view = false;
+    viewer_ = std::make_unique<PixelView>(*task_, view, terms_.main_view, terms_.second_view);
+  }
+}
+
+Observation ReachEnv::observe() const {
+  Observation o;
+  if (pixels_) {
+    pixels_->render(*task_, o.pixels);
+    return o;
+  }
+  const Eigen::Vector3f& ee = task_->ee_position();
+  o.values.resize(spec_.observation.size());
+  o.values.head<3>() = task_->target() - ee;
+  for (size_t k = 0; k < landmark_points_.size(); ++k)
+    o.values.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
+  o.values.tail<3>() = ee;
+  return o;
+}
+
+Observation ReachEnv::reset(std::optional<std::uint64_t> seed) {
+  if (seed) rng_.reseed(*seed);
+  const bool choices = !terms_.target_choices.empty();
+  task_->reset(rng_, random_target_ && !choices);
+  if (choices) {
+    const auto n = static_cast<std::uint64_t>(terms_.target_choices.size());
+    select_target(random_target_ ? static_cast<int>(rng_.below(n)) : terms_.default_choice);
+  }
+  steps_ = 0;
+  done_ = false;
+  return observe();
+}
+
+void ReachEnv::select_target(int index) {
+  const int n = static_cast<int>(terms_.target_choices.size());
+  if (index < 0 || index >= n)
+    throw Error(terms_.env_name + ": no target " + std::to_string(index) + " (it has " + std::to_string(n) + ")");
+  target_index_ = index;
+  task_->set_target(terms_.target_choices[static_cast<size_t>(index)]);
+}
+
+StepResult ReachEnv::step(const Action& action) {
+  const Eigen::Vector3f move = move_for_action(action, discrete_, task_->spec().step, spec_.env_name);
+  StepResult r;
+  if (done_) {
+    // Stepping a finished episode: nothing moves, no reward.
+    r.observation = observe();
+    r.terminated = true;
+    return r;
+  }
+  task_->apply_move(move, rng_);
+  task_->step_physics();
+  ++steps_;
+  r.observation = observe();
+  judge(r);
+  done_ = r.terminated || r.truncated;
+  return r;
+}
+
+// Reward, info and episode end of the step just taken (the rules in the header).
+void ReachEnv::judge(StepResult& r) const {
+  const ReachTaskSpec& s = task_->spec();
+  const float d = task_->distance();
+  r.reward = -d;
+  r.info.distance = d;
+  r.info.collision = terms_.forbidden_body >= 0 && task_->robot_touches(terms_.forbidden_body);
+  const bool pressed = terms_.press_body >= 0 &&
+                       task_->world().touching({task_->robot().body(), task_->ee_link()},
+                                               {task_->static_body(terms_.press_body), -1});
+  r.info.success = !r.info.collision && (task_->reached() || pressed);
+  r.info.out_of_bounds = !r.info.success && !r.info.collision && task_->out_of_bounds();
+  if (r.info.collision) r.reward = terms_.collision_reward;
+  if (r.info.out_of_bounds) r.reward -= s.max_distance * static_cast<float>(s.max_steps - steps_);
+  r.terminated = r.info.success || r.info.collision || r.info.out_of_bounds;
+  r.truncated = !r.terminated && steps_ >= s.max_steps;
+}
+
+bool ReachEnv::step_physics_only() {
+  task_->step_physics();
+  return true;
+}
+
+bool ReachEnv::render(Image& frame) {
+  if (!viewer_) return false;
+  viewer_->render(*task_, frame.rgb);
+  frame.width = static_cast<int>(viewer_->space().shape[1]);
+  frame.height = static_cast<int>(viewer_->space().shape[0]);
+  return true;
+}
+
+}  // namespace rdsim

@@ -1,0 +1,83 @@
+#pragma once
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rdsim/camera.hpp"
+#include "rdsim/env.hpp"
+#include "rdsim/env_config.hpp"
+#include "rdsim/envs/pixel_view.hpp"
+#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/rng.hpp"
+
+// The one Env implementation of every reaching task (jaka_button, jaka_obstacle, inmoov_tomato):
+// ReachTask does the physics and IK moves; ReachTerms says what differs between tasks. A task file
+// only builds its ReachTaskSpec and ReachTerms.
+//
+// Episode rules, shared by all reaching tasks:
+//   observation   ground truth: target - end effector (3), end effector - landmark (3 per landmark),
+//                 end-effector position (3); raw_pixels: the task's cameras (PixelView).
+//   reward        -|end effector - target| every step.
+//   collision     any robot link touching the forbidden body: reward = collision_reward, terminated,
+//                 info.collision.
+//   success       |end effector - target| < success threshold, or the end effector touching the press
+//                 body: terminated, info.success.
+//   out of bounds leaving the workspace box (plus margin) or farther than max_distance from the target:
+//                 terminated, info.out_of_bounds, reward -(max_distance x steps left), so that leaving
+//                 never pays more than staying.
+//   truncation    at the spec's max_steps.
+namespace rdsim {
+
+struct ReachTerms {
+  std::string env_name;
+  int press_body = -1;      // index into ReachTaskSpec::statics (-1: none), e.g. the button
+  int forbidden_body = -1;  // index into ReachTaskSpec::statics (-1: none), e.g. the column
+  float collision_reward = 0.0f;
+  std::vector<int> landmarks;  // statics whose base position the observation measures the end effector from
+  // When not empty the target is one of these points (world frame): `default_choice`, or one drawn
+  // uniformly at each reset with random_target. Otherwise ReachTaskSpec's nominal point / box decides.
+  std::vector<Eigen::Vector3f> target_choices;
+  int default_choice = 0;
+  OrbitView main_view, second_view;  // raw-pixel cameras (second: multi_view)
+};
+
+class ReachEnv : public Env {
+public:
+  ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config);
+
+  const Spec& spec() const override { return spec_; }
+  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepResult step(const Action& action) override;
+  bool step_physics_only() override;
+  bool render(Image& frame) override;
+
+  const ReachTask& task() const { return *task_; }
+  ReachTask& task() { return *task_; }
+  const ReachTerms& terms() const { return terms_; }
+  int steps() const { return steps_; }
+  // Index into terms().target_choices of the current target (-1 without choices).
+  int target_index() const { return target_index_; }
+  // Makes target_choices[index] the target of the current episode (for evaluation and tests).
+  // rdsim::Error when there is no such choice.
+  void select_target(int index);
+
+private:
+  Observation observe() const;
+  void judge(StepResult& r) const;
+
+  Spec spec_;
+  ReachTerms terms_;
+  std::unique_ptr<ReachTask> task_;
+  std::unique_ptr<PixelView> pixels_;  // raw_pixels only
+  std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
+  std::vector<Eigen::Vector3f> landmark_points_;
+  Rng rng_;
+  bool discrete_ = true;
+  bool random_target_ = false;
+  int target_index_ = -1;
+  int steps_ = 0;
+  bool done_ = true;
+};
+
+}  // namespace rdsim
