@@ -12,21 +12,10 @@ constexpr float hidden_gain = 1.41421356f;  // sqrt(2), the baselines' choice fo
 constexpr float policy_gain = 0.01f;        // near-uniform initial policy
 constexpr float value_gain = 1.0f;
 
+// y = a(z), keeping z (the trunk's pre-activation output) for the backward pass.
 void activate(const Eigen::MatrixXf& z, nn::Activation a, Eigen::MatrixXf& y) {
-  switch (a) {
-    case nn::Activation::Tanh: y = z.array().tanh(); break;
-    case nn::Activation::ReLU: y = z.cwiseMax(0.0f); break;
-    case nn::Activation::Identity: y = z; break;
-  }
-}
-
-// dLoss/dz from dLoss/dy with y = a(z).
-void activation_backward(Eigen::MatrixXf& grad, const Eigen::MatrixXf& y, nn::Activation a) {
-  switch (a) {
-    case nn::Activation::Tanh: grad.array() *= 1.0f - y.array().square(); break;
-    case nn::Activation::ReLU: grad = (y.array() > 0.0f).select(grad, 0.0f); break;
-    case nn::Activation::Identity: break;
-  }
+  y = z;
+  nn::activate(y, a);
 }
 
 void append(nn::ParamList& list, nn::ParamList more, const std::string& prefix) {
@@ -171,7 +160,7 @@ void ActorCritic::backward(const Eigen::VectorXf& d_log_prob, const Eigen::Vecto
   const Eigen::MatrixXf d_features_value = value_.backward(d_value.transpose(), shared_);
   if (shared_) {
     d_features += d_features_value;
-    activation_backward(d_features, features_, activation_);
+    nn::activation_backward(d_features, features_, activation_);
     if (cnn_)
       cnn_trunk_.backward(d_features, false);
     else

@@ -18,26 +18,6 @@ CnnShape cnn_preset(const std::string& name, const ImageShape& input, int output
   throw Error(where + ": expected one of \"nature\", \"small\", got \"" + name + "\"");
 }
 
-namespace {
-
-void activate(Eigen::MatrixXf& z, Activation activation) {
-  switch (activation) {
-    case Activation::Tanh: z = z.array().tanh(); break;
-    case Activation::ReLU: z = z.cwiseMax(0.0f); break;
-    case Activation::Identity: break;
-  }
-}
-
-// dLoss/dz from dLoss/dy, where y = activation(z) is what forward cached.
-void activation_backward(Eigen::MatrixXf& grad, const Eigen::MatrixXf& y, Activation activation) {
-  switch (activation) {
-    case Activation::Tanh: grad.array() *= 1.0f - y.array().square(); break;
-    case Activation::ReLU: grad = (y.array() > 0.0f).select(grad, 0.0f); break;
-    case Activation::Identity: break;
-  }
-}
-
-}  // namespace
 
 Cnn::Cnn(const CnnShape& shape, float output_gain, Rng& rng, float hidden_gain) : shape_(shape) {
   if (shape.output_size <= 0) throw Error("nn::Cnn: the output size must be positive");

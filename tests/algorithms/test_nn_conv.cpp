@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/error.hpp"
+#include "gradient_check.hpp"
 #include "rdsim/nn.hpp"
 #include "rdsim/nn/cnn.hpp"
 #include "rdsim/nn/conv.hpp"
@@ -80,7 +81,7 @@ struct ReferenceCnn {
 };
 
 // Relative error with a floor, so tiny gradients are judged absolutely.
-double rel_error(double a, double b) { return std::abs(a - b) / std::max(1e-3, std::abs(a) + std::abs(b)); }
+using gradcheck::rel_error;
 
 // Central differences of the double reference against the analytic float gradients of `net`
 // for the loss sum(C .* net(x)).
@@ -93,30 +94,7 @@ void check_cnn_gradients(nn::Cnn& net, const MatrixXf& x, const MatrixXf& c) {
   REQUIRE(grad_x.rows() == x.rows());
   REQUIRE(grad_x.cols() == x.cols());
 
-  const double h = 1e-6;
-  for (int j = 0; j < x.cols(); ++j)
-    for (int i = 0; i < x.rows(); ++i) {
-      MatrixXd xp = xd, xm = xd;
-      xp(i, j) += h;
-      xm(i, j) -= h;
-      const double numeric = (ref.loss(xp, cd) - ref.loss(xm, cd)) / (2 * h);
-      INFO("input(" << i << "," << j << ")");
-      CHECK(rel_error(grad_x(i, j), numeric) < 1e-4);
-    }
-
-  const nn::ParamList params = net.params();
-  for (size_t t = 0; t < params.size(); ++t)
-    for (Eigen::Index k = 0; k < params[t].value->size(); ++k) {
-      double& w = ref.tensors[t].data()[k];
-      const double saved = w;
-      w = saved + h;
-      const double lp = ref.loss(xd, cd);
-      w = saved - h;
-      const double lm = ref.loss(xd, cd);
-      w = saved;
-      INFO(params[t].name << "[" << k << "]");
-      CHECK(rel_error(params[t].grad->data()[k], (lp - lm) / (2 * h)) < 1e-4);
-    }
+  gradcheck::check(ref, xd, cd, grad_x, net.params());
 }
 
 }  // namespace

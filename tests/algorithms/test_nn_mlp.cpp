@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/error.hpp"
+#include "gradient_check.hpp"
 #include "rdsim/nn.hpp"
 
 using namespace rdsim;
@@ -46,7 +47,7 @@ struct ReferenceNet {
 };
 
 // Relative error with a floor, so tiny gradients are judged absolutely.
-double rel_error(double a, double b) { return std::abs(a - b) / std::max(1e-3, std::abs(a) + std::abs(b)); }
+using gradcheck::rel_error;
 
 void check_gradients(nn::Activation activation) {
   Rng rng(7);
@@ -63,30 +64,7 @@ void check_gradients(nn::Activation activation) {
   net.zero_grad();
   const MatrixXf grad_x = net.backward(c);
 
-  const double h = 1e-6;
-  for (int j = 0; j < x.cols(); ++j)
-    for (int i = 0; i < x.rows(); ++i) {
-      MatrixXd xp = xd, xm = xd;
-      xp(i, j) += h;
-      xm(i, j) -= h;
-      const double numeric = (ref.loss(xp, cd) - ref.loss(xm, cd)) / (2 * h);
-      INFO("input(" << i << "," << j << ")");
-      CHECK(rel_error(grad_x(i, j), numeric) < 1e-4);
-    }
-
-  const nn::ParamList params = net.params();
-  for (size_t t = 0; t < params.size(); ++t)
-    for (Eigen::Index k = 0; k < params[t].value->size(); ++k) {
-      double& w = ref.tensors[t].data()[k];
-      const double saved = w;
-      w = saved + h;
-      const double lp = ref.loss(xd, cd);
-      w = saved - h;
-      const double lm = ref.loss(xd, cd);
-      w = saved;
-      INFO(params[t].name << "[" << k << "]");
-      CHECK(rel_error(params[t].grad->data()[k], (lp - lm) / (2 * h)) < 1e-4);
-    }
+  gradcheck::check(ref, xd, cd, grad_x, net.params());
 }
 
 }  // namespace

@@ -3,17 +3,12 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/nn/activation.hpp"
 #include "rdsim/nn/param.hpp"
 #include "rdsim/rng.hpp"
 
 // Multi-layer perceptrons on batches stored one column per sample (features x batch).
 namespace rdsim::nn {
-
-enum class Activation { Tanh, ReLU, Identity };
-
-// "tanh", "relu", "identity" -> Activation; anything else throws rdsim::Error naming `where`.
-Activation activation_from_string(const std::string& name, const std::string& where);
-const char* to_string(Activation activation);
 
 // y = W x + b for a batch x (in x batch) -> (out x batch).
 struct Dense {
