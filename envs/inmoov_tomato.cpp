@@ -25,6 +25,9 @@ Eigen::VectorXf home_pose(const RobotModel& model) {
     if (!j.movable()) continue;
     if (j.name == "r_upper_arm_rotate") q[dof] = -30.0f * kDeg;
     if (j.name == "r_elbow") q[dof] = 90.0f * kDeg;
+    // Turns the palm's face towards the tree, so the palm centre, not the palm's edge or the fingers,
+    // meets the tomato: with wrist roll 0 the edge stops the palm centre 6.5-7 cm from tomatoes 0 and 2.
+    if (j.name == "r_wrist_roll") q[dof] = -30.0f * kDeg;
     ++dof;
   }
   return q;
@@ -37,6 +40,8 @@ ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config) {
   ReachTaskSpec s;
   s.robot_urdf = assets + "/inmoov/inmoov.urdf";
   s.ee_link = "r_hand_ee";
+  // The right arm only: the torso joints on the path to the palm hold their home pose.
+  s.ik_joints = {"r_omoplate", "r_shoulder_lift", "r_upper_arm_rotate", "r_elbow", "r_wrist_roll", "r_wrist_pitch"};
   s.home = home_pose(load_urdf(s.robot_urdf));
   s.home_noise = 0.02f;
   s.statics = {{assets + "/objects/tomato_tree.urdf", at(0.65f, -0.20f, 0.0f)}};
@@ -58,103 +63,24 @@ ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config) {
   return s;
 }
 
-InmoovTomato::InmoovTomato(const EnvConfig& config) {
-  task_ = std::make_unique<ReachTask>(inmoov_tomato_spec(config));
-  discrete_ = config.is_discrete;
-  random_target_ = config.random_target;
-  const ReachTaskSpec& s = task_->spec();
-  const RobotModel& tree = task_->static_model(tree_index);
-  const auto poses = tree.link_poses_at_zero();
+ReachTerms inmoov_tomato_terms(const ReachTaskSpec& spec) {
+  ReachTerms t;
+  t.env_name = "inmoov_tomato";
+  const StaticBodySpec& tree = spec.statics[InmoovTomato::tree_index];
+  const RobotModel model = load_urdf(tree.urdf);
+  const auto poses = model.link_poses_at_zero();
   for (int i = 0;; ++i) {
-    const int link = tree.link_index("tomato_" + std::to_string(i));
+    const int link = model.link_index("tomato_" + std::to_string(i));
     if (link < 0) break;
-    tomatoes_.push_back(s.statics[tree_index].pose * poses[static_cast<size_t>(link)].translation().cast<float>());
+    t.target_choices.push_back(tree.pose * poses[static_cast<size_t>(link)].translation().cast<float>());
   }
-  if (static_cast<int>(tomatoes_.size()) <= default_target)
-    throw Error(s.statics[tree_index].urdf + ": inmoov_tomato needs links tomato_0 .. tomato_" +
-                std::to_string(default_target) + ", found " + std::to_string(tomatoes_.size()));
-  task_->set_target(tomatoes_[default_target]);
-
-  spec_.env_name = "inmoov_tomato";
-  spec_.action = reach_action_space(discrete_);
-  spec_.max_episode_steps = s.max_steps;
-  spec_.control_dt = s.world.time_step * s.action_repeat;
-  const Eigen::Vector3f lo = s.workspace.min() - Eigen::Vector3f::Constant(s.workspace_margin);
-  const Eigen::Vector3f hi = s.workspace.max() + Eigen::Vector3f::Constant(s.workspace_margin);
-  const Eigen::Vector3f reach = (hi - lo).cwiseMax(Eigen::Vector3f::Constant(s.max_distance));
-  spec_.observation.type = ObsType::Float32;
-  spec_.observation.shape = {6};
-  spec_.observation.low.resize(6);
-  spec_.observation.high.resize(6);
-  // Segment writes, not a comma initialiser: GCC 12 warns (-Warray-bounds) on the latter here.
-  spec_.observation.low.head<3>() = -reach;
-  spec_.observation.low.tail<3>() = lo;
-  spec_.observation.high.head<3>() = reach;
-  spec_.observation.high.tail<3>() = hi;
-  if (config.observation == ObservationMode::RawPixels) {
-    pixels_ = std::make_unique<PixelView>(*task_, config, inmoov_main_view(), inmoov_second_view());
-    spec_.observation = pixels_->space();
-  }
-}
-
-Observation InmoovTomato::observe() const {
-  Observation o;
-  if (pixels_) {
-    pixels_->render(*task_, o.pixels);
-    return o;
-  }
-  o.values.resize(6);
-  o.values << task_->target() - task_->ee_position(), task_->ee_position();
-  return o;
-}
-
-Observation InmoovTomato::reset(std::optional<std::uint64_t> seed) {
-  if (seed) rng_.reseed(*seed);
-  task_->reset(rng_, false);
-  target_index_ = random_target_ ? static_cast<int>(rng_.below(tomatoes_.size())) : default_target;
-  task_->set_target(tomatoes_[static_cast<size_t>(target_index_)]);
-  steps_ = 0;
-  done_ = false;
-  return observe();
-}
-
-void InmoovTomato::select_target(int index) {
-  if (index < 0 || index >= static_cast<int>(tomatoes_.size()))
-    throw Error("inmoov_tomato: no tomato " + std::to_string(index) + " (the tree has " +
-                std::to_string(tomatoes_.size()) + ")");
-  target_index_ = index;
-  task_->set_target(tomatoes_[static_cast<size_t>(index)]);
-}
-
-StepResult InmoovTomato::step(const Action& action) {
-  const Eigen::Vector3f move = move_for_action(action, discrete_, task_->spec().step, spec_.env_name);
-  StepResult r;
-  if (done_) {
-    // Stepping a finished episode: nothing moves, no reward.
-    r.observation = observe();
-    r.terminated = true;
-    return r;
-  }
-  task_->apply_move(move, rng_);
-  task_->step_physics();
-  ++steps_;
-  const float d = task_->distance();
-  const ReachTaskSpec& s = task_->spec();
-  r.observation = observe();
-  r.reward = -d;
-  r.info.distance = d;
-  r.info.success = task_->reached();
-  r.info.out_of_bounds = !r.info.success && task_->out_of_bounds();
-  if (r.info.out_of_bounds) r.reward -= s.max_distance * static_cast<float>(s.max_steps - steps_);
-  r.terminated = r.info.success || r.info.out_of_bounds;
-  r.truncated = !r.terminated && steps_ >= s.max_steps;
-  done_ = r.terminated || r.truncated;
-  return r;
-}
-
-bool InmoovTomato::step_physics_only() {
-  task_->step_physics();
-  return true;
+  if (static_cast<int>(t.target_choices.size()) <= InmoovTomato::default_target)
+    throw Error(tree.urdf + ": inmoov_tomato needs links tomato_0 .. tomato_" +
+                std::to_string(InmoovTomato::default_target) + ", found " + std::to_string(t.target_choices.size()));
+  t.default_choice = InmoovTomato::default_target;
+  t.main_view = inmoov_main_view();
+  t.second_view = inmoov_second_view();
+  return t;
 }
 
 std::unique_ptr<Env> make_inmoov_tomato(const EnvConfig& config) { return std::make_unique<InmoovTomato>(config); }

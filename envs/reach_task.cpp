@@ -12,6 +12,34 @@ namespace {
 
 constexpr double kIkDamping = 0.02;  // m: keeps the step bounded near singular poses
 
+// The robot's model with every movable joint not in spec.ik_joints made fixed at its home angle, so
+// the IK chain moves only ik_joints. Joint indices are unchanged: chain joints still map to robot dofs.
+RobotModel ik_model(const RobotModel& robot_model, const Robot& robot, const ReachTaskSpec& spec) {
+  RobotModel model = robot_model;
+  if (spec.ik_joints.empty()) return model;
+  for (const std::string& name : spec.ik_joints) {
+    const int j = model.joint_index(name);
+    if (j < 0 || !model.joints[static_cast<size_t>(j)].movable())
+      throw Error(spec.robot_urdf + ": ik_joints names '" + name + "', which is not a movable joint of the robot");
+  }
+  if (spec.home.size() != robot.dof())
+    throw Error(spec.robot_urdf + ": the home pose has " + std::to_string(spec.home.size()) +
+                " joint values, the robot has " + std::to_string(robot.dof()));
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    Joint& joint = model.joints[j];
+    if (!joint.movable() || std::find(spec.ik_joints.begin(), spec.ik_joints.end(), joint.name) != spec.ik_joints.end())
+      continue;
+    const double q = spec.home[robot.dof_of_joint(static_cast<int>(j))];
+    if (joint.type == JointType::Prismatic)
+      joint.origin = joint.origin * Eigen::Translation3d(q * joint.axis);
+    else
+      joint.origin = joint.origin * Eigen::AngleAxisd(q, joint.axis);
+    joint.type = JointType::Fixed;
+    joint.lower = joint.upper = 0.0;
+  }
+  return model;
+}
+
 }  // namespace
 
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
@@ -79,7 +107,7 @@ ReachTask::ReachTask(ReachTaskSpec spec) : spec_(std::move(spec)) {
   const RobotModel model = load_urdf(spec_.robot_urdf);
   robot_ = &world_->add_robot(model, spec_.base_pose, spec_.robot);
   ee_link_ = robot_->model().require_link(spec_.ee_link);
-  chain_ = std::make_unique<KinematicChain>(robot_->model(), spec_.ee_link);
+  chain_ = std::make_unique<KinematicChain>(ik_model(robot_->model(), *robot_, spec_), spec_.ee_link);
   const double control_dt = spec_.world.time_step * std::max(spec_.action_repeat, 1);
   max_joint_move_.resize(chain_->dof());
   for (int i = 0; i < chain_->dof(); ++i) {

@@ -1,6 +1,8 @@
 // inmoov_tomato (envs/inmoov_tomato.cpp): the InMoov's right palm reaching a tomato by IK moves.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "rdsim/env_registry.hpp"
@@ -173,4 +175,49 @@ TEST_CASE("inmoov_tomato: continuous moves go where they are told", "[envs][inmo
   CHECK(rise > 0.06f);
   CHECK(rise < 0.14f);
   CHECK(std::abs(r.observation.values[3] - start.values[3]) < 0.03f);
+}
+
+TEST_CASE("inmoov_tomato: the IK moves only the right arm; the torso holds its pose", "[envs][inmoov]") {
+  InmoovTomato env(inmoov_config());
+  const auto& task = env.task();
+  const auto& model = task.robot_model();
+  REQUIRE(task.chain().dof() == 6);
+  for (int i = 0; i < task.chain().dof(); ++i)
+    CHECK(model.joints[static_cast<size_t>(task.chain().model_joint(i))].name.rfind("r_", 0) == 0);
+  const int mid = task.robot().dof_of_joint(model.joint_index("mid_stomach"));
+  const int top = task.robot().dof_of_joint(model.joint_index("top_stomach"));
+  REQUIRE(mid >= 0);
+  REQUIRE(top >= 0);
+  const Eigen::Vector3f chest_home = task.robot().link_pose(model.require_link("chest")).translation();
+  // Greedy episodes to the highest and the farthest-left tomatoes: the moves that would most
+  // tempt an IK with the torso in its chain to lean the body.
+  for (int t : {5, 2}) {
+    INFO("tomato_" << t);
+    auto o = env.reset(40 + static_cast<std::uint64_t>(t));
+    env.select_target(t);
+    o.values.head<3>() = env.task().target() - env.task().ee_position();
+    rdsim::StepResult r;
+    float worst = 0.0f;
+    while (!r.terminated && !r.truncated) {
+      r = env.step(greedy(o));
+      o = r.observation;
+      const Eigen::VectorXf q = task.robot().joint_positions();
+      worst = std::max({worst, std::abs(q[mid] - task.spec().home[mid]), std::abs(q[top] - task.spec().home[top])});
+    }
+    CHECK(r.info.success);
+    // Only the drive's tracking error under the arm's reaction torques.
+    CHECK(worst < 0.01f);
+    CHECK((task.robot().link_pose(model.require_link("chest")).translation() - chest_home).norm() < 0.005f);
+  }
+}
+
+TEST_CASE("ReachTask: ik_joints must name movable joints of the robot", "[envs][inmoov]") {
+  rdsim::ReachTaskSpec spec = rdsim::inmoov_tomato_spec(inmoov_config());
+  spec.ik_joints.push_back("r_no_such_joint");
+  try {
+    rdsim::ReachTask task(spec);
+    FAIL("no error for an unknown ik_joints name");
+  } catch (const rdsim::Error& e) {
+    CHECK(std::string(e.what()).find("r_no_such_joint") != std::string::npos);
+  }
 }

@@ -4,9 +4,7 @@
 
 #include "rdsim/env.hpp"
 #include "rdsim/env_config.hpp"
-#include "rdsim/envs/pixel_view.hpp"
-#include "rdsim/envs/reach_task.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/envs/reach_env.hpp"
 
 // inmoov_tomato — RobotDrlSim section 4.3: the InMoov humanoid (assets/inmoov/inmoov.urdf, 54
 // joints) moves its right palm to a tomato of a tomato tree standing in front of it. Built on
@@ -26,8 +24,8 @@
 //                    (contacts only: ComputedTorque drive, no joint-limit constraint rows; the targets
 //                    are clamped to the limits), action_repeat 1. The robot's links do not collide with
 //                    each other; they collide with the tree.
-//   home pose        every joint 0 except the right arm: upper-arm rotation -30 deg, elbow 90 deg
-//                    (forearm forward, palm facing forward-left, palm centre at about (0.28,-0.34,1.02));
+//   home pose        every joint 0 except the right arm: upper-arm rotation -30 deg, elbow 90 deg,
+//                    wrist roll -30 deg (forearm forward, palm face turned towards the tree);
 //                    + U(-0.02, 0.02) rad on each IK joint at each reset (seeded).
 //   held joints      head, jaw, eyes, left arm, all fingers and the torso keep their home targets; only
 //                    the IK chain moves.
@@ -35,7 +33,8 @@
 //                    ~1 m/s at 240 Hz, what the shoulder's 1.5 rad/s allows); continuous: Box(3) of
 //                    dx, dy, dz in [-1, 1] times action_step. Gaussian move noise sigma = action_step/30;
 //                    goal clipped into the workspace; 3 damped-least-squares IK iterations warm-started
-//                    from the current joint angles on the chain base_link -> r_hand_ee.
+//                    from the current joint angles on the six right-arm joints (r_omoplate ..
+//                    r_wrist_pitch; the torso joints on the path base_link -> r_hand_ee hold still).
 //   workspace box    x 0.10..0.70, y -0.70..0.15, z 0.80..1.65; leaving it by more than 3 cm, or being
 //                    farther than max_distance (default 0.6 m) from the tomato, ends the episode:
 //                    terminated, info.out_of_bounds, reward -(max_distance x steps left).
@@ -51,41 +50,24 @@ namespace rdsim {
 
 ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config);
 
-class InmoovTomato final : public Env {
+// What makes inmoov_tomato a task on top of ReachEnv: the targets are the tree's tomatoes
+// (target_choices, read from the tree's URDF: links tomato_0, tomato_1, ...).
+// rdsim::Error when the tree has fewer than default_target + 1 tomatoes.
+ReachTerms inmoov_tomato_terms(const ReachTaskSpec& spec);
+
+class InmoovTomato final : public ReachEnv {
 public:
-  explicit InmoovTomato(const EnvConfig& config);
+  explicit InmoovTomato(const EnvConfig& config) : InmoovTomato(inmoov_tomato_spec(config), config) {}
 
-  const Spec& spec() const override { return spec_; }
-  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
-  StepResult step(const Action& action) override;
-  bool step_physics_only() override;
-
-  const ReachTask& task() const { return *task_; }
-  ReachTask& task() { return *task_; }
-  int steps() const { return steps_; }
   // World positions of the tree's tomatoes, tomato_0 first.
-  const std::vector<Eigen::Vector3f>& tomatoes() const { return tomatoes_; }
-  int target_index() const { return target_index_; }
-  // Makes tomato `index` the target of the current episode (after reset; for evaluation and tests).
-  // rdsim::Error when there is no such tomato.
-  void select_target(int index);
+  const std::vector<Eigen::Vector3f>& tomatoes() const { return terms().target_choices; }
 
   static constexpr int tree_index = 0;      // index of the tree in task().spec().statics
   static constexpr int default_target = 3;  // tomato_3 without random_target
 
 private:
-  Observation observe() const;
-
-  Spec spec_;
-  std::unique_ptr<ReachTask> task_;
-  std::unique_ptr<PixelView> pixels_;  // raw_pixels only
-  std::vector<Eigen::Vector3f> tomatoes_;
-  Rng rng_;
-  bool discrete_ = true;
-  bool random_target_ = false;
-  int target_index_ = default_target;
-  int steps_ = 0;
-  bool done_ = true;
+  InmoovTomato(const ReachTaskSpec& spec, const EnvConfig& config)
+      : ReachEnv(spec, inmoov_tomato_terms(spec), config) {}
 };
 
 std::unique_ptr<Env> make_inmoov_tomato(const EnvConfig& config);

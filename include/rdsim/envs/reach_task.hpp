@@ -32,6 +32,9 @@ struct ReachTaskSpec {
   std::string robot_urdf;  // path of the robot's URDF file
   Eigen::Isometry3f base_pose = Eigen::Isometry3f::Identity();
   std::string ee_link;          // end-effector link (the IK chain runs from the root link to it)
+  // Joints the IK may move (names); empty = every movable joint between the root and ee_link. The
+  // other joints on that path keep their home target (the IK sees them frozen at their home value).
+  std::vector<std::string> ik_joints;
   Eigen::VectorXf home;         // joint positions at reset, one per robot dof (Robot::dof order)
   float home_noise = 0.0f;      // rad; uniform +-home_noise added to every IK-chain joint at reset
 
