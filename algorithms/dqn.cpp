@@ -68,14 +68,16 @@ double epsilon_at(long long timesteps, long long total_timesteps, double fractio
 
 namespace {
 
-// Observations x buffer_size floats are stored twice (observation and next observation).
+// Observations x buffer_size are stored twice (observation and next observation): as floats,
+// or as bytes for pixel observations.
 constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
 
 int checked_num_actions(const TrainConfig& config, const Spec& spec) {
   if (!spec.action.discrete || spec.action.n <= 0)
     throw Error(config.source + ": algorithm: \"dqn\" needs a discrete action space, env \"" + spec.env_name +
                 "\" has continuous actions (set env.is_discrete to true or use ppo/a2c)");
-  const double bytes = 8.0 * static_cast<double>(config.dqn.buffer_size) *
+  const double value_bytes = spec.observation.type == ObsType::UInt8 ? 1.0 : 4.0;
+  const double bytes = 2.0 * value_bytes * static_cast<double>(config.dqn.buffer_size) *
                        static_cast<double>(observation_input_size(spec.observation));
   if (bytes > kMaxReplayBytes)
     throw Error(config.source + ": dqn.buffer_size: " + std::to_string(config.dqn.buffer_size) +
@@ -146,7 +148,7 @@ public:
       : cfg_(config.dqn),
         spec_(spec),
         num_actions_(checked_num_actions(config, spec)),
-        buffer_(config.dqn.buffer_size, observation_input_size(spec.observation)),
+        buffer_(config.dqn.buffer_size, spec.observation),
         explore_rng_(Rng::derive(config.seed, rng_stream::exploration)),
         replay_rng_(Rng::derive(config.seed, rng_stream::replay_sampling)) {
     Rng init = Rng::derive(config.seed, rng_stream::network_init);
@@ -178,7 +180,7 @@ private:
   long long gradient_steps_ = 0;  // since the start of training
   // scratch, reused so the hot loop does not allocate
   Eigen::MatrixXf obs_, grad_q_;
-  Eigen::VectorXf next_obs_;
+  std::vector<Observation> prev_obs_;
   std::vector<Action> actions_;
   ReplayBatch batch_;
 };
@@ -196,14 +198,16 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
                          : argmax(q->col(i));
     actions_[static_cast<std::size_t>(i)] = Action::discrete(a);
   }
+  // The buffer keeps observations in the env's own form (pixels as bytes), so keep a copy of
+  // the ones the actions were chosen from: step() replaces them.
+  prev_obs_ = envs.observations();
   const std::vector<EnvStep>& steps = envs.step(actions_);
-  next_obs_.resize(buffer_.observation_size());
   for (int i = 0; i < n; ++i) {
-    const EnvStep& s = steps[static_cast<std::size_t>(i)];
+    const auto k = static_cast<std::size_t>(i);
+    const EnvStep& s = steps[k];
     // After an episode ends the env has been reset: the transition's next state is the final one.
-    const Observation& next = s.done() ? s.final_observation : envs.observations()[static_cast<std::size_t>(i)];
-    encode_observation(next, spec_.observation, next_obs_);
-    buffer_.add(obs_.col(i), actions_[static_cast<std::size_t>(i)].index, s.reward, next_obs_, s.terminated);
+    const Observation& next = s.done() ? s.final_observation : envs.observations()[k];
+    buffer_.add(prev_obs_[k], actions_[k].index, s.reward, next, s.terminated);
   }
   ++env_calls_;
   const long long interval = std::max<long long>(cfg_.target_update_interval / n, 1);

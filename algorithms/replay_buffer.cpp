@@ -9,28 +9,46 @@
 namespace rdsim {
 
 namespace {
-constexpr std::uint32_t kReplayTag = 0x50524452;  // "RDRP"
-}
+constexpr std::uint32_t kReplayTag = 0x50524452;       // "RDRP": float observations
+constexpr std::uint32_t kPixelReplayTag = 0x55524452;  // "RDRU": uint8 observations
+constexpr float kPixelScale = 1.0f / 255.0f;           // as encode_observation
 
-ReplayBuffer::ReplayBuffer(long long capacity, int observation_size) : capacity_(capacity) {
-  if (capacity <= 0 || observation_size <= 0)
+const char* storage_name(bool pixels) { return pixels ? "uint8 pixel" : "float"; }
+
+void check_pixels(const Observation& obs, int size) {
+  if (static_cast<int>(obs.pixels.size()) != size)
+    throw Error("ReplayBuffer::add: observation has " + std::to_string(obs.pixels.size()) +
+                " pixel bytes, expected " + std::to_string(size));
+}
+}  // namespace
+
+ReplayBuffer::ReplayBuffer(long long capacity, int observation_size)
+    : ReplayBuffer(capacity, ObservationSpace{ObsType::Float32, {observation_size}, {}, {}}) {}
+
+ReplayBuffer::ReplayBuffer(long long capacity, const ObservationSpace& space)
+    : capacity_(capacity), observation_size_(space.size()), pixels_(space.type == ObsType::UInt8) {
+  if (capacity <= 0 || observation_size_ <= 0)
     throw Error("ReplayBuffer: capacity and observation size must be positive");
   const auto n = static_cast<Eigen::Index>(capacity);
-  observations_.resize(observation_size, n);
-  next_observations_.resize(observation_size, n);
+  if (pixels_) {
+    pixel_obs_.resize(observation_size_, n);
+    next_pixel_obs_.resize(observation_size_, n);
+  } else {
+    observations_.resize(observation_size_, n);
+    next_observations_.resize(observation_size_, n);
+  }
   actions_.resize(n);
   rewards_.resize(n);
   terminated_.resize(n);
 }
 
-void ReplayBuffer::add(const Eigen::Ref<const Eigen::VectorXf>& observation, int action, float reward,
-                       const Eigen::Ref<const Eigen::VectorXf>& next_observation, bool terminated) {
-  if (observation.size() != observations_.rows() || next_observation.size() != observations_.rows())
-    throw Error("ReplayBuffer::add: observation size " + std::to_string(observation.size()) +
-                ", expected " + std::to_string(observations_.rows()));
+std::size_t ReplayBuffer::observation_bytes() const {
+  return 2 * static_cast<std::size_t>(observation_size_) * static_cast<std::size_t>(capacity_) *
+         (pixels_ ? 1 : sizeof(float));
+}
+
+void ReplayBuffer::store_rest(int action, float reward, bool terminated) {
   const auto i = static_cast<Eigen::Index>(next_);
-  observations_.col(i) = observation;
-  next_observations_.col(i) = next_observation;
   actions_[i] = action;
   rewards_[i] = reward;
   terminated_[i] = terminated ? 1.0f : 0.0f;
@@ -38,9 +56,36 @@ void ReplayBuffer::add(const Eigen::Ref<const Eigen::VectorXf>& observation, int
   if (size_ < capacity_) ++size_;
 }
 
+void ReplayBuffer::add(const Eigen::Ref<const Eigen::VectorXf>& observation, int action, float reward,
+                       const Eigen::Ref<const Eigen::VectorXf>& next_observation, bool terminated) {
+  if (pixels_) throw Error("ReplayBuffer::add: this buffer stores pixels; pass the env's Observation");
+  if (observation.size() != observation_size_ || next_observation.size() != observation_size_)
+    throw Error("ReplayBuffer::add: observation size " + std::to_string(observation.size()) +
+                ", expected " + std::to_string(observation_size_));
+  const auto i = static_cast<Eigen::Index>(next_);
+  observations_.col(i) = observation;
+  next_observations_.col(i) = next_observation;
+  store_rest(action, reward, terminated);
+}
+
+void ReplayBuffer::add(const Observation& observation, int action, float reward, const Observation& next_observation,
+                       bool terminated) {
+  if (!pixels_) {
+    add(observation.values, action, reward, next_observation.values, terminated);
+    return;
+  }
+  check_pixels(observation, observation_size_);
+  check_pixels(next_observation, observation_size_);
+  const auto i = static_cast<Eigen::Index>(next_);
+  pixel_obs_.col(i) = Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(observation.pixels.data(), observation_size_);
+  next_pixel_obs_.col(i) =
+      Eigen::Map<const Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 1>>(next_observation.pixels.data(), observation_size_);
+  store_rest(action, reward, terminated);
+}
+
 void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
   if (size_ == 0) throw Error("ReplayBuffer::sample: the buffer is empty");
-  const Eigen::Index rows = observations_.rows();
+  const Eigen::Index rows = observation_size_;
   if (out.observations.rows() != rows || out.observations.cols() != batch_size) {
     out.observations.resize(rows, batch_size);
     out.next_observations.resize(rows, batch_size);
@@ -50,8 +95,13 @@ void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
   }
   for (int j = 0; j < batch_size; ++j) {
     const auto i = static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(size_)));
-    out.observations.col(j) = observations_.col(i);
-    out.next_observations.col(j) = next_observations_.col(i);
+    if (pixels_) {
+      out.observations.col(j) = pixel_obs_.col(i).cast<float>() * kPixelScale;
+      out.next_observations.col(j) = next_pixel_obs_.col(i).cast<float>() * kPixelScale;
+    } else {
+      out.observations.col(j) = observations_.col(i);
+      out.next_observations.col(j) = next_observations_.col(i);
+    }
     out.actions[j] = actions_[i];
     out.rewards[j] = rewards_[i];
     out.terminated[j] = terminated_[i];
@@ -59,43 +109,53 @@ void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
 }
 
 void ReplayBuffer::save(std::ostream& out) const {
-  nn::write_u32(out, kReplayTag);
+  nn::write_u32(out, pixels_ ? kPixelReplayTag : kReplayTag);
   nn::write_u64(out, static_cast<std::uint64_t>(capacity_));
-  nn::write_u32(out, static_cast<std::uint32_t>(observations_.rows()));
+  nn::write_u32(out, static_cast<std::uint32_t>(observation_size_));
   nn::write_u64(out, static_cast<std::uint64_t>(size_));
   nn::write_u64(out, static_cast<std::uint64_t>(next_));
   // Only the filled slots: a young buffer with a large capacity stays small on disk.
   const auto n = static_cast<Eigen::Index>(size_);
-  const auto bytes = [](Eigen::Index count) { return static_cast<std::streamsize>(count * 4); };
-  out.write(reinterpret_cast<const char*>(observations_.data()), bytes(observations_.rows() * n));
-  out.write(reinterpret_cast<const char*>(next_observations_.data()), bytes(observations_.rows() * n));
-  out.write(reinterpret_cast<const char*>(actions_.data()), bytes(n));
-  out.write(reinterpret_cast<const char*>(rewards_.data()), bytes(n));
-  out.write(reinterpret_cast<const char*>(terminated_.data()), bytes(n));
+  const auto write = [&](const void* data, Eigen::Index bytes) {
+    out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
+  };
+  const Eigen::Index obs_bytes = observation_size_ * n * (pixels_ ? 1 : 4);
+  write(pixels_ ? static_cast<const void*>(pixel_obs_.data()) : observations_.data(), obs_bytes);
+  write(pixels_ ? static_cast<const void*>(next_pixel_obs_.data()) : next_observations_.data(), obs_bytes);
+  write(actions_.data(), n * 4);
+  write(rewards_.data(), n * 4);
+  write(terminated_.data(), n * 4);
 }
 
 void ReplayBuffer::load(std::istream& in, const std::string& source) {
-  if (nn::read_u32(in, source) != kReplayTag) throw Error(source + ": replay buffer not found (damaged checkpoint?)");
+  const std::uint32_t tag = nn::read_u32(in, source);
+  if (tag != kReplayTag && tag != kPixelReplayTag)
+    throw Error(source + ": replay buffer not found (damaged checkpoint?)");
+  const bool pixels = tag == kPixelReplayTag;
+  if (pixels != pixels_)
+    throw Error(source + ": replay buffer holds " + storage_name(pixels) + " observations, expected " +
+                storage_name(pixels_) + " ones (different env observation mode?)");
   const auto capacity = static_cast<long long>(nn::read_u64(in, source));
   const auto rows = static_cast<Eigen::Index>(nn::read_u32(in, source));
-  if (capacity != capacity_ || rows != observations_.rows())
+  if (capacity != capacity_ || rows != observation_size_)
     throw Error(source + ": replay buffer of capacity " + std::to_string(capacity) + " x " +
                 std::to_string(rows) + " observation values, expected " + std::to_string(capacity_) +
-                " x " + std::to_string(observations_.rows()) + " (different dqn.buffer_size or env?)");
+                " x " + std::to_string(observation_size_) + " (different dqn.buffer_size or env?)");
   const auto size = static_cast<long long>(nn::read_u64(in, source));
   const auto next = static_cast<long long>(nn::read_u64(in, source));
   if (size < 0 || size > capacity_ || next < 0 || next >= capacity_)
     throw Error(source + ": damaged replay buffer");
   const auto n = static_cast<Eigen::Index>(size);
-  const auto read = [&](void* data, Eigen::Index count) {
-    in.read(static_cast<char*>(data), static_cast<std::streamsize>(count * 4));
-    if (in.gcount() != static_cast<std::streamsize>(count * 4)) throw Error(source + ": replay buffer is truncated");
+  const auto read = [&](void* data, Eigen::Index bytes) {
+    in.read(static_cast<char*>(data), static_cast<std::streamsize>(bytes));
+    if (in.gcount() != static_cast<std::streamsize>(bytes)) throw Error(source + ": replay buffer is truncated");
   };
-  read(observations_.data(), rows * n);
-  read(next_observations_.data(), rows * n);
-  read(actions_.data(), n);
-  read(rewards_.data(), n);
-  read(terminated_.data(), n);
+  const Eigen::Index obs_bytes = rows * n * (pixels_ ? 1 : 4);
+  read(pixels_ ? static_cast<void*>(pixel_obs_.data()) : observations_.data(), obs_bytes);
+  read(pixels_ ? static_cast<void*>(next_pixel_obs_.data()) : next_observations_.data(), obs_bytes);
+  read(actions_.data(), n * 4);
+  read(rewards_.data(), n * 4);
+  read(terminated_.data(), n * 4);
   size_ = size;
   next_ = next;
 }

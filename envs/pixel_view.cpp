@@ -1,8 +1,5 @@
 #include "rdsim/envs/pixel_view.hpp"
 
-#include <malloc.h>
-
-#include <cstdlib>
 #include <string>
 
 #include "rdsim/error.hpp"
@@ -13,26 +10,6 @@ namespace {
 void check_size(const char* key, int value) {
   if (value < 1 || value > 4096)
     throw Error(std::string("env.") + key + ": expected an integer in [1, 4096], got " + std::to_string(value));
-}
-
-// Process-wide settings that make per-step offscreen rendering cheap, applied once before the first
-// renderer exists (measured on the 2-core dev box, Release, one thread):
-//  - Mesa allocates and frees large scratch buffers on every draw. By default glibc gives the top
-//    of the heap back to the OS each time (brk) and faults it back in next frame (perf: 26% of the
-//    time in page faults), and mmaps/unmaps buffers above 128 KiB. A 512 MiB trim threshold and the
-//    largest mmap threshold keep them in the heap: inmoov_tomato 64x64 render 2,600 -> 500 us per
-//    frame; jaka_button 224x224 750 -> 2,300 steps/s.
-//  - llvmpipe's rasteriser threads (one per core by default) cost more in hand-offs than they save
-//    on images this small, and an env step must stay on one thread: LP_NUM_THREADS=0 draws in the
-//    calling thread (jaka_button 64x64: 3,100 -> 11,500 steps/s). A value set by the user wins.
-void tune_offscreen_rendering() {
-  static const bool once = [] {
-    mallopt(M_TRIM_THRESHOLD, 512 << 20);
-    mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest; the call above froze it at 128 KiB
-    setenv("LP_NUM_THREADS", "0", 0);
-    return true;
-  }();
-  (void)once;
 }
 
 }  // namespace
@@ -89,8 +66,7 @@ PixelView::PixelView(const ReachTask& task, const EnvConfig& config, const Orbit
   cameras_.push_back(make_orbit_camera(main_view, w, h));
   if (config.multi_view) cameras_.push_back(make_orbit_camera(second_view, w, h));
   for (const Camera& c : cameras_) check_camera(c);
-  tune_offscreen_rendering();
-  renderer_ = make_renderer("osmesa", w, h);
+  renderer_ = make_renderer(config.renderer, w, h);
   space_.type = ObsType::UInt8;
   space_.shape = {h, w, 3 * views()};
 }

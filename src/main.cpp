@@ -40,6 +40,9 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
   cmd->add_option("--env", o.envs, "Env to measure (repeatable; default: all)");
   cmd->add_option("--mode", o.modes, "Observation mode: ground_truth or raw_pixels (repeatable)")
       ->check(CLI::IsMember({"ground_truth", "raw_pixels"}));
+  cmd->add_option("--image-size", o.image_sizes,
+                  "Raw-pixel image side in pixels, one row each (repeatable; default: 64 and 224)")
+      ->check(CLI::Range(1, 4096));
   cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber);
   cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::PositiveNumber);
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)")

@@ -31,6 +31,7 @@ int replay_command(const ReplayOptions& options);
 struct BenchFpsOptions {
   std::vector<std::string> envs;        // empty: every registered env
   std::vector<std::string> modes;       // "ground_truth", "raw_pixels"; empty: all supported
+  std::vector<int> image_sizes;         // raw_pixels rows: one per square size; empty: 64 and 224
   int runs = 5;                         // the median of this many runs is reported
   long long steps = 20000;              // env steps per run
   std::string json_path;                // "-" for stdout; empty: no JSON

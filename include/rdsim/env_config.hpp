@@ -28,6 +28,7 @@ struct EnvConfig {
   int image_height = 64;
   int render_width = 320;           // Env::render frames (render_mode rgb_array)
   int render_height = 240;
+  std::string renderer = "osmesa";  // renderer backend: "osmesa" | "egl" | "auto" (egl if it works)
 };
 
 // Reads the "env" object of a config (unknown keys rejected).

@@ -28,7 +28,9 @@ public:
   virtual std::string device() const = 0;
 };
 
-// backend: one of renderer_backends() ("osmesa" is always built: CPU, no display needed).
+// backend: one of renderer_backends() ("osmesa" is always built: CPU, no display needed; "egl"
+// when built: GPU or Mesa software through EGL, no display needed), or "auto": the first of
+// renderer_backends() that works here (egl when it can make a context, else osmesa).
 // rdsim::Error for an unknown backend or a size outside 1..4096.
 std::unique_ptr<Renderer> make_renderer(const std::string& backend, int width, int height);
 

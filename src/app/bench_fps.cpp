@@ -20,6 +20,7 @@ using Clock = std::chrono::steady_clock;
 struct BenchRow {
   std::string env;
   std::string mode;
+  int image_size = 0;                      // raw_pixels: square image side; 0 for ground truth
   double steps_per_s = 0;                  // median over runs
   std::vector<double> runs;                // every run, for the JSON
   std::optional<double> physics_per_s;     // bare physics steps/s of the same world
@@ -27,9 +28,13 @@ struct BenchRow {
   long long episodes = 0;
 };
 
-// RobotDrlSim (MSOTA 2020) Table 3, measured on the authors' machine with PyBullet.
-std::optional<double> paper_rate(const std::string& env, const std::string& mode) {
+// RobotDrlSim (MSOTA 2020) Table 3, measured on the authors' machine with PyBullet; its pixel
+// rows are 224x224 images, so other sizes have no paper figure to compare with.
+constexpr int kPaperImageSize = 224;
+
+std::optional<double> paper_rate(const std::string& env, const std::string& mode, int image_size) {
   const bool pixels = mode == "raw_pixels";
+  if (pixels && image_size != kPaperImageSize) return std::nullopt;
   if (env.rfind("jaka", 0) == 0) return pixels ? 22.0 : 506.0;
   if (env.rfind("inmoov", 0) == 0) return pixels ? 8.0 : 76.0;
   return std::nullopt;
@@ -80,11 +85,12 @@ std::optional<double> physics_run(Env& env, long long steps, std::uint64_t seed)
   return static_cast<double>(steps) / seconds_since(t0);
 }
 
-std::optional<BenchRow> bench_row(const EnvEntry& entry, const std::string& mode,
+std::optional<BenchRow> bench_row(const EnvEntry& entry, const std::string& mode, int image_size,
                                   const BenchFpsOptions& o) {
   EnvConfig config;
   config.name = entry.name;
   config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
+  if (image_size > 0) config.image_width = config.image_height = image_size;
   std::unique_ptr<Env> env;
   try {
     env = entry.make(config);
@@ -92,7 +98,7 @@ std::optional<BenchRow> bench_row(const EnvEntry& entry, const std::string& mode
     std::fprintf(stderr, "bench-fps: skipping %s / %s: %s\n", entry.name.c_str(), mode.c_str(), e.what());
     return std::nullopt;
   }
-  BenchRow row{entry.name, mode, 0, {}, std::nullopt, paper_rate(entry.name, mode), 0};
+  BenchRow row{entry.name, mode, image_size, 0, {}, std::nullopt, paper_rate(entry.name, mode, image_size), 0};
   long long warmup_episodes = 0;
   env_run(*env, std::max<long long>(o.steps / 10, 100), 12345, warmup_episodes);
   std::vector<double> physics;
@@ -115,29 +121,42 @@ void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchF
   std::fprintf(out, "\nrdsim bench-fps: env steps/s on one thread, random actions, resets included\n");
   std::fprintf(out, "median of %d runs x %lld steps; physics = the same world stepped with no env work\n\n",
               o.runs, o.steps);
-  std::fprintf(out, "%-16s %-13s %12s %14s %12s %11s %12s\n", "env", "observation", "steps/s",
-              "physics st/s", "env/physics", "paper st/s", "vs paper");
+  std::fprintf(out, "%-16s %-13s %9s %12s %14s %12s %11s %12s\n", "env", "observation", "image",
+              "steps/s", "physics st/s", "env/physics", "paper st/s", "vs paper");
   for (const auto& r : rows) {
     std::string phys = r.physics_per_s ? fmt(*r.physics_per_s) : "-";
     std::string ratio = r.physics_per_s ? fmt(*r.physics_per_s / r.steps_per_s, "%.2fx") : "-";
     std::string paper = r.paper_steps_per_s ? fmt(*r.paper_steps_per_s) : "-";
     std::string gain = r.paper_steps_per_s ? fmt(r.steps_per_s / *r.paper_steps_per_s, "%.0fx") : "-";
-    std::fprintf(out, "%-16s %-13s %12.0f %14s %12s %11s %12s\n", r.env.c_str(), r.mode.c_str(),
-                r.steps_per_s, phys.c_str(), ratio.c_str(), paper.c_str(), gain.c_str());
+    const std::string image = r.image_size > 0 ? std::to_string(r.image_size) + "x" + std::to_string(r.image_size) : "-";
+    std::fprintf(out, "%-16s %-13s %9s %12.0f %14s %12s %11s %12s\n", r.env.c_str(), r.mode.c_str(),
+                image.c_str(), r.steps_per_s, phys.c_str(), ratio.c_str(), paper.c_str(), gain.c_str());
   }
   std::fprintf(out, "\nenv/physics: cost of one env step over the bare physics step(s) it contains.\n");
+  std::fprintf(out, "paper: RobotDrlSim Table 3 (PyBullet); its raw-pixel rows are %dx%d images.\n",
+              kPaperImageSize, kPaperImageSize);
 }
 
 nlohmann::json to_json(const std::vector<BenchRow>& rows, const BenchFpsOptions& o) {
   nlohmann::json j = {{"runs", o.runs}, {"steps_per_run", o.steps}, {"threads", 1}, {"rows", nlohmann::json::array()}};
   for (const auto& r : rows) {
-    nlohmann::json row = {{"env", r.env}, {"observation", r.mode}, {"steps_per_s", r.steps_per_s},
+    nlohmann::json row = {{"env", r.env}, {"observation", r.mode},
+                          {"image_size", r.image_size > 0 ? nlohmann::json(r.image_size) : nlohmann::json(nullptr)},
+                          {"steps_per_s", r.steps_per_s},
                           {"runs_steps_per_s", r.runs}, {"episodes", r.episodes}};
     row["physics_steps_per_s"] = r.physics_per_s ? nlohmann::json(*r.physics_per_s) : nlohmann::json(nullptr);
     row["paper_steps_per_s"] = r.paper_steps_per_s ? nlohmann::json(*r.paper_steps_per_s) : nlohmann::json(nullptr);
     j["rows"].push_back(row);
   }
   return j;
+}
+
+std::vector<int> pixel_sizes(const BenchFpsOptions& o) {
+  if (o.image_sizes.empty()) return {64, kPaperImageSize};
+  for (int size : o.image_sizes)
+    if (size < 1 || size > 4096)
+      throw Error("bench-fps: --image-size: expected 1..4096 pixels, got " + std::to_string(size));
+  return o.image_sizes;
 }
 
 bool wanted(const std::vector<std::string>& filter, const std::string& value) {
@@ -159,8 +178,14 @@ int bench_fps_command(const BenchFpsOptions& o) {
     if (!wanted(o.envs, entry.name)) continue;
     for (std::string mode : {"ground_truth", "raw_pixels"}) {
       if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.supports_pixels)) continue;
-      std::fprintf(stderr, "bench-fps: %s / %s ...\n", entry.name.c_str(), mode.c_str());
-      if (auto row = bench_row(entry, mode, o)) rows.push_back(std::move(*row));
+      // Ground truth has no image: one row with size 0.
+      const std::vector<int> sizes = mode == "raw_pixels" ? pixel_sizes(o) : std::vector<int>{0};
+      for (int size : sizes) {
+        std::fprintf(stderr, "bench-fps: %s / %s", entry.name.c_str(), mode.c_str());
+        if (size > 0) std::fprintf(stderr, " %dx%d", size, size);
+        std::fprintf(stderr, " ...\n");
+        if (auto row = bench_row(entry, mode, size, o)) rows.push_back(std::move(*row));
+      }
     }
   }
   if (rows.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");

@@ -34,6 +34,7 @@ EnvConfig read_env_config(ConfigReader& r) {
   r.read("image_height", c.image_height, 8, 4096);
   r.read("render_width", c.render_width, 8, 4096);
   r.read("render_height", c.render_height, 8, 4096);
+  r.read_choice("renderer", c.renderer, {"osmesa", "egl", "auto"});
   r.finish();
   return c;
 }
@@ -54,7 +55,8 @@ nlohmann::json to_json(const EnvConfig& c) {
           {"image_width", c.image_width},
           {"image_height", c.image_height},
           {"render_width", c.render_width},
-          {"render_height", c.render_height}};
+          {"render_height", c.render_height},
+          {"renderer", c.renderer}};
 }
 
 std::string asset_root(const EnvConfig& config) {

@@ -1,6 +1,6 @@
 #pragma once
-// The renderer backends compiled into this build. Adding one (e.g. EGL, see EGL.md) is a new
-// <name>_renderer.cpp defining its factory plus one entry in kBackends (renderer_factory.cpp).
+// The renderer backends compiled into this build. Adding one is a new <name>_renderer.cpp
+// defining its factory plus one entry in kBackends (renderer_factory.cpp).
 #include <memory>
 
 #include "rdsim/renderer.hpp"
@@ -8,5 +8,10 @@
 namespace rdsim::render {
 
 std::unique_ptr<Renderer> make_osmesa_renderer(int width, int height);
+
+#ifdef RDSIM_HAVE_EGL
+// rdsim::Error "egl renderer: no usable EGL device (...)" when no EGL display or context works.
+std::unique_ptr<Renderer> make_egl_renderer(int width, int height);
+#endif
 
 }  // namespace rdsim::render
