@@ -7,6 +7,9 @@
 
 namespace rdsim::render {
 
+// Mesa llvmpipe settings every software backend applies before its first context (software_gl.cpp).
+void tune_process_for_software_rendering();
+
 std::unique_ptr<Renderer> make_osmesa_renderer(int width, int height);
 
 #ifdef RDSIM_HAVE_EGL

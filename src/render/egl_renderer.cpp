@@ -7,7 +7,6 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 #include <GL/osmesa.h>
-#include <malloc.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -50,21 +49,6 @@ struct Candidate {
   void* native;
   bool maybe_software;  // may end up on llvmpipe
 };
-
-// The same process settings as the OSMesa backend applies (see osmesa_renderer.cpp for the
-// measurements): llvmpipe draws in the calling thread, and glibc keeps Mesa's per-frame scratch
-// buffers instead of returning them to the OS. llvmpipe reads LP_NUM_THREADS when its screen is
-// created, so this runs before a display that may be software is initialised; a value set by the
-// user wins.
-void tune_process_for_software_rendering() {
-  static const bool once = [] {
-    mallopt(M_TRIM_THRESHOLD, 512 << 20);
-    mallopt(M_MMAP_THRESHOLD, 32 << 20);
-    setenv("LP_NUM_THREADS", "0", 0);
-    return true;
-  }();
-  (void)once;
-}
 
 // A display that can make a desktop-GL context with a colour config; else EGL_NO_DISPLAY and
 // the reason appended to `why`.
