@@ -26,7 +26,7 @@ void add_replay(CLI::App& app, rdsim::ReplayOptions& o, std::uint64_t& seed) {
   auto* cmd = app.add_subcommand("replay", "Run a saved model (model.bin) for N episodes and print "
                                            "return, length and success of each");
   cmd->add_option("model", o.model_path, "Model file written by `rdsim train`")->required();
-  cmd->add_option("-n,--episodes", o.episodes, "Number of episodes")->check(CLI::PositiveNumber);
+  cmd->add_option("-n,--episodes", o.episodes, "Number of episodes")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--seed", seed, "Seed of the first episode (default: the model's training seed)");
   cmd->add_flag("--stochastic", o.stochastic, "Sample actions instead of taking the most likely one");
   cmd->add_option("--record", o.record_dir,
@@ -43,8 +43,8 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
   cmd->add_option("--image-size", o.image_sizes,
                   "Raw-pixel image side in pixels, one row each (repeatable; default: 64 and 224)")
       ->check(CLI::Range(1, 4096));
-  cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber);
-  cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::PositiveNumber);
+  cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)")
       ->expected(0, 1)
       ->default_str("-");
@@ -54,10 +54,10 @@ void add_render(CLI::App& app, rdsim::RenderOptions& o) {
   auto* cmd = app.add_subcommand("render", "Write the raw-pixel observation an env gives after reset as a PNG");
   cmd->add_option("--env", o.env, "Env name (see `rdsim envs`; needs pixels)")->required();
   cmd->add_option("--out", o.out_path, "PNG file to write")->required();
-  cmd->add_option("--view", o.view, "Camera: 1 = main, 2 = second (multi-view) camera")->check(CLI::IsMember({1, 2}));
-  cmd->add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 4096));
-  cmd->add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 4096));
-  cmd->add_option("--seed", o.seed, "Reset seed");
+  cmd->add_option("--view", o.view, "Camera: 1 = main, 2 = second (multi-view) camera")->check(CLI::IsMember({1, 2}))->capture_default_str();
+  cmd->add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd->add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Reset seed")->capture_default_str();
   cmd->add_flag("--random-target", o.random_target, "Randomise the target at reset (env.random_target)");
 }
 
