@@ -48,17 +48,27 @@ TEST_CASE("train: a broken robot URDF exits non-zero with one message naming the
   CHECK_FALSE(std::filesystem::exists(dir.path / "run" / "model.bin"));
 }
 
-TEST_CASE("the shipped robot configs train and replay", "[cli]") {
+TEST_CASE("the shipped robot configs train, replay, and train again identically", "[cli]") {
   ScratchDir dir("cli_robot_configs");
   for (const char* name : {"jaka_button", "jaka_obstacle", "inmoov_tomato"}) {
     INFO(name);
     const std::string run = dir / name;
-    auto r = run_rdsim(std::string("train --quiet --config configs/") + name + ".json --timesteps 2048 --log-dir " + run,
+    auto r = run_rdsim(std::string("train --quiet --config configs/") + name + ".json --timesteps 4096 --log-dir " + run,
                        dir);
     REQUIRE(r.exit_code == 0);
     r = run_rdsim("replay " + run + "/model.bin -n 2", dir);
     CHECK(r.exit_code == 0);
     CHECK_THAT(r.out, Contains("over 2 episodes"));
+    REQUIRE(rltest::lines(rltest::slurp(run + "/episodes.csv")).size() > 1);  // some episodes finished
+    // Same config and seed: the same logs, apart from the steps/s and wall-time columns.
+    r = run_rdsim(std::string("train --quiet --config configs/") + name + ".json --timesteps 4096 --log-dir " + run +
+                      "_again",
+                  dir);
+    REQUIRE(r.exit_code == 0);
+    CHECK(rltest::drop_columns(rltest::slurp(run + "/progress.csv"), 2) ==
+          rltest::drop_columns(rltest::slurp(run + "_again/progress.csv"), 2));
+    CHECK(rltest::drop_columns(rltest::slurp(run + "/episodes.csv"), 1) ==
+          rltest::drop_columns(rltest::slurp(run + "_again/episodes.csv"), 1));
   }
 }
 
