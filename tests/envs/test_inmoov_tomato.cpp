@@ -139,8 +139,6 @@ TEST_CASE("inmoov_tomato: a greedy policy brings the palm to every tomato", "[en
     INFO("tomato_" << t);
     env.reset(static_cast<std::uint64_t>(100 + t));
     env.select_target(t);
-    auto o = env.task().distance();
-    (void)o;
     rdsim::Observation obs;
     obs.values.resize(6);
     obs.values << env.task().target() - env.task().ee_position(), env.task().ee_position();

@@ -303,7 +303,7 @@ TEST_CASE("IK of the six right-arm joints, torso held, reaches every tomato from
           "[assets][tomato]") {
   // What inmoov_tomato relies on, kinematically: its IK chain is the right arm only (the torso
   // joints on the path to the palm are frozen at their home angle, 0), and it starts from the env's
-  // home pose (upper-arm rotation -30 deg, elbow 90 deg, wrist roll -30 deg: forearm forward). From
+  // home pose (upper-arm rotation -30 deg, elbow 80 deg, wrist roll -30 deg: forearm forward). From
   // there the IK must put the palm centre on each tomato's approach point (1 cm outside the skin on
   // the side the palm comes from, inside the env's 6 cm success radius) within 2 mm, with every
   // joint inside its limits.
@@ -320,7 +320,7 @@ TEST_CASE("IK of the six right-arm joints, torso held, reaches every tomato from
     INFO(name);
     CHECK(name.rfind("r_", 0) == 0);
     if (name == "r_upper_arm_rotate") home[i] = -30.0 * M_PI / 180.0;
-    if (name == "r_elbow") home[i] = 90.0 * M_PI / 180.0;
+    if (name == "r_elbow") home[i] = 80.0 * M_PI / 180.0;
     if (name == "r_wrist_roll") home[i] = -30.0 * M_PI / 180.0;
   }
   const Eigen::Vector3d palm_home = chain.forward(home).translation();

@@ -24,8 +24,9 @@
 //                    (contacts only: ComputedTorque drive, no joint-limit constraint rows; the targets
 //                    are clamped to the limits), action_repeat 1. The robot's links do not collide with
 //                    each other; they collide with the tree.
-//   home pose        every joint 0 except the right arm: upper-arm rotation -30 deg, elbow 90 deg,
-//                    wrist roll -30 deg (forearm forward, palm face turned towards the tree);
+//   home pose        every joint 0 except the right arm: upper-arm rotation -30 deg, elbow 80 deg,
+//                    wrist roll -30 deg (forearm forward and a little down, palm face turned towards
+//                    the tree, fingertips clear of tomato_0 below it);
 //                    + U(-0.02, 0.02) rad on each IK joint at each reset (seeded).
 //   held joints      head, jaw, eyes, left arm, all fingers and the torso keep their home targets; only
 //                    the IK chain moves.
