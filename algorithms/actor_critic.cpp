@@ -66,6 +66,11 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
       activation_(nn::activation_from_string(config.activation, "network.activation")) {
   if (obs_size_ <= 0) throw Error(spec.env_name + ": the env has an empty observation space");
   if (policy_outputs_ <= 0) throw Error(spec.env_name + ": the env has an empty action space");
+  if (config.input_scale != 1.0 && cnn_)
+    throw Error("network.input_scale: only for vector observations (pixels are already scaled to [0, 1]); expected 1");
+  if (!(config.input_scale > 0.0 && std::isfinite(config.input_scale)))
+    throw Error("network.input_scale: expected a positive number, got " + std::to_string(config.input_scale));
+  input_scale_ = static_cast<float>(config.input_scale);
   int head_input = obs_size_;
   std::vector<int> head_hidden = config.hidden_sizes;
   if (cnn_) {
@@ -95,7 +100,14 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
   }
 }
 
-const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& obs) {
+const Eigen::MatrixXf& ActorCritic::input(const Eigen::MatrixXf& obs, Eigen::MatrixXf& scratch) const {
+  if (input_scale_ == 1.0f) return obs;
+  scratch = obs * input_scale_;
+  return scratch;
+}
+
+const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& raw) {
+  const Eigen::MatrixXf& obs = input(raw, infer_input_);
   if (!shared_) return obs;
   activate(cnn_ ? cnn_trunk_.infer(obs) : trunk_.infer(obs), activation_, infer_features_);
   return infer_features_;
@@ -121,7 +133,8 @@ Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
   return value_.infer(features_infer(obs)).row(0).transpose();
 }
 
-const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& obs, const Eigen::MatrixXf& actions) {
+const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& raw, const Eigen::MatrixXf& actions) {
+  const Eigen::MatrixXf& obs = input(raw, eval_input_);
   if (shared_) {
     trunk_pre_ = cnn_ ? cnn_trunk_.forward(obs) : trunk_.forward(obs);
     activate(trunk_pre_, activation_, features_);

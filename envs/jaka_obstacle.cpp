@@ -27,6 +27,7 @@ ReachTerms jaka_obstacle_terms() {
   t.forbidden_body = JakaObstacle::column_index;
   t.collision_reward = JakaObstacle::collision_reward;
   t.landmarks = {JakaObstacle::column_index};
+  t.observed_links = {"wrist_2_link", "wrist_3_link"};
   t.main_view = obstacle_main_view();
   t.second_view = reach_second_view();
   return t;

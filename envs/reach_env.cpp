@@ -5,12 +5,26 @@
 namespace rdsim {
 namespace {
 
-// Float32 bounds of the ground-truth observation: target - ee, ee - landmark..., ee.
-ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Eigen::Vector3f>& landmarks) {
+// How far link `link`'s frame origin can be from the robot's root: the joint offsets on the way
+// there, end to end (a bound whatever the joint angles).
+float link_reach(const RobotModel& model, int link) {
+  double reach = 0.0;
+  for (int j = model.links[static_cast<size_t>(link)].parent_joint; j >= 0;) {
+    const Joint& joint = model.joints[static_cast<size_t>(j)];
+    reach += joint.origin.translation().norm();
+    j = model.links[static_cast<size_t>(joint.parent_link)].parent_joint;
+  }
+  return static_cast<float>(reach);
+}
+
+// Float32 bounds of the ground-truth observation: target - ee, ee - landmark..., ee,
+// link - landmark... (links anywhere within their reach of the robot's base).
+ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Eigen::Vector3f>& landmarks,
+                                   const RobotModel& robot, const std::vector<int>& links) {
   const Eigen::Vector3f lo = s.workspace.min() - Eigen::Vector3f::Constant(s.workspace_margin);
   const Eigen::Vector3f hi = s.workspace.max() + Eigen::Vector3f::Constant(s.workspace_margin);
   const Eigen::Vector3f reach = (hi - lo).cwiseMax(Eigen::Vector3f::Constant(s.max_distance));
-  const int n = 3 * (2 + static_cast<int>(landmarks.size()));
+  const int n = 3 * (2 + static_cast<int>(landmarks.size()) * (1 + static_cast<int>(links.size())));
   ObservationSpace space;
   space.type = ObsType::Float32;
   space.shape = {n};
@@ -23,8 +37,19 @@ ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Ei
     space.low.segment<3>(at) = lo - landmarks[k];
     space.high.segment<3>(at) = hi - landmarks[k];
   }
-  space.low.tail<3>() = lo;
-  space.high.tail<3>() = hi;
+  Eigen::Index at = 3 * static_cast<Eigen::Index>(landmarks.size() + 1);
+  space.low.segment<3>(at) = lo;
+  space.high.segment<3>(at) = hi;
+  at += 3;
+  const Eigen::Vector3f base = s.base_pose.translation();
+  for (int link : links) {
+    const Eigen::Vector3f r = Eigen::Vector3f::Constant(link_reach(robot, link));
+    for (const Eigen::Vector3f& landmark : landmarks) {
+      space.low.segment<3>(at) = base - r - landmark;
+      space.high.segment<3>(at) = base + r - landmark;
+      at += 3;
+    }
+  }
   return space;
 }
 
@@ -44,6 +69,7 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
     landmark_points_.push_back(task.statics[static_cast<size_t>(landmark)].pose.translation());
   }
   task_ = std::make_unique<ReachTask>(std::move(task));
+  for (const std::string& link : terms_.observed_links) observed_links_.push_back(task_->robot_model().require_link(link));
   discrete_ = config.is_discrete;
   random_target_ = config.random_target;
   if (!terms_.target_choices.empty()) select_target(terms_.default_choice);
@@ -53,7 +79,7 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   spec_.action = reach_action_space(discrete_);
   spec_.max_episode_steps = s.max_steps;
   spec_.control_dt = s.world.time_step * s.action_repeat;
-  spec_.observation = ground_truth_space(s, landmark_points_);
+  spec_.observation = ground_truth_space(s, landmark_points_, task_->robot_model(), observed_links_);
   if (config.observation == ObservationMode::RawPixels) {
     pixels_ = std::make_unique<PixelView>(*task_, config, terms_.main_view, terms_.second_view);
     spec_.observation = pixels_->space();
@@ -78,7 +104,16 @@ Observation ReachEnv::observe() const {
   o.values.head<3>() = task_->target() - ee;
   for (size_t k = 0; k < landmark_points_.size(); ++k)
     o.values.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
-  o.values.tail<3>() = ee;
+  Eigen::Index at = 3 * static_cast<Eigen::Index>(landmark_points_.size() + 1);
+  o.values.segment<3>(at) = ee;
+  at += 3;
+  for (int link : observed_links_) {
+    const Eigen::Vector3f p = task_->robot().link_pose(link).translation();
+    for (const Eigen::Vector3f& landmark : landmark_points_) {
+      o.values.segment<3>(at) = p - landmark;
+      at += 3;
+    }
+  }
   return o;
 }
 

@@ -12,7 +12,8 @@
 // separate actor and critic MLPs, or one shared trunk with two linear heads. Pixel (UInt8)
 // observations always get a shared CNN trunk (network.cnn) with two linear heads. Discrete action
 // spaces get a Categorical over logits, Box spaces a DiagGaussian with a state-independent,
-// trainable log std. Observations come in encoded (see observation_batch.hpp).
+// trainable log std. Observations come in encoded (see observation_batch.hpp); every pass first
+// multiplies them by network.input_scale.
 namespace rdsim {
 
 // True when observations of this space are images that need a CNN (UInt8, {height, width, channels}).
@@ -72,6 +73,8 @@ public:
 
 private:
   const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
+  // `obs` times input_scale_ in `scratch`, or `obs` itself at scale 1.
+  const Eigen::MatrixXf& input(const Eigen::MatrixXf& obs, Eigen::MatrixXf& scratch) const;
 
   bool discrete_;
   bool shared_;
@@ -86,6 +89,8 @@ private:
   nn::Mlp value_;   // -> V
   nn::Tensor log_std_;
   Eigen::VectorXf low_, high_;
+  float input_scale_ = 1.0f;
+  Eigen::MatrixXf infer_input_, eval_input_;  // scaled observations (input_scale != 1)
   // training caches
   Eigen::MatrixXf trunk_pre_, features_;
   Eigen::VectorXi eval_discrete_;

@@ -38,6 +38,7 @@ NetworkConfig read_network(ConfigReader r) {
   r.read_choice("activation", c.activation, {"tanh", "relu"});
   r.read("shared", c.shared);
   r.read("log_std_init", c.log_std_init, -20.0, 5.0);
+  r.read("input_scale", c.input_scale, 1e-6, 1e6);
   c.cnn = read_cnn(r.child("cnn"));
   r.finish();
   return c;
@@ -184,6 +185,10 @@ TrainConfig parse_train_config(const nlohmann::json& json, const std::string& wh
   c.ppo = read_ppo(r.child("ppo"));
   c.a2c = read_a2c(r.child("a2c"));
   c.dqn = read_dqn(r.child("dqn"));
+  if (c.network.input_scale != 1.0 && c.algorithm == "dqn")
+    r.child("network").fail("input_scale", "only PPO and A2C scale their inputs; expected 1 with dqn");
+  if (c.network.input_scale != 1.0 && c.env.observation == ObservationMode::RawPixels)
+    r.child("network").fail("input_scale", "only for vector observations (pixels are already scaled to [0, 1]); expected 1");
   r.finish();
   return c;
 }
@@ -216,6 +221,7 @@ nlohmann::json to_json(const TrainConfig& c) {
                         {"activation", c.network.activation},
                         {"shared", c.network.shared},
                         {"log_std_init", c.network.log_std_init},
+                        {"input_scale", c.network.input_scale},
                         {"cnn", cnn_json(c.network.cnn)}}}};
   if (c.algorithm == "ppo") j["ppo"] = ppo_json(c.ppo);
   if (c.algorithm == "a2c") j["a2c"] = a2c_json(c.a2c);

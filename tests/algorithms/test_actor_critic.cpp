@@ -84,3 +84,33 @@ TEST_CASE("actor-critic acting: modes, log-probs and action clipping", "[actor_c
   CHECK(ac.env_action(Eigen::VectorXf::Constant(1, 3.0f)).values[0] == 1.0f);
   CHECK(ac.env_action(Eigen::VectorXf::Constant(1, -3.0f)).values[0] == -1.0f);
 }
+
+TEST_CASE("network.input_scale: the networks see the observations times the scale", "[actor_critic]") {
+  for (bool shared : {false, true}) {
+    toy::SignEnv env(true);
+    rdsim::NetworkConfig plain, scaled;
+    plain.shared = scaled.shared = shared;
+    scaled.input_scale = 10.0;
+    rdsim::Rng init_a(7), init_b(7), rng(8);
+    rdsim::ActorCritic a(env.spec(), plain, init_a), b(env.spec(), scaled, init_b);
+    const Eigen::MatrixXf obs = Eigen::MatrixXf::Random(2, 5) * 0.1f;
+    const Eigen::MatrixXf actions = Eigen::MatrixXf::Zero(1, 5);
+    rdsim::ActBatch out_a, out_b;
+    a.act(obs * 10.0f, true, rng, out_a);
+    b.act(obs, true, rng, out_b);
+    INFO("shared " << shared);
+    CHECK(out_a.actions == out_b.actions);
+    CHECK(out_a.values.isApprox(out_b.values, 1e-5f));
+    CHECK(a.predict_values(obs * 10.0f).isApprox(b.predict_values(obs), 1e-5f));
+    const Eigen::VectorXf log_probs = a.evaluate(obs * 10.0f, actions).log_probs;
+    CHECK(log_probs.isApprox(b.evaluate(obs, actions).log_probs, 1e-5f));
+  }
+  // Pixels are already in [0, 1]: a scale there is a config mistake.
+  rdsim::Spec pixels = toy::SignEnv(true).spec();
+  pixels.observation.type = rdsim::ObsType::UInt8;
+  pixels.observation.shape = {16, 16, 1};
+  rdsim::NetworkConfig scaled;
+  scaled.input_scale = 2.0;
+  rdsim::Rng init(1);
+  CHECK_THROWS_WITH(rdsim::ActorCritic(pixels, scaled, init), Catch::Contains("network.input_scale"));
+}

@@ -28,10 +28,18 @@ struct Detour {
 
 TEST_CASE("jaka_obstacle: spec, observation and column placement", "[jaka_obstacle]") {
   JakaObstacle env(env_config("jaka_obstacle"));
-  CHECK(env.spec().observation.shape == std::vector<int>{9});
+  CHECK(env.spec().observation.shape == std::vector<int>{15});
   const Observation o = env.reset(0);
   const Eigen::Vector3f column = env.task().world().static_pose(env.task().static_body(JakaObstacle::column_index)).translation();
   CHECK((o.values.segment<3>(3) - (flange(o) - column)).norm() < 1e-6f);
+  CHECK((flange(o) - env.task().ee_position()).norm() < 1e-6f);
+  // The documented extras: the wrist links' origins from the column (they, not the flange, hit it).
+  const RobotModel& model = env.task().robot_model();
+  for (int k = 0; k < 2; ++k) {
+    const int link = model.require_link(k == 0 ? "wrist_2_link" : "wrist_3_link");
+    const Eigen::Vector3f wrist = env.task().robot().link_pose(link).translation();
+    CHECK((o.values.segment<3>(9 + 3 * k) - (wrist - column)).norm() < 1e-6f);
+  }
   CHECK((o.values.array() >= env.spec().observation.low.array()).all());
   CHECK((o.values.array() <= env.spec().observation.high.array()).all());
   // Nothing touches the column at home.

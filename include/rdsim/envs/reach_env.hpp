@@ -17,7 +17,8 @@
 //
 // Episode rules, shared by all reaching tasks:
 //   observation   ground truth: target - end effector (3), end effector - landmark (3 per landmark),
-//                 end-effector position (3); raw_pixels: the task's cameras (PixelView).
+//                 end-effector position (3), then observed link - landmark (3 per observed link per
+//                 landmark; none unless a task asks); raw_pixels: the task's cameras (PixelView).
 //   reward        -|end effector - target| every step.
 //   collision     any robot link touching the forbidden body: reward = collision_reward, terminated,
 //                 info.collision.
@@ -35,6 +36,10 @@ struct ReachTerms {
   int forbidden_body = -1;  // index into ReachTaskSpec::statics (-1: none), e.g. the column
   float collision_reward = 0.0f;
   std::vector<int> landmarks;  // statics whose base position the observation measures the end effector from
+  // Robot links whose frame origin the observation also measures from each landmark: where the
+  // end effector alone does not tell where the rest of the arm is (a wrist offset to one side), and
+  // the forbidden body is touched by any link.
+  std::vector<std::string> observed_links;
   // When not empty the target is one of these points (world frame): `default_choice`, or one drawn
   // uniformly at each reset with random_target. Otherwise ReachTaskSpec's nominal point / box decides.
   std::vector<Eigen::Vector3f> target_choices;
@@ -72,6 +77,7 @@ private:
   std::unique_ptr<PixelView> pixels_;  // raw_pixels only
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
   std::vector<Eigen::Vector3f> landmark_points_;
+  std::vector<int> observed_links_;  // RobotModel link indices of terms_.observed_links
   Rng rng_;
   bool discrete_ = true;
   bool random_target_ = false;
