@@ -105,11 +105,14 @@ public:
       const nn::MlpShape shape{observation_input_size(spec.observation), config.network.hidden_sizes, num_actions,
                                nn::activation_from_string(config.network.activation, config.source + ": network.activation")};
       mlp_ = nn::Mlp(shape, 1.0f, init);
+      input_scale_ = static_cast<float>(config.network.input_scale);
     }
   }
 
-  const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) { return cnn_ ? cnn_net_.infer(x) : mlp_.infer(x); }
-  const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) { return cnn_ ? cnn_net_.forward(x) : mlp_.forward(x); }
+  const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) { return cnn_ ? cnn_net_.infer(x) : mlp_.infer(scaled(x)); }
+  const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) {
+    return cnn_ ? cnn_net_.forward(x) : mlp_.forward(scaled(x));
+  }
   void backward(const Eigen::MatrixXf& grad) {
     if (cnn_)
       cnn_net_.backward(grad, false);
@@ -137,7 +140,17 @@ public:
   }
 
 private:
+  // network.input_scale, as ActorCritic applies it (the config parser allows it with vector
+  // observations only).
+  const Eigen::MatrixXf& scaled(const Eigen::MatrixXf& x) {
+    if (input_scale_ == 1.0f) return x;
+    scaled_input_ = x * input_scale_;
+    return scaled_input_;
+  }
+
   bool cnn_ = false;
+  float input_scale_ = 1.0f;
+  Eigen::MatrixXf scaled_input_;
   nn::Mlp mlp_;
   nn::Cnn cnn_net_;
 };

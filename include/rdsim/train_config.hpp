@@ -31,7 +31,7 @@ struct NetworkConfig {
   std::string activation = "tanh";           // "activation": "tanh" | "relu"
   bool shared = false;        // "shared": actor and critic share the hidden layers (one trunk)
   double log_std_init = 0.0;  // "log_std_init": initial log std of Gaussian (Box) policies
-  // "input_scale": PPO/A2C with vector observations: the networks see every observation value
+  // "input_scale": vector observations (any algorithm): the networks see every observation value
   // times this. Reaching tasks observe metres, where a few centimetres decide between a clear pass
   // and a collision; 10 (decimetres) brings such inputs near unit scale, so a tanh network draws
   // sharp boundaries without first growing large first-layer weights. One factor for all inputs

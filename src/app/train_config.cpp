@@ -185,8 +185,6 @@ TrainConfig parse_train_config(const nlohmann::json& json, const std::string& wh
   c.ppo = read_ppo(r.child("ppo"));
   c.a2c = read_a2c(r.child("a2c"));
   c.dqn = read_dqn(r.child("dqn"));
-  if (c.network.input_scale != 1.0 && c.algorithm == "dqn")
-    r.child("network").fail("input_scale", "only PPO and A2C scale their inputs; expected 1 with dqn");
   if (c.network.input_scale != 1.0 && c.env.observation == ObservationMode::RawPixels)
     r.child("network").fail("input_scale", "only for vector observations (pixels are already scaled to [0, 1]); expected 1");
   r.finish();

@@ -279,3 +279,27 @@ TEST_CASE("DQN rejects continuous action spaces", "[dqn]") {
   spec.action.high = VectorXf::Constant(2, 1.0f);
   CHECK_THROWS_WITH(make_dqn(corridor_config(0), spec), Catch::Contains("discrete") && Catch::Contains("corridor.json"));
 }
+
+TEST_CASE("DQN network.input_scale: the Q-network sees the observations times the scale", "[dqn]") {
+  TrainConfig plain = corridor_config(3);
+  plain.network.activation = "tanh";  // not positively homogeneous: scaled inputs change the argmax
+  plain.network.hidden_sizes = {16, 16};
+  TrainConfig scaled = plain;
+  scaled.network.input_scale = 10.0;
+  const Spec spec = corridor_envs(3).spec();
+  auto a = make_dqn(plain, spec);
+  auto b = make_dqn(scaled, spec);  // same seed: same initial weights
+  Rng obs_rng(5), r1(0), r2(0);
+  int differ_unscaled = 0;
+  for (int k = 0; k < 200; ++k) {
+    Observation o;
+    o.values.resize(6);
+    for (int i = 0; i < 6; ++i) o.values[i] = static_cast<float>(obs_rng.uniform() - 0.5);
+    Observation o10 = o;
+    o10.values *= 10.0f;
+    const int scaled_action = b->act(o, true, r1).index;
+    CHECK(scaled_action == a->act(o10, true, r2).index);
+    differ_unscaled += scaled_action != a->act(o, true, r2).index;
+  }
+  CHECK(differ_unscaled > 0);  // the check above can tell scaled from unscaled inputs
+}

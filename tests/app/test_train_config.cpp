@@ -78,8 +78,6 @@ TEST_CASE("config errors name the file and the key", "[train_config]") {
   check(R"({"env": {"name": "cartpole"}, "network": {"hidden_sizes": [64, -1]}})", "network.hidden_sizes");
   check(R"({"env": {"name": "cartpole"}, "dqn": {"batch_size": 0}})", "dqn.batch_size");
   check(R"({"env": {"name": "cartpole"}, "network": {"input_scale": 0}})", "network.input_scale");
-  check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "network": {"input_scale": 10}})",
-        "network.input_scale: only PPO and A2C");
   check(R"({"env": {"name": "jaka_button", "observation": "raw_pixels"}, "network": {"input_scale": 10}})",
         "network.input_scale: only for vector observations");
   check(R"({"env": {"name": "cartpole"}, "seed": 1,})", "not valid JSON");
