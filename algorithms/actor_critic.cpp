@@ -100,14 +100,8 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
   }
 }
 
-const Eigen::MatrixXf& ActorCritic::input(const Eigen::MatrixXf& obs, Eigen::MatrixXf& scratch) const {
-  if (input_scale_ == 1.0f) return obs;
-  scratch = obs * input_scale_;
-  return scratch;
-}
-
 const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& raw) {
-  const Eigen::MatrixXf& obs = input(raw, infer_input_);
+  const Eigen::MatrixXf& obs = scaled_input(raw, input_scale_, infer_input_);
   if (!shared_) return obs;
   activate(cnn_ ? cnn_trunk_.infer(obs) : trunk_.infer(obs), activation_, infer_features_);
   return infer_features_;
@@ -134,7 +128,7 @@ Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
 }
 
 const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& raw, const Eigen::MatrixXf& actions) {
-  const Eigen::MatrixXf& obs = input(raw, eval_input_);
+  const Eigen::MatrixXf& obs = scaled_input(raw, input_scale_, eval_input_);
   if (shared_) {
     trunk_pre_ = cnn_ ? cnn_trunk_.forward(obs) : trunk_.forward(obs);
     activate(trunk_pre_, activation_, features_);

@@ -140,13 +140,8 @@ public:
   }
 
 private:
-  // network.input_scale, as ActorCritic applies it (the config parser allows it with vector
-  // observations only).
-  const Eigen::MatrixXf& scaled(const Eigen::MatrixXf& x) {
-    if (input_scale_ == 1.0f) return x;
-    scaled_input_ = x * input_scale_;
-    return scaled_input_;
-  }
+  // network.input_scale (the config parser allows it with vector observations only).
+  const Eigen::MatrixXf& scaled(const Eigen::MatrixXf& x) { return scaled_input(x, input_scale_, scaled_input_); }
 
   bool cnn_ = false;
   float input_scale_ = 1.0f;

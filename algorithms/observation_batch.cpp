@@ -29,4 +29,10 @@ Eigen::MatrixXf observation_batch(const std::vector<Observation>& obs, const Obs
   return batch;
 }
 
+const Eigen::MatrixXf& scaled_input(const Eigen::MatrixXf& batch, float scale, Eigen::MatrixXf& scratch) {
+  if (scale == 1.0f) return batch;
+  scratch.noalias() = batch * scale;
+  return scratch;
+}
+
 }  // namespace rdsim

@@ -73,8 +73,6 @@ public:
 
 private:
   const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
-  // `obs` times input_scale_ in `scratch`, or `obs` itself at scale 1.
-  const Eigen::MatrixXf& input(const Eigen::MatrixXf& obs, Eigen::MatrixXf& scratch) const;
 
   bool discrete_;
   bool shared_;

@@ -15,4 +15,8 @@ void encode_observation(const Observation& obs, const ObservationSpace& space, E
 
 Eigen::MatrixXf observation_batch(const std::vector<Observation>& obs, const ObservationSpace& space);
 
+// network.input_scale: `batch` times `scale`, written to `scratch`, or `batch` itself at scale 1
+// (no copy on the common path).
+const Eigen::MatrixXf& scaled_input(const Eigen::MatrixXf& batch, float scale, Eigen::MatrixXf& scratch);
+
 }  // namespace rdsim
