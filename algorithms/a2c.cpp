@@ -1,19 +1,21 @@
 // Synchronous advantage actor-critic (Mnih et al. 2016, the "A2C" of the common baselines):
 // one gradient step per rollout of n_steps x num_envs samples, n-step returns (GAE with
 // lambda = 1 by default), RMSprop.
+#include "rdsim/algorithms/a2c.hpp"
+
 #include <cmath>
 
-#include "rdsim/advantage.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/on_policy.hpp"
+#include "rdsim/algorithms/advantage.hpp"
+#include "rdsim/algorithms/on_policy.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {
 
 class A2c final : public OnPolicy {
 public:
-  A2c(const TrainConfig& config, const Spec& spec)
-      : OnPolicy(config, spec, {config.a2c.n_steps, config.a2c.gamma, config.a2c.gae_lambda}), cfg_(config.a2c) {
+  A2c(const A2cConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec)
+      : OnPolicy(network, seed, spec, {config.n_steps, config.gamma, config.gae_lambda}), cfg_(config) {
     if (cfg_.optimizer == "adam") {
       nn::AdamConfig adam;
       adam.lr = static_cast<float>(cfg_.learning_rate);
@@ -70,8 +72,9 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Algorithm> make_a2c(const TrainConfig& config, const Spec& spec) {
-  return std::make_unique<A2c>(config, spec);
+std::unique_ptr<Algorithm> make_a2c(const A2cConfig& config, const NetworkConfig& network, std::uint64_t seed,
+                                    const Spec& spec, const std::string& /*where*/) {
+  return std::make_unique<A2c>(config, network, seed, spec);
 }
 
 }  // namespace rdsim

@@ -1,9 +1,9 @@
-#include "rdsim/actor_critic.hpp"
+#include "rdsim/algorithms/actor_critic.hpp"
 
 #include <cmath>
 
-#include "rdsim/error.hpp"
-#include "rdsim/observation_batch.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {

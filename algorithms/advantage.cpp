@@ -1,4 +1,4 @@
-#include "rdsim/advantage.hpp"
+#include "rdsim/algorithms/advantage.hpp"
 
 namespace rdsim {
 

@@ -3,21 +3,20 @@
 // linear epsilon-greedy exploration, Huber TD loss, optional double Q-learning (van Hasselt et
 // al. 2016), global grad-norm clipping, train_freq env steps per env between training phases
 // of gradient_steps minibatch updates, and no learning before learning_starts.
-#include "rdsim/dqn.hpp"
+#include "rdsim/algorithms/dqn.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "rdsim/actor_critic.hpp"
-#include "rdsim/algorithm.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/nn.hpp"
-#include "rdsim/observation_batch.hpp"
-#include "rdsim/replay_buffer.hpp"
-#include "rdsim/rng_bytes.hpp"
-#include "rdsim/stream_io.hpp"
-#include "rdsim/train_config.hpp"
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/actor_critic.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/algorithms/replay_buffer.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/nn/nn.hpp"
 
 namespace rdsim {
 
@@ -72,15 +71,15 @@ namespace {
 // or as bytes for pixel observations.
 constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
 
-int checked_num_actions(const TrainConfig& config, const Spec& spec) {
+int checked_num_actions(const DqnConfig& config, const Spec& spec, const std::string& where) {
   if (!spec.action.discrete || spec.action.n <= 0)
-    throw Error(config.source + ": algorithm: \"dqn\" needs a discrete action space, env \"" + spec.env_name +
+    throw Error(where + ": algorithm: \"dqn\" needs a discrete action space, env \"" + spec.env_name +
                 "\" has continuous actions (set env.is_discrete to true or use ppo/a2c)");
   const double value_bytes = spec.observation.type == ObsType::UInt8 ? 1.0 : 4.0;
-  const double bytes = 2.0 * value_bytes * static_cast<double>(config.dqn.buffer_size) *
+  const double bytes = 2.0 * value_bytes * static_cast<double>(config.buffer_size) *
                        static_cast<double>(observation_input_size(spec.observation));
   if (bytes > kMaxReplayBytes)
-    throw Error(config.source + ": dqn.buffer_size: " + std::to_string(config.dqn.buffer_size) +
+    throw Error(where + ": dqn.buffer_size: " + std::to_string(config.buffer_size) +
                 " transitions of " + std::to_string(observation_input_size(spec.observation)) +
                 " observation values need " + std::to_string(static_cast<long long>(bytes / (1 << 20))) +
                 " MiB, more than the 16 GiB allowed; use a smaller buffer");
@@ -97,15 +96,16 @@ int argmax(const Eigen::Ref<const Eigen::VectorXf>& q) {
 class QNet {
 public:
   QNet() = default;
-  QNet(const TrainConfig& config, const Spec& spec, int num_actions, Rng& init) : cnn_(is_image_space(spec.observation)) {
+  QNet(const NetworkConfig& network, const Spec& spec, int num_actions, Rng& init, const std::string& where)
+      : cnn_(is_image_space(spec.observation)) {
     if (cnn_) {
-      const std::string where = config.source + ": network.cnn";
-      cnn_net_ = make_cnn(cnn_shape(config.network.cnn, spec.observation, num_actions, where), 1.0f, init, where);
+      const std::string at = where + ": network.cnn";
+      cnn_net_ = make_cnn(cnn_shape(network.cnn, spec.observation, num_actions, at), 1.0f, init, at);
     } else {
-      const nn::MlpShape shape{observation_input_size(spec.observation), config.network.hidden_sizes, num_actions,
-                               nn::activation_from_string(config.network.activation, config.source + ": network.activation")};
+      const nn::MlpShape shape{observation_input_size(spec.observation), network.hidden_sizes, num_actions,
+                               nn::activation_from_string(network.activation, where + ": network.activation")};
       mlp_ = nn::Mlp(shape, 1.0f, init);
-      input_scale_ = static_cast<float>(config.network.input_scale);
+      input_scale_ = static_cast<float>(network.input_scale);
     }
   }
 
@@ -152,15 +152,16 @@ private:
 
 class Dqn final : public Algorithm {
 public:
-  Dqn(const TrainConfig& config, const Spec& spec)
-      : cfg_(config.dqn),
+  Dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
+      const std::string& where)
+      : cfg_(config),
         spec_(spec),
-        num_actions_(checked_num_actions(config, spec)),
-        buffer_(config.dqn.buffer_size, spec.observation),
-        explore_rng_(Rng::derive(config.seed, rng_stream::exploration)),
-        replay_rng_(Rng::derive(config.seed, rng_stream::replay_sampling)) {
-    Rng init = Rng::derive(config.seed, rng_stream::network_init);
-    q_ = QNet(config, spec, num_actions_, init);
+        num_actions_(checked_num_actions(config, spec, where)),
+        buffer_(config.buffer_size, spec.observation),
+        explore_rng_(Rng::derive(seed, rng_stream::exploration)),
+        replay_rng_(Rng::derive(seed, rng_stream::replay_sampling)) {
+    Rng init = Rng::derive(seed, rng_stream::network_init);
+    q_ = QNet(network, spec, num_actions_, init, where);
     target_ = q_;
     nn::AdamConfig adam;
     adam.lr = static_cast<float>(cfg_.learning_rate);
@@ -300,8 +301,8 @@ void Dqn::save(std::ostream& out, bool training_state) const {
   optimizer_->save_state(out);
   write_string(out, rng_to_bytes(explore_rng_));
   write_string(out, rng_to_bytes(replay_rng_));
-  nn::write_u64(out, static_cast<std::uint64_t>(env_calls_));
-  nn::write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
+  write_u64(out, static_cast<std::uint64_t>(env_calls_));
+  write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
   buffer_.save(out);
 }
 
@@ -315,15 +316,16 @@ void Dqn::load(std::istream& in, bool training_state, const std::string& source)
   optimizer_->load_state(in, source);
   explore_rng_ = rng_from_bytes(read_string(in, source), source);
   replay_rng_ = rng_from_bytes(read_string(in, source), source);
-  env_calls_ = static_cast<long long>(nn::read_u64(in, source));
-  gradient_steps_ = static_cast<long long>(nn::read_u64(in, source));
+  env_calls_ = static_cast<long long>(read_u64(in, source));
+  gradient_steps_ = static_cast<long long>(read_u64(in, source));
   buffer_.load(in, source);
 }
 
 }  // namespace
 
-std::unique_ptr<Algorithm> make_dqn(const TrainConfig& config, const Spec& spec) {
-  return std::make_unique<Dqn>(config, spec);
+std::unique_ptr<Algorithm> make_dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed,
+                                    const Spec& spec, const std::string& where) {
+  return std::make_unique<Dqn>(config, network, seed, spec, where);
 }
 
 }  // namespace rdsim

@@ -1,8 +1,9 @@
-#include "rdsim/episode_tracker.hpp"
+#include "rdsim/algorithms/episode_tracker.hpp"
 
 #include <algorithm>
 
-#include "rdsim/stream_io.hpp"
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 
@@ -62,21 +63,21 @@ std::uint32_t outcome_bits(bool success, bool collision, bool out_of_bounds) {
 }
 
 void write_record(std::ostream& out, const EpisodeRecord& e) {
-  nn::write_u64(out, static_cast<std::uint64_t>(e.episode));
-  nn::write_u64(out, static_cast<std::uint64_t>(e.timesteps));
+  write_u64(out, static_cast<std::uint64_t>(e.episode));
+  write_u64(out, static_cast<std::uint64_t>(e.timesteps));
   write_f64(out, e.episode_return);
-  nn::write_u32(out, static_cast<std::uint32_t>(e.length));
-  nn::write_u32(out, outcome_bits(e.success, e.collision, e.out_of_bounds));
+  write_u32(out, static_cast<std::uint32_t>(e.length));
+  write_u32(out, outcome_bits(e.success, e.collision, e.out_of_bounds));
   write_f64(out, e.wall_time);
 }
 
 EpisodeRecord read_record(std::istream& in, const std::string& source) {
   EpisodeRecord e;
-  e.episode = static_cast<long long>(nn::read_u64(in, source));
-  e.timesteps = static_cast<long long>(nn::read_u64(in, source));
+  e.episode = static_cast<long long>(read_u64(in, source));
+  e.timesteps = static_cast<long long>(read_u64(in, source));
   e.episode_return = read_f64(in, source);
-  e.length = static_cast<int>(nn::read_u32(in, source));
-  const std::uint32_t bits = nn::read_u32(in, source);
+  e.length = static_cast<int>(read_u32(in, source));
+  const std::uint32_t bits = read_u32(in, source);
   e.success = (bits & 1u) != 0;
   e.collision = (bits & 2u) != 0;
   e.out_of_bounds = (bits & 4u) != 0;
@@ -87,22 +88,22 @@ EpisodeRecord read_record(std::istream& in, const std::string& source) {
 }  // namespace
 
 void EpisodeTracker::save(std::ostream& out) const {
-  nn::write_u64(out, static_cast<std::uint64_t>(episodes_));
-  nn::write_u32(out, static_cast<std::uint32_t>(running_.size()));
+  write_u64(out, static_cast<std::uint64_t>(episodes_));
+  write_u32(out, static_cast<std::uint32_t>(running_.size()));
   for (const auto& r : running_) {
     write_f64(out, r.ret);
-    nn::write_u32(out, static_cast<std::uint32_t>(r.length));
-    nn::write_u32(out, outcome_bits(r.success, r.collision, r.out_of_bounds));
+    write_u32(out, static_cast<std::uint32_t>(r.length));
+    write_u32(out, outcome_bits(r.success, r.collision, r.out_of_bounds));
   }
-  nn::write_u32(out, static_cast<std::uint32_t>(recent_.size()));
+  write_u32(out, static_cast<std::uint32_t>(recent_.size()));
   for (const auto& e : recent_) write_record(out, e);
-  nn::write_u32(out, static_cast<std::uint32_t>(finished_.size()));
+  write_u32(out, static_cast<std::uint32_t>(finished_.size()));
   for (const auto& e : finished_) write_record(out, e);
 }
 
 void EpisodeTracker::load(std::istream& in, const std::string& source) {
-  const auto episodes = static_cast<long long>(nn::read_u64(in, source));
-  const std::uint32_t envs = nn::read_u32(in, source);
+  const auto episodes = static_cast<long long>(read_u64(in, source));
+  const std::uint32_t envs = read_u32(in, source);
   if (envs != running_.size()) {
     throw Error(source + ": checkpoint has " + std::to_string(envs) + " envs, the config " +
                 std::to_string(running_.size()));
@@ -110,16 +111,16 @@ void EpisodeTracker::load(std::istream& in, const std::string& source) {
   std::vector<Running> running(envs);
   for (auto& r : running) {
     r.ret = read_f64(in, source);
-    r.length = static_cast<int>(nn::read_u32(in, source));
-    const std::uint32_t bits = nn::read_u32(in, source);
+    r.length = static_cast<int>(read_u32(in, source));
+    const std::uint32_t bits = read_u32(in, source);
     r.success = (bits & 1u) != 0;
     r.collision = (bits & 2u) != 0;
     r.out_of_bounds = (bits & 4u) != 0;
   }
   std::deque<EpisodeRecord> recent;
-  for (std::uint32_t n = nn::read_u32(in, source), i = 0; i < n; ++i) recent.push_back(read_record(in, source));
+  for (std::uint32_t n = read_u32(in, source), i = 0; i < n; ++i) recent.push_back(read_record(in, source));
   std::vector<EpisodeRecord> finished;
-  for (std::uint32_t n = nn::read_u32(in, source), i = 0; i < n; ++i) finished.push_back(read_record(in, source));
+  for (std::uint32_t n = read_u32(in, source), i = 0; i < n; ++i) finished.push_back(read_record(in, source));
   episodes_ = episodes;
   running_ = std::move(running);
   recent_ = std::move(recent);

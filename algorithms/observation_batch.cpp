@@ -1,6 +1,6 @@
-#include "rdsim/observation_batch.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 

@@ -1,23 +1,23 @@
-#include "rdsim/on_policy.hpp"
+#include "rdsim/algorithms/on_policy.hpp"
 
 #include <sstream>
 
-#include "rdsim/advantage.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/observation_batch.hpp"
-#include "rdsim/rng_bytes.hpp"
-#include "rdsim/stream_io.hpp"
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/advantage.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng_bytes.hpp"
 
 namespace rdsim {
 
-OnPolicy::OnPolicy(const TrainConfig& config, const Spec& spec, RolloutSettings settings)
+OnPolicy::OnPolicy(const NetworkConfig& network, std::uint64_t seed, const Spec& spec, RolloutSettings settings)
     : spec_(spec),
       settings_(settings),
-      sample_rng_(Rng::derive(config.seed, rng_stream::action_sampling)),
-      shuffle_rng_(Rng::derive(config.seed, rng_stream::minibatch_shuffle)) {
-  Rng init = Rng::derive(config.seed, rng_stream::network_init);
-  policy_ = std::make_unique<ActorCritic>(spec, config.network, init);
+      sample_rng_(Rng::derive(seed, rng_stream::action_sampling)),
+      shuffle_rng_(Rng::derive(seed, rng_stream::minibatch_shuffle)) {
+  Rng init = Rng::derive(seed, rng_stream::network_init);
+  policy_ = std::make_unique<ActorCritic>(spec, network, init);
 }
 
 Metrics OnPolicy::update(VecEnv& envs, const TrainProgress& progress) {
@@ -44,7 +44,7 @@ void OnPolicy::save(std::ostream& out, bool training_state) const {
   optimizer_->save_state(out);
   write_string(out, rng_to_bytes(sample_rng_));
   write_string(out, rng_to_bytes(shuffle_rng_));
-  nn::write_u64(out, static_cast<std::uint64_t>(updates_));
+  write_u64(out, static_cast<std::uint64_t>(updates_));
 }
 
 void OnPolicy::load(std::istream& in, bool training_state, const std::string& source) {
@@ -53,7 +53,7 @@ void OnPolicy::load(std::istream& in, bool training_state, const std::string& so
   optimizer_->load_state(in, source);
   sample_rng_ = rng_from_bytes(read_string(in, source), source);
   shuffle_rng_ = rng_from_bytes(read_string(in, source), source);
-  updates_ = static_cast<long long>(nn::read_u64(in, source));
+  updates_ = static_cast<long long>(read_u64(in, source));
 }
 
 }  // namespace rdsim

@@ -2,21 +2,23 @@
 // as in the common baselines: GAE, several epochs of shuffled minibatches, per-minibatch
 // advantage normalisation, optional value clipping, entropy bonus, global grad-norm clipping,
 // linear learning-rate / clip-range annealing, approx-KL early stopping.
+#include "rdsim/algorithms/ppo.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
-#include "rdsim/advantage.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/on_policy.hpp"
+#include "rdsim/algorithms/advantage.hpp"
+#include "rdsim/algorithms/on_policy.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {
 
 class Ppo final : public OnPolicy {
 public:
-  Ppo(const TrainConfig& config, const Spec& spec)
-      : OnPolicy(config, spec, {config.ppo.n_steps, config.ppo.gamma, config.ppo.gae_lambda}), cfg_(config.ppo) {
+  Ppo(const PpoConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec)
+      : OnPolicy(network, seed, spec, {config.n_steps, config.gamma, config.gae_lambda}), cfg_(config) {
     nn::AdamConfig adam;
     adam.lr = static_cast<float>(cfg_.learning_rate);
     adam.eps = static_cast<float>(cfg_.adam_eps);
@@ -152,8 +154,9 @@ Metrics Ppo::train(double remaining) {
 
 }  // namespace
 
-std::unique_ptr<Algorithm> make_ppo(const TrainConfig& config, const Spec& spec) {
-  return std::make_unique<Ppo>(config, spec);
+std::unique_ptr<Algorithm> make_ppo(const PpoConfig& config, const NetworkConfig& network, std::uint64_t seed,
+                                    const Spec& spec, const std::string& /*where*/) {
+  return std::make_unique<Ppo>(config, network, seed, spec);
 }
 
 }  // namespace rdsim

@@ -1,10 +1,10 @@
-#include "rdsim/replay_buffer.hpp"
+#include "rdsim/algorithms/replay_buffer.hpp"
 
 #include <istream>
 #include <ostream>
 
-#include "rdsim/error.hpp"
-#include "rdsim/nn/serialize.hpp"
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 
@@ -109,11 +109,11 @@ void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
 }
 
 void ReplayBuffer::save(std::ostream& out) const {
-  nn::write_u32(out, pixels_ ? kPixelReplayTag : kReplayTag);
-  nn::write_u64(out, static_cast<std::uint64_t>(capacity_));
-  nn::write_u32(out, static_cast<std::uint32_t>(observation_size_));
-  nn::write_u64(out, static_cast<std::uint64_t>(size_));
-  nn::write_u64(out, static_cast<std::uint64_t>(next_));
+  write_u32(out, pixels_ ? kPixelReplayTag : kReplayTag);
+  write_u64(out, static_cast<std::uint64_t>(capacity_));
+  write_u32(out, static_cast<std::uint32_t>(observation_size_));
+  write_u64(out, static_cast<std::uint64_t>(size_));
+  write_u64(out, static_cast<std::uint64_t>(next_));
   // Only the filled slots: a young buffer with a large capacity stays small on disk.
   const auto n = static_cast<Eigen::Index>(size_);
   const auto write = [&](const void* data, Eigen::Index bytes) {
@@ -128,21 +128,21 @@ void ReplayBuffer::save(std::ostream& out) const {
 }
 
 void ReplayBuffer::load(std::istream& in, const std::string& source) {
-  const std::uint32_t tag = nn::read_u32(in, source);
+  const std::uint32_t tag = read_u32(in, source);
   if (tag != kReplayTag && tag != kPixelReplayTag)
     throw Error(source + ": replay buffer not found (damaged checkpoint?)");
   const bool pixels = tag == kPixelReplayTag;
   if (pixels != pixels_)
     throw Error(source + ": replay buffer holds " + storage_name(pixels) + " observations, expected " +
                 storage_name(pixels_) + " ones (different env observation mode?)");
-  const auto capacity = static_cast<long long>(nn::read_u64(in, source));
-  const auto rows = static_cast<Eigen::Index>(nn::read_u32(in, source));
+  const auto capacity = static_cast<long long>(read_u64(in, source));
+  const auto rows = static_cast<Eigen::Index>(read_u32(in, source));
   if (capacity != capacity_ || rows != observation_size_)
     throw Error(source + ": replay buffer of capacity " + std::to_string(capacity) + " x " +
                 std::to_string(rows) + " observation values, expected " + std::to_string(capacity_) +
                 " x " + std::to_string(observation_size_) + " (different dqn.buffer_size or env?)");
-  const auto size = static_cast<long long>(nn::read_u64(in, source));
-  const auto next = static_cast<long long>(nn::read_u64(in, source));
+  const auto size = static_cast<long long>(read_u64(in, source));
+  const auto next = static_cast<long long>(read_u64(in, source));
   if (size < 0 || size > capacity_ || next < 0 || next >= capacity_)
     throw Error(source + ": damaged replay buffer");
   const auto n = static_cast<Eigen::Index>(size);

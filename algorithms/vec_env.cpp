@@ -1,10 +1,10 @@
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
 
-#include "rdsim/algorithm.hpp"
-#include "rdsim/env_state.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/rng.hpp"
-#include "rdsim/stream_io.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/env_state.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng.hpp"
 
 namespace rdsim {
 namespace {
@@ -14,14 +14,14 @@ std::uint64_t env_seed(std::uint64_t seed, int i) {
 }
 
 void write_observation(std::ostream& out, const Observation& o) {
-  nn::write_u64(out, static_cast<std::uint64_t>(o.values.size()));
+  write_u64(out, static_cast<std::uint64_t>(o.values.size()));
   out.write(reinterpret_cast<const char*>(o.values.data()), static_cast<std::streamsize>(o.values.size() * 4));
   write_string(out, std::string(o.pixels.begin(), o.pixels.end()));
 }
 
 Observation read_observation(std::istream& in, const std::string& source) {
   Observation o;
-  const std::uint64_t n = nn::read_u64(in, source);
+  const std::uint64_t n = read_u64(in, source);
   if (n > (1u << 24)) throw Error(source + ": damaged observation in checkpoint");
   o.values.resize(static_cast<Eigen::Index>(n));
   in.read(reinterpret_cast<char*>(o.values.data()), static_cast<std::streamsize>(n * 4));
@@ -70,11 +70,11 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions) {
 }
 
 void VecEnv::save(std::ostream& out) const {
-  nn::write_u64(out, static_cast<std::uint64_t>(timesteps_));
+  write_u64(out, static_cast<std::uint64_t>(timesteps_));
   write_f64(out, wall_time());
   bool stateful = true;
   for (const auto& e : envs_) stateful = stateful && dynamic_cast<const EnvState*>(e.get()) != nullptr;
-  nn::write_u32(out, stateful ? 1 : 0);
+  write_u32(out, stateful ? 1 : 0);
   if (stateful) {
     for (std::size_t i = 0; i < envs_.size(); ++i) {
       write_string(out, dynamic_cast<const EnvState*>(envs_[i].get())->save_state());
@@ -85,10 +85,10 @@ void VecEnv::save(std::ostream& out) const {
 }
 
 bool VecEnv::load(std::istream& in, const std::string& source) {
-  timesteps_ = static_cast<long long>(nn::read_u64(in, source));
+  timesteps_ = static_cast<long long>(read_u64(in, source));
   wall_offset_ = read_f64(in, source);
   start_ = std::chrono::steady_clock::now();
-  const bool stateful = nn::read_u32(in, source) != 0;
+  const bool stateful = read_u32(in, source) != 0;
   if (stateful) {
     for (std::size_t i = 0; i < envs_.size(); ++i) {
       auto* state = dynamic_cast<EnvState*>(envs_[i].get());

@@ -4,13 +4,11 @@
 #include <cstring>
 #include <limits>
 
-#include "rdsim/error.hpp"
-#include "rdsim/rng_bytes.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng_bytes.hpp"
 
 namespace rdsim {
 namespace {
-
-constexpr int default_max_steps = 500;
 
 // The whole mutable state, copied as bytes by save_state().
 struct Snapshot {
@@ -20,6 +18,13 @@ struct Snapshot {
 };
 
 }  // namespace
+
+EnvConfig cartpole_defaults() {
+  EnvConfig c;
+  c.name = "cartpole";
+  c.max_steps = 500;  // CartPole-v1
+  return c;
+}
 
 CartPole::CartPole(const EnvConfig& config) {
   if (config.observation != ObservationMode::GroundTruth) {
@@ -35,7 +40,7 @@ CartPole::CartPole(const EnvConfig& config) {
   spec_.observation.low = -spec_.observation.high;
   spec_.action.discrete = true;
   spec_.action.n = 2;
-  spec_.max_episode_steps = config.max_steps > 0 ? config.max_steps : default_max_steps;
+  spec_.max_episode_steps = config.max_steps;
   spec_.control_dt = tau;
 }
 

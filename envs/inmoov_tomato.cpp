@@ -3,8 +3,8 @@
 #include <cmath>
 #include <string>
 
-#include "rdsim/error.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 
 namespace rdsim {
 namespace {
@@ -37,6 +37,17 @@ Eigen::VectorXf home_pose(const RobotModel& model) {
 
 }  // namespace
 
+EnvConfig inmoov_tomato_defaults() {
+  EnvConfig c;
+  c.name = "inmoov_tomato";
+  c.max_steps = 400;
+  c.action_step = 0.004;
+  c.success_threshold = 0.06;
+  c.max_distance = 0.6;
+  c.action_repeat = 1;
+  return c;
+}
+
 ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config) {
   const std::string assets = asset_root(config);
   ReachTaskSpec s;
@@ -49,13 +60,8 @@ ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config) {
   s.statics = {{assets + "/objects/tomato_tree.urdf", at(0.65f, -0.20f, 0.0f)}};
   s.target_body = -1;  // the tomatoes are part of the tree: the target is set per reset
   s.workspace = Eigen::AlignedBox3f(Eigen::Vector3f(0.10f, -0.70f, 0.80f), Eigen::Vector3f(0.70f, 0.15f, 1.65f));
-  s.step = 0.004f;
   s.move_noise = 1.0f / 30.0f;
-  s.success_threshold = 0.06f;
-  s.max_distance = 0.6f;
   s.workspace_margin = 0.03f;
-  s.max_steps = 400;
-  s.action_repeat = 1;
   s.ik_iterations = 3;
   s.world.time_step = 1.0 / 240.0;
   s.world.solver_iterations = 10;

@@ -1,6 +1,6 @@
 #include "rdsim/envs/jaka_button.hpp"
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {
@@ -12,6 +12,17 @@ Eigen::Isometry3f at(float x, float y, float z) {
 }
 
 }  // namespace
+
+EnvConfig jaka_button_defaults() {
+  EnvConfig c;
+  c.name = "jaka_button";
+  c.max_steps = 200;  // the paper used 1000 and had no success end
+  c.action_step = 0.015;
+  c.success_threshold = 0.025;
+  c.max_distance = 0.7;
+  c.action_repeat = 1;
+  return c;
+}
 
 ReachTaskSpec jaka_button_spec(const EnvConfig& config) {
   const std::string assets = asset_root(config);
@@ -28,13 +39,8 @@ ReachTaskSpec jaka_button_spec(const EnvConfig& config) {
   s.nominal_target = Eigen::Vector3f(0.5f, 0.0f, 0.03f);
   s.target_half_range = Eigen::Vector3f(0.15f, 0.3f, 0.0f);
   s.workspace = Eigen::AlignedBox3f(Eigen::Vector3f(0.15f, -0.5f, 0.02f), Eigen::Vector3f(0.85f, 0.5f, 0.55f));
-  s.step = 0.015f;
   s.move_noise = 1.0f / 30.0f;
-  s.success_threshold = 0.025f;
-  s.max_distance = 0.7f;
   s.workspace_margin = 0.03f;
-  s.max_steps = 200;
-  s.action_repeat = 1;
   s.ik_iterations = 1;
   s.world.time_step = 1.0 / 240.0;
   s.world.solver_iterations = 10;

@@ -1,9 +1,17 @@
 #include "rdsim/envs/jaka_obstacle.hpp"
 
+#include "rdsim/core/error.hpp"
 #include "rdsim/envs/jaka_button.hpp"
-#include "rdsim/error.hpp"
 
 namespace rdsim {
+
+EnvConfig jaka_obstacle_defaults() {
+  EnvConfig c = jaka_button_defaults();
+  c.name = "jaka_obstacle";
+  c.max_steps = 300;     // the way round is about twice as long
+  c.max_distance = 0.9;  // the home flange is up to 0.68 m from a random button: room for the way round
+  return c;
+}
 
 ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
   ReachTaskSpec s = jaka_button_spec(config);
@@ -14,9 +22,6 @@ ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
   // Random buttons: x 0.45..0.65, y -0.2..0.0.
   s.random_centre = Eigen::Vector3f(0.55f, -0.1f, 0.03f);
   s.target_half_range = Eigen::Vector3f(0.1f, 0.1f, 0.0f);
-  if (config.max_steps == 0) s.max_steps = 300;  // the way round is about twice as long
-  // The home flange is up to 0.68 m from a random button: leave room for the way round.
-  if (config.max_distance == 0.0) s.max_distance = 0.9f;
   return s;
 }
 

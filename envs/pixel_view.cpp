@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {

@@ -1,6 +1,6 @@
 #include "rdsim/envs/reach_env.hpp"
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {

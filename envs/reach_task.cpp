@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "rdsim/error.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 
 namespace rdsim {
 namespace {
@@ -43,25 +43,11 @@ RobotModel ik_model(const RobotModel& robot_model, const Robot& robot, const Rea
 }  // namespace
 
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
-  auto positive = [](double value, const char* key) {
-    if (value < 0.0 || !std::isfinite(value))
-      throw Error(std::string("env.") + key + ": expected a positive number (0 = the env's default), got " +
-                  std::to_string(value));
-    return value > 0.0;
-  };
-  if (positive(config.action_step, "action_step")) spec.step = static_cast<float>(config.action_step);
-  if (positive(config.success_threshold, "success_threshold"))
-    spec.success_threshold = static_cast<float>(config.success_threshold);
-  if (positive(config.max_distance, "max_distance")) spec.max_distance = static_cast<float>(config.max_distance);
-  if (config.max_steps < 0)
-    throw Error("env.max_steps: expected a positive step count (0 = the env's default), got " +
-                std::to_string(config.max_steps));
-  if (config.max_steps > 0) spec.max_steps = config.max_steps;
-  if (config.action_repeat < 0)
-    throw Error("env.action_repeat: expected a positive count of physics steps, got " +
-                std::to_string(config.action_repeat));
-  if (config.action_repeat > 0) spec.action_repeat = config.action_repeat;
-  if (spec.step > 0.2f) throw Error("env.action_step: at most 0.2 m per move, got " + std::to_string(spec.step));
+  spec.step = static_cast<float>(config.action_step);
+  spec.success_threshold = static_cast<float>(config.success_threshold);
+  spec.max_distance = static_cast<float>(config.max_distance);
+  spec.max_steps = config.max_steps;
+  spec.action_repeat = config.action_repeat;
 }
 
 ActionSpace reach_action_space(bool discrete) {

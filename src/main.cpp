@@ -3,8 +3,12 @@
 #include <cstdio>
 #include <exception>
 
-#include "rdsim/app.hpp"
-#include "rdsim/error.hpp"
+#include "rdsim/app/bench_fps.hpp"
+#include "rdsim/app/envs.hpp"
+#include "rdsim/app/render.hpp"
+#include "rdsim/app/replay.hpp"
+#include "rdsim/app/train.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace {
 

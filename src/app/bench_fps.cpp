@@ -1,4 +1,6 @@
 // `rdsim bench-fps`: env steps per second in the shape of the paper's Table 3.
+#include "rdsim/app/bench_fps.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -6,11 +8,10 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "rdsim/app.hpp"
-#include "rdsim/env_registry.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
 namespace {
@@ -87,8 +88,7 @@ std::optional<double> physics_run(Env& env, long long steps, std::uint64_t seed)
 
 std::optional<BenchRow> bench_row(const EnvEntry& entry, const std::string& mode, int image_size,
                                   const BenchFpsOptions& o) {
-  EnvConfig config;
-  config.name = entry.name;
+  EnvConfig config = default_env_config(entry.name);
   config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
   if (image_size > 0) config.image_width = config.image_height = image_size;
   std::unique_ptr<Env> env;
@@ -166,13 +166,7 @@ bool wanted(const std::vector<std::string>& filter, const std::string& value) {
 }  // namespace
 
 int bench_fps_command(const BenchFpsOptions& o) {
-  for (const auto& name : o.envs) {
-    EnvConfig probe;
-    probe.name = name;
-    bool known = false;
-    for (const auto& e : env_registry()) known |= e.name == name;
-    if (!known) make_env(probe);  // throws the "unknown environment" error with the known names
-  }
+  for (const auto& name : o.envs) (void)env_entry(name);  // the "unknown environment" error with the known names
   std::vector<BenchRow> rows;
   for (const auto& entry : env_registry()) {
     if (!wanted(o.envs, entry.name)) continue;

@@ -1,8 +1,9 @@
 // `rdsim envs`: what can be named in a config's "env.name".
+#include "rdsim/app/envs.hpp"
+
 #include <cstdio>
 
-#include "rdsim/app.hpp"
-#include "rdsim/env_registry.hpp"
+#include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
 

@@ -1,9 +1,11 @@
-#include "rdsim/model_file.hpp"
+#include "rdsim/app/model_file.hpp"
 
 #include <cstring>
 
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
+#include "rdsim/app/train_config.hpp"
+#include "rdsim/core/checksum.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 
 namespace rdsim {
 namespace {
@@ -42,15 +44,6 @@ struct Cursor {
 
 }  // namespace
 
-std::uint64_t fnv1a64(std::string_view bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-
 std::string encode_model_file(const ModelFile& file) {
   const std::string config = file.config.dump();
   std::string out(magic, sizeof magic);
@@ -71,8 +64,8 @@ ModelFile decode_model_file(std::string_view bytes, const std::string& source) {
   }
   Cursor c{bytes, sizeof magic, source};
   const auto version = c.get<std::uint32_t>();
-  if (version != model_format_version) {
-    throw Error(source + ": model format version " + std::to_string(version) + " is not supported (this rdsim reads version " +
+  if (version != model_format_version && version != 1) {
+    throw Error(source + ": model format version " + std::to_string(version) + " is not supported (this rdsim reads versions 1 to " +
                 std::to_string(model_format_version) + ")");
   }
   const auto kind = c.get<std::uint32_t>();
@@ -90,6 +83,7 @@ ModelFile decode_model_file(std::string_view bytes, const std::string& source) {
   } catch (const nlohmann::json::exception&) {
     throw Error(source + ": file is damaged (its embedded config is not valid JSON)");
   }
+  if (version == 1) upgrade_v1_config(file.config);
   file.payload = std::string(payload);
   return file;
 }

@@ -1,27 +1,26 @@
 // `rdsim render`: what the agent of a raw-pixel env sees after reset, as a PNG file.
+#include "rdsim/app/render.hpp"
+
 #include <cstdio>
 #include <vector>
 
-#include "rdsim/app.hpp"
-#include "rdsim/env_registry.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/png.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/envs/registry.hpp"
+#include "rdsim/render/png.hpp"
 
 namespace rdsim {
 
 int render_command(const RenderOptions& o) {
   if (o.view != 1 && o.view != 2) throw Error("render: --view must be 1 or 2, got " + std::to_string(o.view));
-  EnvConfig config;
-  config.name = o.env;
+  if (!env_entry(o.env).supports_pixels)  // rdsim::Error listing the names when unknown
+    throw Error("render: env \"" + o.env + "\" has no raw-pixel observations (see `rdsim envs`)");
+  EnvConfig config = default_env_config(o.env);
   config.observation = ObservationMode::RawPixels;
   config.multi_view = o.view == 2;
   config.random_target = o.random_target;
   config.image_width = o.width;
   config.image_height = o.height;
-  for (const EnvEntry& e : env_registry())
-    if (e.name == o.env && !e.supports_pixels)
-      throw Error("render: env \"" + o.env + "\" has no raw-pixel observations (see `rdsim envs`)");
-  const std::unique_ptr<Env> env = make_env(config);  // rdsim::Error listing the names when unknown
+  const std::unique_ptr<Env> env = make_env(config);
   const ObservationSpace& space = env->spec().observation;
   const Observation obs = env->reset(o.seed);
   const int channels = 3 * o.view;

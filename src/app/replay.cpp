@@ -1,15 +1,16 @@
 // `rdsim replay`: runs a saved policy from its model file alone.
+#include "rdsim/app/replay.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
 
-#include "rdsim/algorithm.hpp"
-#include "rdsim/app.hpp"
-#include "rdsim/env_registry.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/model_file.hpp"
-#include "rdsim/png.hpp"
-#include "rdsim/train_config.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/app/model_file.hpp"
+#include "rdsim/app/train_config.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/envs/registry.hpp"
+#include "rdsim/render/png.hpp"
 
 namespace rdsim {
 namespace {
@@ -57,7 +58,7 @@ int replay_command(const ReplayOptions& o) {
   if (!o.record_dir.empty()) config.env.render_mode = RenderMode::RgbArray;
   auto env = make_env(config.env);
   FrameRecorder recorder(o.record_dir, *env);
-  auto algo = make_algorithm(config, env->spec());
+  auto algo = make_algorithm(config.algorithm, config.seed, env->spec());
   std::istringstream in(file.payload);
   algo->load(in, false, o.model_path);  // a checkpoint's payload starts with the same weights
 
@@ -66,7 +67,7 @@ int replay_command(const ReplayOptions& o) {
   // Environments without a step limit still end: a policy that never fails stops here.
   const long long step_cap = env->spec().max_episode_steps > 0 ? env->spec().max_episode_steps : 1'000'000;
   double sum_return = 0, sum_length = 0, successes = 0;
-  std::printf("%s (%s on %s), %d episode%s, %s actions\n", o.model_path.c_str(), config.algorithm.c_str(),
+  std::printf("%s (%s on %s), %d episode%s, %s actions\n", o.model_path.c_str(), config.algorithm.name().c_str(),
               config.env.name.c_str(), o.episodes, o.episodes == 1 ? "" : "s",
               o.stochastic ? "sampled" : "deterministic");
   for (int k = 0; k < o.episodes; ++k) {

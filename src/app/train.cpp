@@ -1,20 +1,21 @@
-// `rdsim train`: the one training loop for every algorithm (see include/rdsim/algorithm.hpp).
+// `rdsim train`: the one training loop for every algorithm (see include/rdsim/algorithms/algorithm.hpp).
+#include "rdsim/app/train.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <unistd.h>
 
-#include "rdsim/algorithm.hpp"
-#include "rdsim/app.hpp"
-#include "rdsim/csv_writer.hpp"
-#include "rdsim/env_registry.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
-#include "rdsim/model_file.hpp"
-#include "rdsim/nn/serialize.hpp"
-#include "rdsim/train_config.hpp"
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/app/model_file.hpp"
+#include "rdsim/app/train_config.hpp"
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/csv_writer.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
+#include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
 namespace {
@@ -69,9 +70,9 @@ std::vector<std::unique_ptr<Env>> make_envs(const TrainConfig& config) {
 std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const TrainerState& state) {
   std::ostringstream out;
   algo.save(out, true);  // first, so `rdsim replay checkpoint.bin` reads the weights like a model's
-  nn::write_u64(out, static_cast<std::uint64_t>(state.progress_rows));
-  nn::write_u64(out, static_cast<std::uint64_t>(state.episode_rows));
-  nn::write_u64(out, static_cast<std::uint64_t>(state.updates));
+  write_u64(out, static_cast<std::uint64_t>(state.progress_rows));
+  write_u64(out, static_cast<std::uint64_t>(state.episode_rows));
+  write_u64(out, static_cast<std::uint64_t>(state.updates));
   vec.save(out);
   return out.str();
 }
@@ -80,9 +81,9 @@ TrainerState restore(const std::string& payload, Algorithm& algo, VecEnv& vec, c
   std::istringstream in(payload);
   algo.load(in, true, source);
   TrainerState s;
-  s.progress_rows = static_cast<long long>(nn::read_u64(in, source));
-  s.episode_rows = static_cast<long long>(nn::read_u64(in, source));
-  s.updates = static_cast<long long>(nn::read_u64(in, source));
+  s.progress_rows = static_cast<long long>(read_u64(in, source));
+  s.episode_rows = static_cast<long long>(read_u64(in, source));
+  s.updates = static_cast<long long>(read_u64(in, source));
   if (!vec.load(in, source)) {
     std::fprintf(stderr, "rdsim: note: these envs cannot save their state; the resumed run starts fresh "
                          "episodes and will not match an uninterrupted run exactly\n");
@@ -125,7 +126,7 @@ int train_command(const TrainOptions& o) {
   if (ec) throw Error(config.log_dir + ": cannot create the run folder: " + ec.message());
 
   VecEnv vec(make_envs(config), config.seed, config.stats_window);
-  auto algo = make_algorithm(config, vec.spec());
+  auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
   TrainerState state;
   if (resume) state = restore(checkpoint.payload, *algo, vec, checkpoint_path);
 
@@ -206,7 +207,7 @@ int train_command(const TrainOptions& o) {
   if (!o.quiet) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
-                config.algorithm.c_str(), config.env.name.c_str(), vec.timesteps(), vec.episodes().episodes(),
+                config.algorithm.name().c_str(), config.env.name.c_str(), vec.timesteps(), vec.episodes().episodes(),
                 s.count, s.mean_return, vec.wall_time(), (dir / "model.bin").string().c_str());
   }
   return 0;

@@ -1,9 +1,9 @@
-#include "rdsim/config_reader.hpp"
+#include "rdsim/core/config_reader.hpp"
 
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {
@@ -40,6 +40,12 @@ void ConfigReader::fail(const std::string& key, const std::string& what) const {
 }
 
 bool ConfigReader::has(const std::string& key) const { return object_.contains(key); }
+
+std::vector<std::string> ConfigReader::keys() const {
+  std::vector<std::string> out;
+  for (auto it = object_.begin(); it != object_.end(); ++it) out.push_back(it.key());
+  return out;
+}
 
 const nlohmann::json* ConfigReader::find(const std::string& key) {
   seen_.insert(key);

@@ -1,12 +1,12 @@
-#include "rdsim/csv_writer.hpp"
+#include "rdsim/core/csv_writer.hpp"
 
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 
 namespace rdsim {
 namespace {

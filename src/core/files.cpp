@@ -1,4 +1,4 @@
-#include "rdsim/files.hpp"
+#include "rdsim/core/files.hpp"
 
 #include <cerrno>
 #include <cstdio>
@@ -9,7 +9,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 

@@ -1,9 +1,9 @@
 #pragma once
 // The renderer backends compiled into this build. Adding one is a new <name>_renderer.cpp
-// defining its factory plus one entry in kBackends (renderer_factory.cpp).
+// defining its factory plus one entry in kBackends (renderer.cpp).
 #include <memory>
 
-#include "rdsim/renderer.hpp"
+#include "rdsim/render/renderer.hpp"
 
 namespace rdsim::render {
 

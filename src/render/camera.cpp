@@ -1,9 +1,9 @@
-#include "rdsim/camera.hpp"
+#include "rdsim/render/camera.hpp"
 
 #include <cmath>
 #include <string>
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "gl_api.hpp"
-#include "rdsim/camera.hpp"
-#include "rdsim/scene.hpp"
+#include "rdsim/render/camera.hpp"
+#include "rdsim/render/scene.hpp"
 #include "unit_meshes.hpp"
 
 namespace rdsim::render {

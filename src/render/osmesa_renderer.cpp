@@ -10,7 +10,7 @@
 #include "backends.hpp"
 #include "gl_api.hpp"
 #include "gl_scene_drawer.hpp"
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim::render {
 namespace {

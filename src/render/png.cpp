@@ -1,11 +1,11 @@
-#include "rdsim/png.hpp"
+#include "rdsim/render/png.hpp"
 
 #include <algorithm>
 #include <limits>
 
-#include "rdsim/checksum.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
+#include "rdsim/core/checksum.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 
 namespace rdsim {
 namespace {

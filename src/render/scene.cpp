@@ -1,4 +1,4 @@
-#include "rdsim/scene.hpp"
+#include "rdsim/render/scene.hpp"
 
 #include <stdexcept>
 #include <string>

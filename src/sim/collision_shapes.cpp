@@ -1,7 +1,7 @@
 // Bullet collision shapes from rdsim Shapes.
 #include <algorithm>
 
-#include "src/sim/physics_world_impl.hpp"
+#include "physics_world_impl.hpp"
 
 namespace rdsim {
 namespace {

@@ -1,10 +1,10 @@
-#include "rdsim/ik.hpp"
+#include "rdsim/sim/ik.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <Eigen/Cholesky>
 
-#include "rdsim/rng.hpp"
+#include "rdsim/core/rng.hpp"
 
 namespace rdsim {
 namespace {

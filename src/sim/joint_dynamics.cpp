@@ -1,6 +1,6 @@
-#include "rdsim/joint_dynamics.hpp"
+#include "rdsim/sim/joint_dynamics.hpp"
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {

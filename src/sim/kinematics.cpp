@@ -1,8 +1,8 @@
-#include "rdsim/kinematics.hpp"
+#include "rdsim/sim/kinematics.hpp"
 
 #include <algorithm>
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {

@@ -1,12 +1,12 @@
-#include "rdsim/physics_world.hpp"
+#include "rdsim/sim/physics_world.hpp"
 
 #include <BulletCollision/CollisionShapes/btEmptyShape.h>
 
 #include <algorithm>
 #include <string>
 
-#include "rdsim/error.hpp"
-#include "src/sim/physics_world_impl.hpp"
+#include "rdsim/core/error.hpp"
+#include "physics_world_impl.hpp"
 
 namespace rdsim {
 namespace {

@@ -8,7 +8,7 @@
 #include <memory>
 #include <vector>
 
-#include "rdsim/physics_world.hpp"
+#include "rdsim/sim/physics_world.hpp"
 
 namespace rdsim {
 

@@ -1,4 +1,4 @@
-#include "rdsim/robot.hpp"
+#include "rdsim/sim/robot.hpp"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
@@ -11,10 +11,10 @@
 #include <cmath>
 #include <vector>
 
-#include "rdsim/error.hpp"
-#include "rdsim/joint_dynamics.hpp"
-#include "rdsim/physics_world.hpp"
-#include "src/sim/physics_world_impl.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/sim/joint_dynamics.hpp"
+#include "rdsim/sim/physics_world.hpp"
+#include "physics_world_impl.hpp"
 
 namespace rdsim {
 namespace {

@@ -1,6 +1,6 @@
-#include "rdsim/robot_model.hpp"
+#include "rdsim/sim/robot_model.hpp"
 
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 

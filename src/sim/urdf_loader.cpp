@@ -1,4 +1,4 @@
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 
 #include <console_bridge/console.h>
 
@@ -10,8 +10,8 @@
 #include <mutex>
 #include <urdf_parser/urdf_parser.h>
 
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 
 namespace rdsim {
 namespace {

@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include "rdsim/actor_critic.hpp"
+#include "rdsim/algorithms/actor_critic.hpp"
 #include "toy_env.hpp"
 
 namespace {

@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include "rdsim/advantage.hpp"
+#include "rdsim/algorithms/advantage.hpp"
 
 using rdsim::EpisodeEnd;
 using rdsim::RolloutBuffer;

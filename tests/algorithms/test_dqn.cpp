@@ -1,13 +1,13 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
-#include "rdsim/algorithm.hpp"
-#include "rdsim/dqn.hpp"
-#include "rdsim/env_state.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/replay_buffer.hpp"
-#include "rdsim/train_config.hpp"
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/dqn.hpp"
+#include "rdsim/algorithms/replay_buffer.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/env_state.hpp"
+#include "rdsim/core/error.hpp"
+#include "algorithm_setup.hpp"
 
 using namespace rdsim;
 using Eigen::MatrixXf;
@@ -174,8 +174,8 @@ private:
   int pos_ = 0, steps_ = 0;
 };
 
-TrainConfig corridor_config(std::uint64_t seed) {
-  TrainConfig c;
+Setup corridor_config(std::uint64_t seed) {
+  Setup c;
   c.source = "corridor.json";
   c.algorithm = "dqn";
   c.seed = seed;
@@ -211,9 +211,9 @@ std::vector<Metrics> train(Algorithm& algo, VecEnv& envs, long long until, long 
 }  // namespace
 
 TEST_CASE("DQN learns the corridor and is deterministic", "[dqn]") {
-  const TrainConfig config = corridor_config(4);
+  const Setup config = corridor_config(4);
   VecEnv envs = corridor_envs(4);
-  auto algo = make_dqn(config, envs.spec());
+  auto algo = make_algorithm(config, envs.spec());
   const std::vector<Metrics> metrics = train(*algo, envs, config.total_timesteps, config.total_timesteps);
   CHECK(envs.timesteps() == config.total_timesteps);  // the last phase stops at the goal
   CHECK(metrics.back()[0].first == "loss");
@@ -235,14 +235,14 @@ TEST_CASE("DQN learns the corridor and is deterministic", "[dqn]") {
   CHECK(stats.success_rate > 0.9);
 
   VecEnv envs2 = corridor_envs(4);
-  auto algo2 = make_dqn(config, envs2.spec());
+  auto algo2 = make_algorithm(config, envs2.spec());
   CHECK(train(*algo2, envs2, config.total_timesteps, config.total_timesteps) == metrics);
 }
 
 TEST_CASE("DQN checkpoint resumes identically; model round-trips", "[dqn]") {
-  const TrainConfig config = corridor_config(7);
+  const Setup config = corridor_config(7);
   VecEnv envs = corridor_envs(7);
-  auto algo = make_dqn(config, envs.spec());
+  auto algo = make_algorithm(config, envs.spec());
   train(*algo, envs, 1000, config.total_timesteps);
   std::stringstream ckpt_algo, ckpt_envs;
   algo->save(ckpt_algo, true);
@@ -250,14 +250,14 @@ TEST_CASE("DQN checkpoint resumes identically; model round-trips", "[dqn]") {
   const std::vector<Metrics> straight = train(*algo, envs, 1500, config.total_timesteps);
 
   VecEnv envs2 = corridor_envs(99);
-  auto resumed = make_dqn(corridor_config(99), envs2.spec());
+  auto resumed = make_algorithm(corridor_config(99), envs2.spec());
   resumed->load(ckpt_algo, true, "ckpt.bin");
   REQUIRE(envs2.load(ckpt_envs, "ckpt.bin"));
   CHECK(train(*resumed, envs2, 1500, config.total_timesteps) == straight);
 
   std::stringstream model;
   algo->save(model, false);
-  auto fresh = make_dqn(corridor_config(1), envs.spec());
+  auto fresh = make_algorithm(corridor_config(1), envs.spec());
   fresh->load(model, false, "model.bin");
   Rng r1(0), r2(0);
   for (int cell = 0; cell < 6; ++cell) {
@@ -277,18 +277,18 @@ TEST_CASE("DQN rejects continuous action spaces", "[dqn]") {
   spec.action.discrete = false;
   spec.action.low = VectorXf::Constant(2, -1.0f);
   spec.action.high = VectorXf::Constant(2, 1.0f);
-  CHECK_THROWS_WITH(make_dqn(corridor_config(0), spec), Catch::Contains("discrete") && Catch::Contains("corridor.json"));
+  CHECK_THROWS_WITH(make_algorithm(corridor_config(0), spec), Catch::Contains("discrete") && Catch::Contains("corridor.json"));
 }
 
 TEST_CASE("DQN network.input_scale: the Q-network sees the observations times the scale", "[dqn]") {
-  TrainConfig plain = corridor_config(3);
+  Setup plain = corridor_config(3);
   plain.network.activation = "tanh";  // not positively homogeneous: scaled inputs change the argmax
   plain.network.hidden_sizes = {16, 16};
-  TrainConfig scaled = plain;
+  Setup scaled = plain;
   scaled.network.input_scale = 10.0;
   const Spec spec = corridor_envs(3).spec();
-  auto a = make_dqn(plain, spec);
-  auto b = make_dqn(scaled, spec);  // same seed: same initial weights
+  auto a = make_algorithm(plain, spec);
+  auto b = make_algorithm(scaled, spec);  // same seed: same initial weights
   Rng obs_rng(5), r1(0), r2(0);
   int differ_unscaled = 0;
   for (int k = 0; k < 200; ++k) {

@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
-#include "rdsim/episode_tracker.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/episode_tracker.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/error.hpp"
 #include "toy_env.hpp"
 
 namespace {

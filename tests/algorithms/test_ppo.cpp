@@ -1,20 +1,20 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
-#include "rdsim/actor_critic.hpp"
-#include "rdsim/algorithm.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/observation_batch.hpp"
-#include "rdsim/on_policy.hpp"
-#include "rdsim/rollout.hpp"
-#include "rdsim/train_config.hpp"
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/actor_critic.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/algorithms/on_policy.hpp"
+#include "rdsim/algorithms/rollout.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/error.hpp"
+#include "algorithm_setup.hpp"
 #include "toy_env.hpp"
 
 namespace {
 
-rdsim::TrainConfig ppo_config(std::uint64_t seed = 1) {
-  rdsim::TrainConfig c;
+Setup ppo_config(std::uint64_t seed = 1) {
+  Setup c;
   c.algorithm = "ppo";
   c.seed = seed;
   c.network.hidden_sizes = {32, 32};
@@ -64,7 +64,7 @@ TEST_CASE("rollouts bootstrap truncated episodes from V(final observation), neve
 
 TEST_CASE("PPO learns a discrete toy task", "[ppo]") {
   rdsim::VecEnv vec(toy::make_envs(4), 1);
-  auto algo = rdsim::make_algorithm(ppo_config(), vec.spec());
+  auto algo = make_algorithm(ppo_config(), vec.spec());
   CHECK(algo->name() == "ppo");
   const double mean_return = train(*algo, vec, 6000);
   INFO("mean return " << mean_return << " (random: 5, best: 10)");
@@ -75,7 +75,7 @@ TEST_CASE("PPO learns a continuous toy task", "[ppo]") {
   rdsim::VecEnv vec(toy::make_envs(4, false), 1);
   auto config = ppo_config();
   config.ppo.learning_rate = 1e-2;
-  auto algo = rdsim::make_algorithm(config, vec.spec());
+  auto algo = make_algorithm(config, vec.spec());
   train(*algo, vec, 1000);
   const double early = vec.episodes().stats().mean_return;
   const double late = train(*algo, vec, 12000);
@@ -87,11 +87,11 @@ TEST_CASE("PPO learns a continuous toy task", "[ppo]") {
 TEST_CASE("a saved model loads into a fresh algorithm and acts identically", "[ppo][model]") {
   for (bool discrete : {true, false}) {
     rdsim::VecEnv vec(toy::make_envs(2, discrete), 4);
-    auto trained = rdsim::make_algorithm(ppo_config(4), vec.spec());
+    auto trained = make_algorithm(ppo_config(4), vec.spec());
     train(*trained, vec, 200);
     std::stringstream weights;
     trained->save(weights, false);
-    auto fresh = rdsim::make_algorithm(ppo_config(77), vec.spec());
+    auto fresh = make_algorithm(ppo_config(77), vec.spec());
     fresh->load(weights, false, "test");
     rdsim::Rng obs_rng(9), r1(10), r2(10);
     for (int k = 0; k < 50; ++k) {
@@ -107,7 +107,7 @@ TEST_CASE("a saved model loads into a fresh algorithm and acts identically", "[p
     }
     auto other_shape = ppo_config();
     other_shape.network.hidden_sizes = {16};
-    auto wrong = rdsim::make_algorithm(other_shape, vec.spec());
+    auto wrong = make_algorithm(other_shape, vec.spec());
     std::stringstream again;
     trained->save(again, false);
     CHECK_THROWS_AS(wrong->load(again, false, "test"), rdsim::Error);
@@ -117,14 +117,14 @@ TEST_CASE("a saved model loads into a fresh algorithm and acts identically", "[p
 TEST_CASE("PPO training state round-trips: a restored run continues bit-identically", "[ppo][checkpoint]") {
   const auto config = ppo_config(5);
   rdsim::VecEnv vec_a(toy::make_envs(3), 5);
-  auto a = rdsim::make_algorithm(config, vec_a.spec());
+  auto a = make_algorithm(config, vec_a.spec());
   for (int k = 0; k < 3; ++k) a->update(vec_a, {vec_a.timesteps(), 2000});
   std::stringstream state;
   a->save(state, true);
   vec_a.save(state);
 
   rdsim::VecEnv vec_b(toy::make_envs(3), 123);
-  auto b = rdsim::make_algorithm(ppo_config(6), vec_b.spec());
+  auto b = make_algorithm(ppo_config(6), vec_b.spec());
   b->load(state, true, "test");
   REQUIRE(vec_b.load(state, "test"));
   for (int k = 0; k < 2; ++k) {
@@ -144,7 +144,7 @@ TEST_CASE("PPO metrics are reported in a fixed order and stay finite", "[ppo]") 
   config.ppo.clip_range_vf = 0.2;
   config.ppo.ent_coef = 0.01;
   config.ppo.anneal_lr = true;
-  auto algo = rdsim::make_algorithm(config, vec.spec());
+  auto algo = make_algorithm(config, vec.spec());
   const auto m1 = algo->update(vec, {0, 640});
   const auto m2 = algo->update(vec, {vec.timesteps(), 640});
   REQUIRE(m1.size() == m2.size());

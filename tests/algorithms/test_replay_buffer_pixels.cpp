@@ -4,14 +4,14 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
-#include "rdsim/algorithm.hpp"
-#include "rdsim/dqn.hpp"
-#include "rdsim/env_state.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/observation_batch.hpp"
-#include "rdsim/replay_buffer.hpp"
-#include "rdsim/train_config.hpp"
-#include "rdsim/vec_env.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/dqn.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/algorithms/replay_buffer.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/env_state.hpp"
+#include "rdsim/core/error.hpp"
+#include "algorithm_setup.hpp"
 
 using namespace rdsim;
 
@@ -79,8 +79,8 @@ private:
   int pos_ = 0, steps_ = 0;
 };
 
-TrainConfig pixel_dqn_config(std::uint64_t seed) {
-  TrainConfig c;
+Setup pixel_dqn_config(std::uint64_t seed) {
+  Setup c;
   c.source = "pixel_corridor.json";
   c.algorithm = "dqn";
   c.seed = seed;
@@ -175,9 +175,9 @@ TEST_CASE("pixel replay buffer save/load round-trips and refuses a float buffer"
 }
 
 TEST_CASE("DQN on pixels: checkpoint resumes identically; model round-trips", "[dqn][pixels]") {
-  const TrainConfig config = pixel_dqn_config(7);
+  const Setup config = pixel_dqn_config(7);
   VecEnv envs = pixel_corridor_envs(7);
-  auto algo = make_dqn(config, envs.spec());
+  auto algo = make_algorithm(config, envs.spec());
   train(*algo, envs, 600, config.total_timesteps);
   std::stringstream ckpt_algo, ckpt_envs;
   algo->save(ckpt_algo, true);
@@ -186,14 +186,14 @@ TEST_CASE("DQN on pixels: checkpoint resumes identically; model round-trips", "[
   REQUIRE_FALSE(straight.empty());
 
   VecEnv envs2 = pixel_corridor_envs(99);
-  auto resumed = make_dqn(pixel_dqn_config(99), envs2.spec());
+  auto resumed = make_algorithm(pixel_dqn_config(99), envs2.spec());
   resumed->load(ckpt_algo, true, "ckpt.bin");
   REQUIRE(envs2.load(ckpt_envs, "ckpt.bin"));
   CHECK(train(*resumed, envs2, 900, config.total_timesteps) == straight);
 
   std::stringstream model;
   algo->save(model, false);
-  auto fresh = make_dqn(pixel_dqn_config(1), envs.spec());
+  auto fresh = make_algorithm(pixel_dqn_config(1), envs.spec());
   fresh->load(model, false, "model.bin");
   PixelCorridor probe;
   Observation o = probe.reset(std::nullopt);

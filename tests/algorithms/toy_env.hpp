@@ -6,11 +6,11 @@
 #include <cstring>
 #include <string>
 
-#include "rdsim/env.hpp"
-#include "rdsim/env_state.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/rng.hpp"
-#include "rdsim/rng_bytes.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_state.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/core/rng_bytes.hpp"
 
 namespace toy {
 

@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/app.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
+#include "rdsim/app/bench_fps.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 
 namespace fs = std::filesystem;
 using namespace rdsim;

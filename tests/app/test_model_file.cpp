@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
-#include "rdsim/error.hpp"
-#include "rdsim/model_file.hpp"
+#include "rdsim/app/model_file.hpp"
+#include "rdsim/core/error.hpp"
 
 using Catch::Matchers::Contains;
 

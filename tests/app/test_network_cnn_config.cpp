@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/error.hpp"
-#include "rdsim/train_config.hpp"
+#include "rdsim/app/train_config.hpp"
+#include "rdsim/core/error.hpp"
 #include "rl_test_util.hpp"
 
 using Catch::Matchers::Contains;
@@ -26,24 +26,24 @@ std::string error_of(const std::string& text) {
 
 TEST_CASE("network.cnn: defaults, custom stacks, round trip through the resolved config", "[train_config][cnn]") {
   const rdsim::TrainConfig plain = parse(R"({"env": {"name": "jaka_button"}})");
-  CHECK(plain.network.cnn.preset == "auto");
-  CHECK(plain.network.cnn.channels.empty());
-  CHECK(plain.network.cnn.fc.empty());
+  CHECK(plain.algorithm.network.cnn.preset == "auto");
+  CHECK(plain.algorithm.network.cnn.channels.empty());
+  CHECK(plain.algorithm.network.cnn.fc.empty());
 
   const rdsim::TrainConfig custom = parse(R"({"env": {"name": "jaka_button", "observation": "raw_pixels"},
       "network": {"cnn": {"preset": "nature", "channels": [8, 16], "kernels": [5, 3], "strides": [2, 1], "fc": [128]}}})");
-  CHECK(custom.network.cnn.preset == "nature");
-  CHECK(custom.network.cnn.channels == std::vector<int>{8, 16});
-  CHECK(custom.network.cnn.kernels == std::vector<int>{5, 3});
-  CHECK(custom.network.cnn.strides == std::vector<int>{2, 1});
-  CHECK(custom.network.cnn.fc == std::vector<int>{128});
+  CHECK(custom.algorithm.network.cnn.preset == "nature");
+  CHECK(custom.algorithm.network.cnn.channels == std::vector<int>{8, 16});
+  CHECK(custom.algorithm.network.cnn.kernels == std::vector<int>{5, 3});
+  CHECK(custom.algorithm.network.cnn.strides == std::vector<int>{2, 1});
+  CHECK(custom.algorithm.network.cnn.fc == std::vector<int>{128});
 
   const rdsim::TrainConfig again = rdsim::parse_train_config(rdsim::to_json(custom), "resolved.json", "cfg");
-  CHECK(again.network.cnn.preset == "nature");
-  CHECK(again.network.cnn.channels == custom.network.cnn.channels);
-  CHECK(again.network.cnn.kernels == custom.network.cnn.kernels);
-  CHECK(again.network.cnn.strides == custom.network.cnn.strides);
-  CHECK(again.network.cnn.fc == custom.network.cnn.fc);
+  CHECK(again.algorithm.network.cnn.preset == "nature");
+  CHECK(again.algorithm.network.cnn.channels == custom.algorithm.network.cnn.channels);
+  CHECK(again.algorithm.network.cnn.kernels == custom.algorithm.network.cnn.kernels);
+  CHECK(again.algorithm.network.cnn.strides == custom.algorithm.network.cnn.strides);
+  CHECK(again.algorithm.network.cnn.fc == custom.algorithm.network.cnn.fc);
 }
 
 TEST_CASE("network.cnn: bad values are rejected naming the key", "[train_config][cnn]") {

@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 
-#include "rdsim/app.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
+#include "rdsim/app/render.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 
 namespace fs = std::filesystem;
 

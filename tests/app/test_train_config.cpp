@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/error.hpp"
-#include "rdsim/train_config.hpp"
+#include "rdsim/app/train_config.hpp"
+#include "rdsim/core/error.hpp"
 #include "rl_test_util.hpp"
 
 using Catch::Matchers::Contains;
@@ -25,29 +25,29 @@ std::string config_error(const rltest::ScratchDir& dir, const std::string& text)
 
 TEST_CASE("the shipped CartPole configs parse with the documented values", "[train_config]") {
   const auto ppo = rdsim::read_train_config("configs/cartpole_ppo.json");
-  CHECK(ppo.algorithm == "ppo");
+  CHECK(ppo.algorithm.name() == "ppo");
   CHECK(ppo.env.name == "cartpole");
   CHECK(ppo.name == "cartpole_ppo");
   CHECK(ppo.log_dir == "runs/cartpole_ppo");
   CHECK(ppo.num_envs == 8);
-  CHECK(ppo.ppo.n_steps == 32);
-  CHECK(ppo.ppo.gae_lambda == 0.8);
-  CHECK(ppo.network.hidden_sizes == std::vector<int>{64, 64});
+  CHECK(std::get<rdsim::PpoConfig>(ppo.algorithm.params).n_steps == 32);
+  CHECK(std::get<rdsim::PpoConfig>(ppo.algorithm.params).gae_lambda == 0.8);
+  CHECK(ppo.algorithm.network.hidden_sizes == std::vector<int>{64, 64});
   const auto a2c = rdsim::read_train_config("configs/cartpole_a2c.json");
-  CHECK(a2c.algorithm == "a2c");
-  CHECK(a2c.a2c.optimizer == "rmsprop");
-  CHECK(a2c.a2c.learning_rate == 7e-4);
+  CHECK(a2c.algorithm.name() == "a2c");
+  CHECK(std::get<rdsim::A2cConfig>(a2c.algorithm.params).optimizer == "rmsprop");
+  CHECK(std::get<rdsim::A2cConfig>(a2c.algorithm.params).learning_rate == 7e-4);
   const auto dqn = rdsim::read_train_config("configs/cartpole_dqn.json");
-  CHECK(dqn.algorithm == "dqn");
+  CHECK(dqn.algorithm.name() == "dqn");
 }
 
 TEST_CASE("the resolved config has every default and reads back to itself", "[train_config]") {
   rltest::ScratchDir dir("config_roundtrip");
   rltest::spit(dir / "tiny.json", R"({"env": {"name": "cartpole"}})");
   const auto c = rdsim::read_train_config(dir / "tiny.json");
-  CHECK(c.algorithm == "ppo");
+  CHECK(c.algorithm.name() == "ppo");
   CHECK(c.log_dir == "runs/tiny");
-  CHECK(c.ppo.n_steps == 2048);
+  CHECK(std::get<rdsim::PpoConfig>(c.algorithm.params).n_steps == 2048);
   const nlohmann::json j = rdsim::to_json(c);
   CHECK(j.at("ppo").at("clip_range") == 0.2);
   CHECK(j.at("network").at("activation") == "tanh");
@@ -72,11 +72,12 @@ TEST_CASE("config errors name the file and the key", "[train_config]") {
   check(R"({"env": {"name": "cartpole"}, "network": {"shared": 1}})", "network.shared: expected true or false");
   check(R"({"env": {"name": "cartpole"}, "ppo": {"gamma": 1.5}})", "ppo.gamma: expected a number in [0, 1]");
   check(R"({"env": {"name": "cartpole"}, "total_timesteps": 0})", "total_timesteps");
-  check(R"({"env": {"name": "cartpole"}, "a2c": {"optimizer": "sgd"}})", "a2c.optimizer");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "a2c", "a2c": {"optimizer": "sgd"}})", "a2c.optimizer");
+  check(R"({"env": {"name": "cartpole"}, "a2c": {"optimizer": "adam"}})", "a2c: has no effect with \"algorithm\": \"ppo\"");
   check(R"({"env": {"name": "cartpole"}, "algorithm": "sac"})", "algorithm: expected one of");
   check(R"({"seed": 1})", "env: missing");
   check(R"({"env": {"name": "cartpole"}, "network": {"hidden_sizes": [64, -1]}})", "network.hidden_sizes");
-  check(R"({"env": {"name": "cartpole"}, "dqn": {"batch_size": 0}})", "dqn.batch_size");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "dqn": {"batch_size": 0}})", "dqn.batch_size");
   check(R"({"env": {"name": "cartpole"}, "network": {"input_scale": 0}})", "network.input_scale");
   check(R"({"env": {"name": "jaka_button", "observation": "raw_pixels"}, "network": {"input_scale": 10}})",
         "network.input_scale: only for vector observations");

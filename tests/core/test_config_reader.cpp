@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/config_reader.hpp"
-#include "rdsim/env_config.hpp"
-#include "rdsim/error.hpp"
+#include "rdsim/core/config_reader.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/core/error.hpp"
 
 using rdsim::ConfigReader;
 using Catch::Matchers::Contains;
@@ -62,20 +62,4 @@ TEST_CASE("config reader errors name the file and the key path", "[config]") {
     r.accept("lr");
     CHECK_THAT(error_of([&] { r.finish(); }), Contains("typo") && Contains("unknown key"));
   }
-}
-
-TEST_CASE("env config rejects a bad observation mode and unknown keys", "[config]") {
-  auto bad_mode = nlohmann::json::parse(R"({"name": "jaka_button", "observation": "pixels"})");
-  ConfigReader r1(bad_mode, "x.json", "env");
-  CHECK_THAT(error_of([&] { rdsim::read_env_config(r1); }),
-             Contains("env.observation") && Contains("raw_pixels"));
-  auto unknown = nlohmann::json::parse(R"({"name": "jaka_button", "is_discret": true})");
-  ConfigReader r2(unknown, "x.json", "env");
-  CHECK_THAT(error_of([&] { rdsim::read_env_config(r2); }), Contains("env.is_discret"));
-  auto good = nlohmann::json::parse(R"({"name": "jaka_button", "observation": "raw_pixels", "max_steps": 50})");
-  ConfigReader r3(good, "x.json", "env");
-  auto c = rdsim::read_env_config(r3);
-  CHECK(c.observation == rdsim::ObservationMode::RawPixels);
-  CHECK(c.max_steps == 50);
-  CHECK(rdsim::to_json(c)["max_steps"] == 50);
 }

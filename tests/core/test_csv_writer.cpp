@@ -6,8 +6,8 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "rdsim/csv_writer.hpp"
-#include "rdsim/error.hpp"
+#include "rdsim/core/csv_writer.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace {
 

@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "rdsim/rng.hpp"
+#include "rdsim/core/rng.hpp"
 
 TEST_CASE("rng streams are reproducible and distinct per seed", "[rng]") {
   rdsim::Rng a(42), b(42), c(43);

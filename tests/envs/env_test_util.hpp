@@ -3,15 +3,15 @@
 #include <cmath>
 #include <string>
 
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/envs/registry.hpp"
 
 // Helpers shared by the reaching-env tests.
 namespace rdsim::test {
 
 inline EnvConfig env_config(const std::string& name, bool random_target = false) {
-  EnvConfig c;
-  c.name = name;
+  EnvConfig c = rdsim::default_env_config(name);
   c.random_target = random_target;
   return c;
 }

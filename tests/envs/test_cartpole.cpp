@@ -2,9 +2,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "rdsim/env_registry.hpp"
+#include "rdsim/core/error.hpp"
 #include "rdsim/envs/cartpole.hpp"
-#include "rdsim/error.hpp"
+#include "rdsim/envs/registry.hpp"
 
 using rdsim::Action;
 using rdsim::CartPole;
@@ -13,8 +13,7 @@ using rdsim::EnvConfig;
 namespace {
 
 EnvConfig cartpole_config() {
-  EnvConfig c;
-  c.name = "cartpole";
+  EnvConfig c = rdsim::default_env_config("cartpole");
   return c;
 }
 

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/env_registry.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng.hpp"
 #include "rdsim/envs/inmoov_tomato.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/envs/registry.hpp"
 
 using rdsim::Action;
 using rdsim::EnvConfig;
@@ -17,8 +17,7 @@ using rdsim::InmoovTomato;
 namespace {
 
 EnvConfig inmoov_config() {
-  EnvConfig c;
-  c.name = "inmoov_tomato";
+  EnvConfig c = rdsim::default_env_config("inmoov_tomato");
   return c;
 }
 

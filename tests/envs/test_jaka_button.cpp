@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 
 #include "env_test_util.hpp"
-#include "rdsim/env_registry.hpp"
+#include "rdsim/core/error.hpp"
 #include "rdsim/envs/jaka_button.hpp"
-#include "rdsim/error.hpp"
+#include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
 using rdsim::test::env_config;

@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 
 #include "env_test_util.hpp"
-#include "rdsim/env_registry.hpp"
 #include "rdsim/envs/jaka_obstacle.hpp"
+#include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
 using rdsim::test::env_config;

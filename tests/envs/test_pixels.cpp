@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 
-#include "rdsim/env_registry.hpp"
+#include "rdsim/core/error.hpp"
 #include "rdsim/envs/jaka_button.hpp"
+#include "rdsim/envs/registry.hpp"
 #include "rdsim/envs/robot_scene.hpp"
-#include "rdsim/error.hpp"
 
 using rdsim::EnvConfig;
 using rdsim::ObsType;
@@ -11,8 +11,7 @@ using rdsim::ObsType;
 namespace {
 
 EnvConfig pixel_config(bool random_target = false) {
-  EnvConfig c;
-  c.name = "jaka_button";
+  EnvConfig c = rdsim::default_env_config("jaka_button");
   c.observation = rdsim::ObservationMode::RawPixels;
   c.random_target = random_target;
   return c;
@@ -112,8 +111,7 @@ TEST_CASE("raw pixels are deterministic, and two envs render independently in on
 }
 
 TEST_CASE("RobotScene: one item per URDF visual, poses follow the robot", "[pixels]") {
-  EnvConfig config;
-  config.name = "jaka_button";
+  EnvConfig config = rdsim::default_env_config("jaka_button");
   rdsim::JakaButton env(config);
   env.reset(0);
   const rdsim::ReachTask& task = env.task();
@@ -140,8 +138,7 @@ TEST_CASE("RobotScene: one item per URDF visual, poses follow the robot", "[pixe
 }
 
 TEST_CASE("inmoov_tomato raw pixels: the tomatoes are visible, the target choice is deterministic", "[pixels]") {
-  EnvConfig config;
-  config.name = "inmoov_tomato";
+  EnvConfig config = rdsim::default_env_config("inmoov_tomato");
   config.observation = rdsim::ObservationMode::RawPixels;
   config.random_target = true;
   const auto env = rdsim::make_env(config);
@@ -155,8 +152,7 @@ TEST_CASE("inmoov_tomato raw pixels: the tomatoes are visible, the target choice
 }
 
 TEST_CASE("jaka_obstacle raw pixels: button and column in view, two views stack", "[pixels]") {
-  EnvConfig config;
-  config.name = "jaka_obstacle";
+  EnvConfig config = rdsim::default_env_config("jaka_obstacle");
   config.observation = rdsim::ObservationMode::RawPixels;
   config.random_target = true;
   config.multi_view = true;

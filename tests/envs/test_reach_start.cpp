@@ -5,8 +5,8 @@
 #include <string>
 
 #include "env_test_util.hpp"
-#include "rdsim/env_registry.hpp"
 #include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
 

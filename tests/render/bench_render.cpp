@@ -8,8 +8,8 @@
 #include <ctime>
 #include <vector>
 
-#include "rdsim/png.hpp"
-#include "rdsim/renderer.hpp"
+#include "rdsim/render/png.hpp"
+#include "rdsim/render/renderer.hpp"
 #include "render_test_util.hpp"
 
 using namespace rdsim;

@@ -3,8 +3,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "rdsim/camera.hpp"
-#include "rdsim/scene.hpp"
+#include "rdsim/render/camera.hpp"
+#include "rdsim/render/scene.hpp"
 
 namespace rdsim::test {
 

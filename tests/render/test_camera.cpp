@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "rdsim/camera.hpp"
-#include "rdsim/error.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/render/camera.hpp"
 
 using Catch::Matchers::Contains;
 using rdsim::Camera;

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/env_config.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/renderer.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/render/renderer.hpp"
 #include "render_test_util.hpp"
 
 using Catch::Matchers::Contains;
@@ -192,21 +192,6 @@ TEST_CASE("renderer names: unknown ones list the built backends, auto picks one 
   CHECK(chosen->height() == 12);
   CHECK(chosen->backend() == (egl_unavailable_reason().empty() ? "egl" : "osmesa"));
   CHECK_THROWS_AS(make_renderer("auto", 0, 8), Error);
-}
-
-TEST_CASE("env.renderer is read, written back and checked", "[render][egl]") {
-  auto read = [](const nlohmann::json& env) {
-    ConfigReader r(env, "test.json", "env");
-    return read_env_config(r);
-  };
-  CHECK(read({{"name", "jaka_button"}}).renderer == "osmesa");
-  for (const char* choice : {"osmesa", "egl", "auto"}) {
-    const EnvConfig c = read({{"name", "jaka_button"}, {"renderer", choice}});
-    CHECK(c.renderer == choice);
-    CHECK(read(to_json(c)).renderer == choice);
-  }
-  CHECK_THROWS_WITH(read({{"name", "jaka_button"}, {"renderer", "vulkan"}}),
-                    Contains("test.json") && Contains("env.renderer") && Contains("vulkan"));
 }
 
 TEST_CASE("egl vs osmesa frames per second, ~20-item workspace", "[.bench]") {

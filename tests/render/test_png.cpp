@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/checksum.hpp"
-#include "rdsim/error.hpp"
-#include "rdsim/files.hpp"
-#include "rdsim/png.hpp"
+#include "rdsim/core/checksum.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
+#include "rdsim/render/png.hpp"
 
 using Catch::Matchers::Contains;
 namespace fs = std::filesystem;

@@ -2,8 +2,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "rdsim/error.hpp"
-#include "rdsim/renderer.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/render/renderer.hpp"
 #include "render_test_util.hpp"
 
 using Catch::Matchers::Contains;

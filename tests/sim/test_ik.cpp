@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "rdsim/ik.hpp"
-#include "rdsim/rng.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/sim/ik.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 #include "sim_test_assets.hpp"
 
 using namespace rdsim;

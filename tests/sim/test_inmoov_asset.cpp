@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/ik.hpp"
-#include "rdsim/kinematics.hpp"
-#include "rdsim/physics_world.hpp"
-#include "rdsim/robot.hpp"
-#include "rdsim/robot_model.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/sim/ik.hpp"
+#include "rdsim/sim/kinematics.hpp"
+#include "rdsim/sim/physics_world.hpp"
+#include "rdsim/sim/robot.hpp"
+#include "rdsim/sim/robot_model.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 
 namespace {
 

@@ -2,10 +2,10 @@
 
 #include <Eigen/Cholesky>
 
-#include "rdsim/joint_dynamics.hpp"
-#include "rdsim/physics_world.hpp"
-#include "rdsim/rng.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/sim/joint_dynamics.hpp"
+#include "rdsim/sim/physics_world.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 #include "sim_test_assets.hpp"
 
 using namespace rdsim;

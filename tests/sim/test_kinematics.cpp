@@ -2,11 +2,11 @@
 
 #include <cmath>
 
-#include "rdsim/error.hpp"
-#include "rdsim/kinematics.hpp"
-#include "rdsim/physics_world.hpp"
-#include "rdsim/rng.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/sim/kinematics.hpp"
+#include "rdsim/sim/physics_world.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 #include "sim_test_assets.hpp"
 
 using namespace rdsim;

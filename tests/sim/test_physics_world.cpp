@@ -2,10 +2,10 @@
 
 #include <cmath>
 
-#include "rdsim/error.hpp"
-#include "rdsim/ik.hpp"
-#include "rdsim/physics_world.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/sim/ik.hpp"
+#include "rdsim/sim/physics_world.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 #include "sim_test_assets.hpp"
 
 using namespace rdsim;

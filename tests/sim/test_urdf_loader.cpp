@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "rdsim/error.hpp"
-#include "rdsim/urdf_loader.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/sim/urdf_loader.hpp"
 #include "sim_test_assets.hpp"
 
 using namespace rdsim;

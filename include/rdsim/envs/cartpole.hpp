@@ -1,16 +1,16 @@
 #pragma once
 #include <memory>
 
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
-#include "rdsim/env_state.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/core/env_state.hpp"
+#include "rdsim/core/rng.hpp"
 
 // The classic cart-pole balancing task (Barto, Sutton & Anderson 1983) with Gym CartPole-v1's
 // constants and limits: observation (x, x_dot, theta, theta_dot), Discrete(2) push left/right
 // with 10 N, Euler integration at 0.02 s, +1 reward per step (including the failing one),
 // terminated when |x| > 2.4 m or |theta| > 12 degrees, truncated after 500 steps
-// (EnvConfig::max_steps overrides). StepInfo::success: the episode reached the step limit
+// (env option max_steps). StepInfo::success: the episode reached the step limit
 // without failing. Needs no physics engine: the quickest env to check that learning works.
 namespace rdsim {
 
@@ -45,6 +45,7 @@ private:
   bool done_ = true;
 };
 
+EnvConfig cartpole_defaults();  // max_steps 500
 std::unique_ptr<Env> make_cartpole(const EnvConfig& config);
 
 }  // namespace rdsim

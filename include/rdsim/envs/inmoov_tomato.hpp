@@ -2,8 +2,8 @@
 #include <memory>
 #include <vector>
 
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/reach_env.hpp"
 
 // inmoov_tomato — RobotDrlSim section 4.3: the InMoov humanoid (assets/inmoov/inmoov.urdf, 54
@@ -19,7 +19,7 @@
 // random_target: a tomato drawn uniformly from the six at each reset (seeded Rng).
 // End effector: r_hand_ee, the centre of the right palm's face.
 //
-// Numbers (EnvConfig value 0 = the default given here):
+// Numbers (the env options' defaults, published by inmoov_tomato_defaults()):
 //   physics          Bullet Featherstone, 1/240 s per physics step, gravity -9.8, 10 solver iterations
 //                    (contacts only: ComputedTorque drive, no joint-limit constraint rows; the targets
 //                    are clamped to the limits), action_repeat 1. The robot's links do not collide with
@@ -49,6 +49,7 @@
 //                    inmoov_main_view() / inmoov_second_view() (pixel_view.hpp): tree, tomatoes, right arm.
 namespace rdsim {
 
+EnvConfig inmoov_tomato_defaults();
 ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config);
 
 // What makes inmoov_tomato a task on top of ReachEnv: the targets are the tree's tomatoes

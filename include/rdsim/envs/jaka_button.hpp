@@ -1,8 +1,8 @@
 #pragma once
 #include <memory>
 
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/reach_env.hpp"
 
 // jaka_button — RobotDrlSim section 4.1: a JAKA Zu 7 arm moves its flange to a push button on a table.
@@ -15,7 +15,7 @@
 // y -0.3..0.3), drawn from the env's Rng at each reset; every such point is reachable tool-down.
 // End effector: flange_link (centre of the flange face).
 //
-// Numbers (EnvConfig value 0 = the default given here):
+// Numbers (the env options' defaults, published by jaka_button_defaults()):
 //   physics          Bullet Featherstone, 1/240 s per physics step, gravity -9.8, 10 solver
 //                    iterations (contacts only: ComputedTorque drive, no limit constraint rows;
 //                    set_position_targets clamps to the joint limits), action_repeat 1.
@@ -42,7 +42,10 @@
 //   truncation       max_steps (default 200; the paper used 1000).
 namespace rdsim {
 
-// The jaka_button scene and numbers above, with `config`'s overrides applied.
+// The env options above with jaka_button's values (registry: default_env_config("jaka_button")).
+EnvConfig jaka_button_defaults();
+
+// The jaka_button scene and numbers above, with `config`'s task numbers.
 ReachTaskSpec jaka_button_spec(const EnvConfig& config);
 
 // What makes jaka_button a task on top of ReachEnv: the button is pressed, nothing is forbidden.

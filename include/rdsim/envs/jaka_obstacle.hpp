@@ -1,8 +1,8 @@
 #pragma once
 #include <memory>
 
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_env.hpp"
 
@@ -40,6 +40,7 @@
 //   success, workspace, out-of-bounds, physics, actions: as jaka_button.
 namespace rdsim {
 
+EnvConfig jaka_obstacle_defaults();  // jaka_button's, with max_steps 300 and max_distance 0.9 m
 ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config);
 
 // What makes jaka_obstacle a task on top of ReachEnv: the button is pressed, the column is

@@ -3,12 +3,12 @@
 #include <memory>
 #include <vector>
 
-#include "rdsim/camera.hpp"
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/reach_task.hpp"
 #include "rdsim/envs/robot_scene.hpp"
-#include "rdsim/renderer.hpp"
+#include "rdsim/render/camera.hpp"
+#include "rdsim/render/renderer.hpp"
 
 // Raw-pixel observations of a reaching env: its robot and static bodies drawn by ONE renderer
 // (created here, once per env, reused every step) from one camera, or two stacked as 6 channels

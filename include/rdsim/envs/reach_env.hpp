@@ -4,12 +4,12 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/camera.hpp"
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/core/rng.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_task.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/render/camera.hpp"
 
 // The one Env implementation of every reaching task (jaka_button, jaka_obstacle, inmoov_tomato):
 // ReachTask does the physics and IK moves; ReachTerms says what differs between tasks. A task file

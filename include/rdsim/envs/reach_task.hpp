@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/env.hpp"
-#include "rdsim/env_config.hpp"
-#include "rdsim/kinematics.hpp"
-#include "rdsim/physics_world.hpp"
-#include "rdsim/rng.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/sim/kinematics.hpp"
+#include "rdsim/sim/physics_world.hpp"
 
 // Shared machinery of every "move an end effector to a target by IK" environment (jaka_button,
 // jaka_obstacle, inmoov_tomato): a robot and static bodies in a PhysicsWorld, end-effector moves
@@ -50,12 +50,13 @@ struct ReachTaskSpec {
   std::optional<Eigen::Vector3f> random_centre;
   Eigen::AlignedBox3f workspace;  // move targets are clipped into it; the ee leaving it ends an episode
 
-  float step = 0.015f;            // m per discrete move / largest continuous move
+  // Task numbers, from the env's EnvConfig (apply_env_config):
+  float step = 0.0f;              // m per discrete move / largest continuous move
   float move_noise = 1.0f / 30.0f;  // Gaussian noise on each move component, sigma = move_noise * step
-  float success_threshold = 0.025f;  // m
-  float max_distance = 0.7f;         // m from the target: farther ends the episode
+  float success_threshold = 0.0f;    // m
+  float max_distance = 0.0f;         // m from the target: farther ends the episode
   float workspace_margin = 0.02f;    // m the ee may lag outside `workspace` before it counts as out
-  int max_steps = 200;
+  int max_steps = 0;
   int action_repeat = 1;             // physics steps per env step
   int ik_iterations = 1;             // damped least squares steps per move (one FK + Jacobian each), from the current joints
 
@@ -63,9 +64,8 @@ struct ReachTaskSpec {
   RobotOptions robot;
 };
 
-// Applies the EnvConfig overrides shared by reaching envs (0 = keep the spec's default) to `spec`,
-// rejecting bad values with an rdsim::Error naming the env.* key. Also sets the workspace-independent
-// defaults documented by each env.
+// Copies the task numbers of `config` (action_step, success_threshold, max_distance, max_steps,
+// action_repeat; checked by read_env_config / make_env) into `spec`.
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec);
 
 // Discrete(6) = -x, +x, -y, +y, -z, +z; continuous Box(3) in [-1, 1] scaled by `step`.

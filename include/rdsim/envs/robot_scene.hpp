@@ -2,9 +2,9 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "rdsim/physics_world.hpp"
-#include "rdsim/robot_model.hpp"
-#include "rdsim/scene.hpp"
+#include "rdsim/render/scene.hpp"
+#include "rdsim/sim/physics_world.hpp"
+#include "rdsim/sim/robot_model.hpp"
 
 // What a camera sees of a PhysicsWorld: one render DrawItem per URDF <visual> of its robots and
 // static bodies, in the URDF colours. Built once per env; update_poses() then only copies poses

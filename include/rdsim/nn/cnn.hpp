@@ -3,10 +3,10 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/core/rng.hpp"
 #include "rdsim/nn/conv.hpp"
 #include "rdsim/nn/mlp.hpp"
 #include "rdsim/nn/param.hpp"
-#include "rdsim/rng.hpp"
 
 // Convolutional networks for pixel observations: conv layers (each followed by the activation),
 // flatten, then an nn::Mlp head (hidden dense layers + linear output). Same methods and batch

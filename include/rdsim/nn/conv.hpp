@@ -2,8 +2,8 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "rdsim/core/rng.hpp"
 #include "rdsim/nn/param.hpp"
-#include "rdsim/rng.hpp"
 
 // 2-D convolution on batches of images, one column per sample. A column holds one image
 // flattened height x width x channels, row-major ("HWC", the layout pixel observations have),
@@ -42,7 +42,7 @@ struct ConvWorkspace {
   Eigen::VectorXf patches;
   // Samples are processed in chunks whose patch matrix holds at most this many floats
   // (always at least one sample per chunk): bounds memory for big images and keeps the patch
-  // matrix in cache. See algorithms/conv.cpp for the measurement behind the default.
+  // matrix in cache. See src/nn/conv.cpp for the measurement behind the default.
   long long max_patch_floats = 1 << 17;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "rdsim/rng.hpp"
+#include "rdsim/core/rng.hpp"
 
 // Action distributions over batches (one column per sample). Per-sample results are VectorXf of
 // length batch. Gradient functions return d(sum_j w_j f_j)/d(input), with weights w (length

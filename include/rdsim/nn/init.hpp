@@ -1,7 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "rdsim/rng.hpp"
+#include "rdsim/core/rng.hpp"
 
 namespace rdsim::nn {
 

@@ -3,9 +3,9 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/core/rng.hpp"
 #include "rdsim/nn/activation.hpp"
 #include "rdsim/nn/param.hpp"
-#include "rdsim/rng.hpp"
 
 // Multi-layer perceptrons on batches stored one column per sample (features x batch).
 namespace rdsim::nn {

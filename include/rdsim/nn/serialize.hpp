@@ -21,15 +21,8 @@ void load_params(const ParamList& params, std::istream& in, const std::string& s
 std::string params_to_bytes(const ParamList& params);
 void params_from_bytes(const ParamList& params, const std::string& bytes, const std::string& source);
 
-// Low-level helpers shared with the optimiser state format (little-endian hosts only; the
-// build rejects big-endian targets).
-void write_u32(std::ostream& out, std::uint32_t v);
-void write_u64(std::ostream& out, std::uint64_t v);
-void write_f32(std::ostream& out, float v);
+// One tensor: u32 rows, u32 cols, rows*cols float32 (core/binary_io.hpp for the scalars).
 void write_matrix(std::ostream& out, const Eigen::MatrixXf& m);
-std::uint32_t read_u32(std::istream& in, const std::string& source);
-std::uint64_t read_u64(std::istream& in, const std::string& source);
-float read_f32(std::istream& in, const std::string& source);
 // Reads a matrix and checks it has rows x cols; `what` names it in the error.
 void read_matrix(std::istream& in, Eigen::MatrixXf& m, int rows, int cols, const std::string& source,
                  const std::string& what);

@@ -1,0 +1,81 @@
+#include "rdsim/algorithms/algorithm_config.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "rdsim/core/error.hpp"
+
+namespace rdsim {
+namespace {
+
+// The name of each AlgorithmParams alternative in configs, in the variant's order.
+constexpr const char* kNames[] = {"ppo", "a2c", "dqn"};
+static_assert(std::size(kNames) == std::variant_size_v<AlgorithmParams>, "one name per AlgorithmParams alternative");
+
+template <std::size_t I = 0>
+AlgorithmParams params_by_index(std::size_t index) {
+  if constexpr (I < std::variant_size_v<AlgorithmParams>) {
+    if (index == I) return AlgorithmParams(std::in_place_index<I>);
+    return params_by_index<I + 1>(index);
+  } else {
+    return AlgorithmParams{};
+  }
+}
+
+std::string known_names() {
+  std::string known;
+  for (const char* n : kNames) known += (known.empty() ? "" : ", ") + ("\"" + std::string(n) + "\"");
+  return known;
+}
+
+}  // namespace
+
+std::string AlgorithmConfig::name() const { return kNames[params.index()]; }
+
+std::vector<std::string> algorithm_names() { return {std::begin(kNames), std::end(kNames)}; }
+
+AlgorithmParams default_algorithm_params(const std::string& name) {
+  for (std::size_t i = 0; i < std::size(kNames); ++i)
+    if (name == kNames[i]) return params_by_index(i);
+  throw Error("unknown algorithm \"" + name + "\" (known: " + known_names() + ")");
+}
+
+AlgorithmConfig read_algorithm_config(ConfigReader& r) {
+  AlgorithmConfig c;
+  c.source = r.where();
+  std::string name = kNames[0];
+  r.read_choice("algorithm", name, algorithm_names());
+  c.params = default_algorithm_params(name);
+  ConfigReader network = r.child("network");
+  config::read_fields(network, c.network);
+  std::visit(
+      [&](auto& params) {
+        ConfigReader section = r.child(name);
+        config::read_fields(section, params);
+      },
+      c.params);
+  for (const char* other : kNames) {
+    if (other != name && r.has(other))
+      r.fail(other, "has no effect with \"algorithm\": \"" + name + "\" (expected a \"" + name + "\" object, or none)");
+  }
+  return c;
+}
+
+void write_algorithm_config(const AlgorithmConfig& c, nlohmann::json& out) {
+  out["algorithm"] = c.name();
+  out["network"] = config::write_fields(c.network);
+  std::visit([&](const auto& params) { out[c.name()] = config::write_fields(params); }, c.params);
+}
+
+std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_t seed, const Spec& spec) {
+  struct Make {
+    const AlgorithmConfig& c;
+    std::uint64_t seed;
+    const Spec& spec;
+    std::unique_ptr<Algorithm> operator()(const PpoConfig& p) const { return make_ppo(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const A2cConfig& p) const { return make_a2c(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const DqnConfig& p) const { return make_dqn(p, c.network, seed, spec, c.source); }
+  };
+  return std::visit(Make{c, seed, spec}, c.params);
+}
+
+}  // namespace rdsim

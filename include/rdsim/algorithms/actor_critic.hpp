@@ -1,0 +1,102 @@
+#pragma once
+#include <Eigen/Core>
+#include <memory>
+
+#include "rdsim/algorithms/network_config.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/nn/cnn.hpp"
+#include "rdsim/nn/nn.hpp"
+
+// Policy and value networks of the on-policy algorithms (PPO, A2C) over the nn:: API:
+// separate actor and critic MLPs, or one shared trunk with two linear heads. Pixel (UInt8)
+// observations always get a shared CNN trunk (network.cnn) with two linear heads. Discrete action
+// spaces get a Categorical over logits, Box spaces a DiagGaussian with a state-independent,
+// trainable log std. Observations come in encoded (see observation_batch.hpp); every pass first
+// multiplies them by network.input_scale.
+namespace rdsim {
+
+// True when observations of this space are images that need a CNN (UInt8, {height, width, channels}).
+bool is_image_space(const ObservationSpace& space);
+
+// The network described by `config` (network.cnn) for images of `space`, `outputs` outputs
+// (its last fc layer when used as a feature trunk). rdsim::Error naming `where` (e.g.
+// "cfg.json: network.cnn") when the space is not an image or the convs do not fit it.
+nn::CnnShape cnn_shape(const CnnConfig& config, const ObservationSpace& space, int outputs, const std::string& where);
+
+// Builds the Cnn of cnn_shape(), turning shape errors into messages naming `where`.
+nn::Cnn make_cnn(const nn::CnnShape& shape, float output_gain, Rng& rng, const std::string& where);
+
+// The result of acting on a batch (one column per observation).
+struct ActBatch {
+  Eigen::MatrixXf actions;    // action_dim x n: raw samples (discrete: the index as a float)
+  Eigen::VectorXf log_probs;  // log pi(action | obs)
+  Eigen::VectorXf values;     // V(obs)
+};
+
+// A training forward pass over a minibatch; backward() differentiates through it.
+struct PolicyEval {
+  Eigen::VectorXf log_probs;
+  Eigen::VectorXf entropy;
+  Eigen::VectorXf values;
+};
+
+class ActorCritic {
+public:
+  // Weights drawn from `init_rng` (orthogonal init: sqrt(2) hidden, 0.01 policy head, 1 value head).
+  ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& init_rng);
+  ActorCritic(const ActorCritic&) = delete;  // optimisers hold pointers into the tensors
+  ActorCritic& operator=(const ActorCritic&) = delete;
+
+  // Inference (does not disturb the training caches).
+  void act(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, ActBatch& out);
+  Eigen::VectorXf predict_values(const Eigen::MatrixXf& obs);
+
+  // Training: forward over (obs, actions) keeping what backward() needs.
+  const PolicyEval& evaluate(const Eigen::MatrixXf& obs, const Eigen::MatrixXf& actions);
+  // Accumulates parameter gradients of a loss given its derivatives w.r.t. each sample's
+  // log_prob, entropy and value of the last evaluate().
+  void backward(const Eigen::VectorXf& d_log_prob, const Eigen::VectorXf& d_entropy,
+                const Eigen::VectorXf& d_value);
+
+  nn::ParamList params();
+  void zero_grad();
+
+  // The env action for one column of ActBatch::actions (Box actions clipped to the bounds).
+  Action env_action(const Eigen::Ref<const Eigen::VectorXf>& column) const;
+
+  int observation_size() const { return obs_size_; }
+  int action_dim() const { return action_dim_; }
+  bool discrete() const { return discrete_; }
+
+  bool uses_cnn() const { return cnn_; }
+
+private:
+  const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
+
+  bool discrete_;
+  bool shared_;
+  bool cnn_;  // pixels: cnn_trunk_ replaces trunk_
+  int obs_size_;
+  int action_dim_;
+  int policy_outputs_;
+  nn::Activation activation_;
+  nn::Mlp trunk_;   // shared only: obs -> last hidden layer (pre-activation)
+  nn::Cnn cnn_trunk_;  // pixels only: image -> last fc layer (pre-activation)
+  nn::Mlp policy_;  // -> logits or Gaussian mean
+  nn::Mlp value_;   // -> V
+  nn::Tensor log_std_;
+  Eigen::VectorXf low_, high_;
+  float input_scale_ = 1.0f;
+  Eigen::MatrixXf infer_input_, eval_input_;  // scaled observations (input_scale != 1)
+  // training caches
+  Eigen::MatrixXf trunk_pre_, features_;
+  Eigen::VectorXi eval_discrete_;
+  Eigen::MatrixXf eval_actions_;
+  std::unique_ptr<nn::Categorical> eval_categorical_;
+  std::unique_ptr<nn::DiagGaussian> eval_gaussian_;
+  PolicyEval eval_;
+  Eigen::MatrixXf infer_features_;
+};
+
+}  // namespace rdsim

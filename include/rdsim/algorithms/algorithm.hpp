@@ -1,0 +1,73 @@
+#pragma once
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/rng.hpp"
+
+// The interface between the training loop (src/app/train.cpp) and a learning algorithm
+// (PPO, A2C, DQN). The loop owns the environments (a VecEnv, which also counts timesteps and
+// tracks episodes), the log files and the model/checkpoint files; an algorithm owns its
+// networks, optimiser and random streams, and decides how many env steps one update takes.
+//
+// The loop, in short:
+//   auto algo = make_algorithm(config.algorithm, config.seed, envs.spec());  // algorithm_config.hpp
+//   while (envs.timesteps() < total) {
+//     Metrics m = algo->update(envs, {envs.timesteps(), total});   // steps envs, then learns
+//     ... episodes.csv rows from envs.episodes().take_finished(), one progress.csv row from m ...
+//   }
+//   model.bin <- algo->save(out, /*training_state=*/false)
+//
+// Writing a new algorithm (e.g. off-policy DQN): step the envs ONLY through VecEnv::step (so
+// timesteps and episode statistics stay right), use VecEnv::step results' `final_observation`
+// to bootstrap on truncation (never on termination), draw all randomness from Rng streams
+// derived with Rng::derive(config.seed, rng_stream::...) and save them in save(.., true).
+namespace rdsim {
+
+class VecEnv;  // vec_env.hpp
+
+// Named scalar statistics of one update, in a FIXED order for a given algorithm and config:
+// they become the algorithm's columns of progress.csv (the first update fixes the header).
+// Use snake_case names, e.g. {"policy_loss", x}, {"value_loss", y}, {"entropy", z}.
+using Metrics = std::vector<std::pair<std::string, double>>;
+
+// Where the run stands when an update starts; schedules (learning-rate annealing, exploration)
+// are functions of it.
+struct TrainProgress {
+  long long timesteps = 0;        // env steps taken so far, all envs together
+  long long total_timesteps = 1;  // the run's goal
+
+  // 1 at the start of training, 0 at the end (Stable-Baselines3's "progress_remaining").
+  double remaining(long long at_timesteps) const {
+    const double r = 1.0 - static_cast<double>(at_timesteps) / static_cast<double>(total_timesteps);
+    return r < 0.0 ? 0.0 : (r > 1.0 ? 1.0 : r);
+  }
+};
+
+class Algorithm {
+public:
+  virtual ~Algorithm() = default;
+
+  // "ppo", "a2c", "dqn".
+  virtual std::string name() const = 0;
+
+  // Collects experience by stepping `envs` (as many steps as the algorithm's update needs,
+  // e.g. n_steps per env for PPO) and improves the policy once. Returns this update's stats.
+  virtual Metrics update(VecEnv& envs, const TrainProgress& progress) = 0;
+
+  // The action for ONE observation: the most likely one when `deterministic` (replay), else a
+  // draw from the policy using `rng`. Continuous actions are clipped to the action bounds.
+  virtual Action act(const Observation& observation, bool deterministic, Rng& rng) = 0;
+
+  // Binary state. training_state == false: what acting needs (network weights) -> model.bin.
+  // training_state == true: everything an exact resume needs (weights, optimiser state, Rng
+  // streams, counters) -> checkpoint.bin. load() throws rdsim::Error naming `source` when the
+  // bytes do not fit this algorithm/config (the nn:: readers do that for tensors).
+  virtual void save(std::ostream& out, bool training_state) const = 0;
+  virtual void load(std::istream& in, bool training_state, const std::string& source) = 0;
+};
+
+}  // namespace rdsim

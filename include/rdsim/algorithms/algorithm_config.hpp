@@ -1,0 +1,51 @@
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "rdsim/algorithms/a2c.hpp"
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/dqn.hpp"
+#include "rdsim/algorithms/network_config.hpp"
+#include "rdsim/algorithms/ppo.hpp"
+#include "rdsim/core/config_reader.hpp"
+
+// What a training config says about the learner: which algorithm, its networks, and its own
+// hyperparameters (the object named after it: "ppo": {...}). Adding an algorithm: its config
+// struct with describe() and its factory in its own header, one alternative in
+// AlgorithmParams and one row in algorithm_config.cpp's table.
+namespace rdsim {
+
+using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig>;
+
+struct AlgorithmConfig {
+  NetworkConfig network;
+  AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
+  std::string source;      // the config file, for messages
+
+  std::string name() const;  // "ppo", "a2c", "dqn"
+};
+
+// Every algorithm name, in registry order.
+std::vector<std::string> algorithm_names();
+
+// The algorithm's default hyperparameters; rdsim::Error listing the names for an unknown one.
+AlgorithmParams default_algorithm_params(const std::string& name);
+
+// Reads "algorithm", "network" and the chosen algorithm's object from the top level of a
+// training config (`reader`, which keeps checking the other keys). The object of another
+// algorithm is an error: it would have no effect.
+AlgorithmConfig read_algorithm_config(ConfigReader& reader);
+
+// Writes the same three keys, every value resolved, into `out` (a JSON object).
+void write_algorithm_config(const AlgorithmConfig& config, nlohmann::json& out);
+
+// Creates the algorithm for envs described by `spec`, with fresh weights drawn from
+// Rng::derive(seed, rng_stream::network_init). rdsim::Error when the algorithm cannot handle the
+// spec (e.g. DQN with a Box action space).
+std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& config, std::uint64_t seed, const Spec& spec);
+
+}  // namespace rdsim

@@ -1,0 +1,20 @@
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+// `rdsim bench-fps`: the paper's Table 3, env steps per second (src/app/bench_fps.cpp).
+namespace rdsim {
+
+struct BenchFpsOptions {
+  std::vector<std::string> envs;        // empty: every registered env
+  std::vector<std::string> modes;       // "ground_truth", "raw_pixels"; empty: all supported
+  std::vector<int> image_sizes;         // raw_pixels rows: one per square size; empty: 64 and 224
+  int runs = 5;                         // the median of this many runs is reported
+  long long steps = 20000;              // env steps per run
+  std::string json_path;                // "-" for stdout; empty: no JSON
+};
+int bench_fps_command(const BenchFpsOptions& options);
+
+}  // namespace rdsim

@@ -1,0 +1,19 @@
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+// `rdsim replay`: runs a saved policy in the env rebuilt from its model file (src/app/replay.cpp).
+namespace rdsim {
+
+struct ReplayOptions {
+  std::string model_path;
+  int episodes = 10;
+  std::optional<std::uint64_t> seed;  // default: the model's training seed
+  bool stochastic = false;            // sample actions instead of taking the most likely one
+  std::string record_dir;             // write every frame as PNG here (empty: no recording)
+};
+int replay_command(const ReplayOptions& options);
+
+}  // namespace rdsim

@@ -1,0 +1,44 @@
+#pragma once
+#include <memory>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "rdsim/core/config_reader.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
+
+namespace rdsim {
+
+struct EnvEntry {
+  std::string name;
+  std::string description;
+  bool supports_pixels = false;
+  EnvConfig (*defaults)();                    // every option with the value the env uses by default
+  std::vector<std::string> keys;              // the "env" keys it reads besides "name"
+  std::unique_ptr<Env> (*make)(const EnvConfig&);
+};
+
+// Every environment rdsim knows, listed explicitly in envs/registry.cpp (no static-init magic,
+// so nothing silently disappears at link time).
+const std::vector<EnvEntry>& env_registry();
+
+// The registry entry of `name`; rdsim::Error listing the known names otherwise.
+const EnvEntry& env_entry(const std::string& name);
+
+// The env's published defaults (EnvConfig with real values, name set).
+EnvConfig default_env_config(const std::string& name);
+
+// Reads the "env" object of a config: "name" first, then the other keys over that env's
+// defaults, so the result holds the values the env will use. Unknown keys, keys the env does not
+// read, wrong types and out-of-range values are rdsim::Errors naming the key.
+EnvConfig read_env_config(ConfigReader& reader);
+
+// The resolved "env" object: name and every key the env reads, with its value.
+nlohmann::json to_json(const EnvConfig& config);
+
+// Creates the env named by config.name after checking every value against the same rules as
+// read_env_config (so a config built in code meets them too).
+std::unique_ptr<Env> make_env(const EnvConfig& config);
+
+}  // namespace rdsim

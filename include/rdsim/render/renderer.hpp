@@ -1,0 +1,39 @@
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rdsim/render/camera.hpp"
+#include "rdsim/render/scene.hpp"
+
+namespace rdsim {
+
+// Draws a Scene seen by a Camera into an RGB image of a fixed size. Each Renderer owns its own
+// graphics context and buffers, so several can live in one process (one per env, or one per
+// camera). A Renderer must be used from one thread at a time.
+class Renderer {
+public:
+  virtual ~Renderer() = default;
+
+  // Writes height x width x 3 bytes (RGB, row-major, row 0 = TOP of the image) to rgb_out.
+  // rdsim::Error when camera.width/height differ from this renderer's size or the camera is
+  // unusable (see check_camera).
+  virtual void render(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) = 0;
+
+  virtual int width() const = 0;
+  virtual int height() const = 0;
+  virtual std::string backend() const = 0;
+  // The graphics implementation in use, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+  virtual std::string device() const = 0;
+};
+
+// backend: one of renderer_backends() ("osmesa" is always built: CPU, no display needed; "egl"
+// when built: GPU or Mesa software through EGL, no display needed), or "auto": the first of
+// renderer_backends() that works here (egl when it can make a context, else osmesa).
+// rdsim::Error for an unknown backend or a size outside 1..4096.
+std::unique_ptr<Renderer> make_renderer(const std::string& backend, int width, int height);
+
+std::vector<std::string> renderer_backends();
+
+}  // namespace rdsim

@@ -1,0 +1,87 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "rdsim/sim/robot.hpp"
+#include "rdsim/sim/robot_model.hpp"
+
+// A Bullet Featherstone world (btMultiBodyDynamicsWorld, single precision) holding robots and
+// static objects built from RobotModels. Bullet types stay inside src/sim.
+//
+// Collision filtering (why: only pairs that can matter are ever tested):
+//  - static bodies never test against each other, nor against a robot's fixed base;
+//  - a robot's links never test against each other (no self-collision) nor other robots';
+//  - robot links test against static bodies, broadphase first (AABBs), then narrowphase.
+// The broadphase is Bullet's simple one (all AABB pairs, a few dozen objects at most), because its
+// pair order depends only on the bodies' current AABBs: after forget_contacts() a world replays
+// bit for bit whatever happened before.
+namespace rdsim {
+
+struct WorldSettings {
+  Eigen::Vector3f gravity{0.0f, 0.0f, -9.8f};
+  double time_step = 1.0 / 240.0;  // s, one fixed step per step()
+  int solver_iterations = 50;      // Bullet's sequential-impulse iterations per step
+  // Stop iterating earlier once the solver's squared residual falls below this (0 = never).
+  double solver_residual_threshold = 0.0;
+};
+
+// One link of one body: `link` indexes the body's RobotModel links (0 for a static body).
+struct BodyLink {
+  int body = -1;
+  int link = -1;
+};
+
+struct Contact {
+  BodyLink a, b;
+  Eigen::Vector3f position_on_a, position_on_b;
+  Eigen::Vector3f normal_on_b;  // world frame, from b towards a
+  float distance = 0.0f;        // signed; negative = penetration depth
+};
+
+class PhysicsWorld {
+public:
+  explicit PhysicsWorld(const WorldSettings& settings = {});
+  ~PhysicsWorld();
+  PhysicsWorld(const PhysicsWorld&) = delete;
+  PhysicsWorld& operator=(const PhysicsWorld&) = delete;
+
+  // A body that never moves by itself (floor, table, button): every link's collision shapes at
+  // the model's zero pose, placed at `pose`. Returns its body id.
+  int add_static_body(const RobotModel& model, const Eigen::Isometry3f& pose);
+  // Moves a static body (e.g. a randomised target) and forgets its cached contacts.
+  void set_static_pose(int body, const Eigen::Isometry3f& pose);
+  Eigen::Isometry3f static_pose(int body) const;
+
+  // A fixed-base articulated robot with its root link at `base_pose`; its body id is robot.body().
+  Robot& add_robot(const RobotModel& model, const Eigen::Isometry3f& base_pose, const RobotOptions& options = {});
+  Robot& robot(int body);
+  const Robot& robot(int body) const;
+  int body_count() const;
+
+  void step();  // one fixed time step
+  double time() const { return time_; }
+  const WorldSettings& settings() const { return settings_; }
+
+  // Contacts found by the last step's collision pass (points within `max_distance`).
+  std::vector<Contact> contacts(float max_distance = 0.0f) const;
+  // Whether any contact point between the two (link -1 = any link of that body) is closer than
+  // `tolerance` (resting contacts sit at about zero distance). No allocation.
+  bool touching(BodyLink a, BodyLink b, float tolerance = 1e-3f) const;
+  // Deepest penetration (>= 0, metres) between the two; 0 when they do not touch.
+  float penetration(BodyLink a, BodyLink b) const;
+  // Drops the cached contact pairs of a body (after teleporting it), so the next step starts
+  // from its current state only.
+  void forget_contacts(int body);
+
+  struct Impl;  // the Bullet objects (src/sim/physics_world_impl.hpp), for Robot's implementation
+  Impl& impl() { return *impl_; }
+
+private:
+  WorldSettings settings_;
+  double time_ = 0.0;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rdsim

@@ -1,0 +1,114 @@
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "rdsim/sim/robot_model.hpp"
+
+class btMultiBody;
+class btMultiBodyJointMotor;
+class btMultiBodyLinkCollider;
+class btMultiBodyConstraint;
+
+// One articulated robot simulated in a PhysicsWorld (a Bullet btMultiBody with a fixed base),
+// position-controlled like PyBullet's POSITION_CONTROL: each movable joint is driven towards
+// the joint speed
+//     v* = clamp(kp * (target - q) / dt + qdot + kd * (0 - qdot),  +-URDF velocity limit)
+// with at most the URDF effort. Two drives implement this law (RobotOptions::drive):
+//  - ComputedTorque (default): before every physics step the torques that give exactly v* at the
+//    end of the step are computed from the robot's own joint-space dynamics (JointDynamics: mass
+//    matrix and gravity/Coriolis bias), clipped to the efforts as a box-constrained problem, and
+//    applied as joint torques; Bullet then integrates them with contacts. In free motion this is
+//    the converged solution of the motor constraints below; at a contact the drive reacts one
+//    step later. It costs about one Bullet articulated-body pass, where every motor row costs one.
+//  - ConstraintMotor: Bullet btMultiBodyJointMotor constraints solved together with contacts by
+//    the sequential-impulse solver (what PyBullet does); about twice as expensive per step.
+//
+// Joints are addressed by "dof": the model's movable joints in tree order (dof_joint(i) gives the
+// RobotModel joint index). Links are addressed by their RobotModel link index.
+//
+// Modelling choices (documented because Bullet needs them):
+//  - each link's inertia tensor is diagonalised: Bullet bodies live in their principal axes;
+//  - a movable joint's child with no mass gets 1 g and a tiny inertia (Bullet cannot move a
+//    massless body); principal moments below 1e-8 kg m^2 are raised to it;
+//  - URDF joint damping/friction are not simulated (the drives dominate them); Bullet's default
+//    link damping is switched off.
+namespace rdsim {
+
+class PhysicsWorld;
+
+enum class JointDrive { ComputedTorque, ConstraintMotor };
+
+struct RobotOptions {
+  JointDrive drive = JointDrive::ConstraintMotor;
+  float position_gain = 1.0f;  // kp: 1 asks to close the whole position error within one step
+  float velocity_gain = 1.0f;  // kd
+  // Joint position limits as Bullet limit constraints (two more solver rows per joint, each as
+  // costly as a motor row). Without them the limits hold through the targets, which
+  // set_position_targets clamps, and the drive's effort.
+  bool limit_constraints = true;
+};
+
+class Robot {
+public:
+  // Built by PhysicsWorld::add_robot.
+  Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen::Isometry3f& base_pose,
+        const RobotOptions& options);
+  ~Robot();
+  Robot(const Robot&) = delete;
+  Robot& operator=(const Robot&) = delete;
+
+  int body() const { return body_; }
+  const RobotModel& model() const { return model_; }
+  int dof() const { return static_cast<int>(dofs_.size()); }
+  int dof_joint(int dof) const { return dofs_[static_cast<size_t>(dof)].joint; }
+  int dof_of_joint(int model_joint) const;  // -1 for fixed joints
+
+  // Position targets for every dof (clamped to the joint limits).
+  void set_position_targets(const Eigen::Ref<const Eigen::VectorXf>& q);
+  void set_position_target(int dof, float q);
+  void set_gains(float position_gain, float velocity_gain);
+
+  float joint_position(int dof) const;
+  float joint_velocity(int dof) const;
+  void joint_positions(Eigen::Ref<Eigen::VectorXf> out) const;
+  Eigen::VectorXf joint_positions() const;
+  Eigen::VectorXf joint_velocities() const;
+
+  // Teleports the joints to `q` at rest (targets = q) and forgets cached contacts.
+  void reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q);
+
+  // A link's URDF frame in the world, as of the last step or reset. Cheap (one transform product).
+  Eigen::Isometry3f link_pose(int link) const;
+
+  // Called by PhysicsWorld::step before Bullet's step: applies the ComputedTorque drive.
+  void before_step();
+
+private:
+  struct Dof {
+    int joint = -1;        // RobotModel joint
+    int bullet_link = -1;  // btMultiBody link index
+    float lower = 0, upper = 0;
+    float target = 0;
+    float velocity = 0, effort = 0;  // URDF limits
+    btMultiBodyJointMotor* motor = nullptr;
+  };
+
+  PhysicsWorld& world_;
+  int body_;
+  RobotModel model_;
+  btMultiBody* multibody_ = nullptr;
+  std::vector<Dof> dofs_;
+  std::vector<btMultiBodyLinkCollider*> colliders_;
+  std::vector<btMultiBodyConstraint*> limits_;
+  // Per model link: its URDF frame in the frame Bullet simulates (principal axes at the centre of mass).
+  std::vector<Eigen::Isometry3f> body_to_link_;
+  float position_gain_, velocity_gain_;
+  struct TorqueDrive;  // scratch of the ComputedTorque drive (robot.cpp)
+  std::unique_ptr<TorqueDrive> drive_;
+
+  void update_transforms();
+};
+
+}  // namespace rdsim

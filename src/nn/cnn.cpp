@@ -1,0 +1,140 @@
+#include "rdsim/nn/cnn.hpp"
+
+#include "rdsim/core/error.hpp"
+
+namespace rdsim::nn {
+
+CnnShape nature_cnn(const ImageShape& input, int output_size) {
+  return {input, {{32, 8, 4, 0}, {64, 4, 2, 0}, {64, 3, 1, 0}}, {512}, output_size, Activation::ReLU};
+}
+
+CnnShape small_cnn(const ImageShape& input, int output_size) {
+  return {input, {{16, 8, 4, 0}, {32, 4, 2, 0}}, {256}, output_size, Activation::ReLU};
+}
+
+CnnShape cnn_preset(const std::string& name, const ImageShape& input, int output_size, const std::string& where) {
+  if (name == "nature") return nature_cnn(input, output_size);
+  if (name == "small") return small_cnn(input, output_size);
+  throw Error(where + ": expected one of \"nature\", \"small\", got \"" + name + "\"");
+}
+
+
+Cnn::Cnn(const CnnShape& shape, float output_gain, Rng& rng, float hidden_gain) : shape_(shape) {
+  if (shape.output_size <= 0) throw Error("nn::Cnn: the output size must be positive");
+  if (shape.input.height <= 0 || shape.input.width <= 0 || shape.input.channels <= 0)
+    throw Error("nn::Cnn: input image " + shape.input.text() + " must have positive sizes");
+  ImageShape image = shape.input;
+  for (size_t i = 0; i < shape.convs.size(); ++i) {
+    // Checked here first so the message names the layer.
+    conv_output_shape(image, shape.convs[i], "nn::Cnn: conv" + std::to_string(i));
+    convs_.emplace_back(image, shape.convs[i], hidden_gain, rng);
+    image = convs_.back().output;
+  }
+  head_ = Mlp({image.size(), shape.hidden_sizes, shape.output_size, shape.activation}, output_gain, rng, hidden_gain);
+}
+
+void Cnn::run_convs(const Eigen::MatrixXf& x, std::vector<Eigen::MatrixXf>& acts, ConvWorkspace& ws) const {
+  if (x.rows() != input_size())
+    throw Error("nn::Cnn: input has " + std::to_string(x.rows()) + " rows, expected " +
+                std::to_string(input_size()) + " (" + shape_.input.text() + " image)");
+  acts.resize(convs_.size());
+  const Eigen::MatrixXf* in = &x;
+  for (size_t i = 0; i < convs_.size(); ++i) {
+    convs_[i].forward(*in, acts[i], ws);
+    activate(acts[i], shape_.activation);
+    in = &acts[i];
+  }
+}
+
+const Eigen::MatrixXf& Cnn::forward(const Eigen::MatrixXf& x) {
+  run_convs(x, train_acts_, train_ws_);
+  train_input_ = x;
+  has_forward_ = true;
+  return head_.forward(convs_.empty() ? x : train_acts_.back());
+}
+
+const Eigen::MatrixXf& Cnn::infer(const Eigen::MatrixXf& x) {
+  run_convs(x, infer_acts_, infer_ws_);
+  return head_.infer(convs_.empty() ? x : infer_acts_.back());
+}
+
+Eigen::MatrixXf Cnn::evaluate(const Eigen::MatrixXf& x) const {
+  std::vector<Eigen::MatrixXf> acts;
+  ConvWorkspace ws;
+  run_convs(x, acts, ws);
+  return head_.evaluate(convs_.empty() ? x : acts.back());
+}
+
+Eigen::MatrixXf Cnn::backward(const Eigen::MatrixXf& grad_output, bool need_input_grad) {
+  if (!has_forward_) throw Error("nn::Cnn: backward() called before forward()");
+  // The head checks grad_output against its last forward() batch.
+  grad_a_ = head_.backward(grad_output, need_input_grad || !convs_.empty());
+  for (size_t k = convs_.size(); k-- > 0;) {
+    activation_backward(grad_a_, train_acts_[k], shape_.activation);
+    const Eigen::MatrixXf& in = k == 0 ? train_input_ : train_acts_[k - 1];
+    const bool input_grad = k > 0 || need_input_grad;
+    convs_[k].backward(in, grad_a_, input_grad ? &grad_b_ : nullptr, train_ws_);
+    grad_a_.swap(grad_b_);
+  }
+  if (!need_input_grad) return {};
+  return grad_a_;
+}
+
+void Cnn::set_max_patch_floats(long long floats) {
+  train_ws_.max_patch_floats = floats;
+  infer_ws_.max_patch_floats = floats;
+}
+
+void Cnn::zero_grad() {
+  for (Conv2d& conv : convs_) {
+    conv.weight.zero_grad();
+    conv.bias.zero_grad();
+  }
+  head_.zero_grad();
+}
+
+ParamList Cnn::params() {
+  ParamList list;
+  for (size_t i = 0; i < convs_.size(); ++i) {
+    const std::string prefix = "conv" + std::to_string(i);
+    list.push_back(param_of(convs_[i].weight, prefix + ".weight"));
+    list.push_back(param_of(convs_[i].bias, prefix + ".bias"));
+  }
+  for (Param& p : head_.params()) {
+    p.name = "head." + p.name;
+    list.push_back(std::move(p));
+  }
+  return list;
+}
+
+namespace {
+
+void check_same_convs(const Cnn& a, const Cnn& b) {
+  bool same = a.shape().input == b.shape().input && a.convs().size() == b.convs().size();
+  for (size_t i = 0; same && i < a.convs().size(); ++i) same = a.convs()[i].spec == b.convs()[i].spec;
+  if (!same) throw Error("nn::Cnn: cannot copy values between networks of different shapes");
+}
+
+}  // namespace
+
+void Cnn::copy_values_from(const Cnn& other) {
+  check_same_convs(*this, other);
+  head_.copy_values_from(other.head_);  // checks the head shapes before anything is written
+  for (size_t i = 0; i < convs_.size(); ++i) {
+    convs_[i].weight.value = other.convs_[i].weight.value;
+    convs_[i].bias.value = other.convs_[i].bias.value;
+  }
+}
+
+void Cnn::blend_values_from(const Cnn& other, float tau) {
+  check_same_convs(*this, other);
+  head_.blend_values_from(other.head_, tau);
+  for (size_t i = 0; i < convs_.size(); ++i) {
+    Conv2d& mine = convs_[i];
+    const Conv2d& theirs = other.convs_[i];
+    mine.weight.value = tau * theirs.weight.value + (1.0f - tau) * mine.weight.value;
+    mine.bias.value = tau * theirs.bias.value + (1.0f - tau) * mine.bias.value;
+  }
+}
+
+}  // namespace rdsim::nn

@@ -1,0 +1,129 @@
+#include "rdsim/nn/mlp.hpp"
+
+#include "rdsim/core/error.hpp"
+#include "rdsim/nn/init.hpp"
+
+namespace rdsim::nn {
+
+Dense::Dense(int in, int out, float gain, Rng& rng) : weight(out, in), bias(out, 1) {
+  orthogonal_init(weight.value, gain, rng);
+}
+
+namespace {
+
+void check_input(const Eigen::MatrixXf& x, int input_size) {
+  if (x.rows() != input_size)
+    throw Error("nn::Mlp: input has " + std::to_string(x.rows()) + " rows, expected " +
+                std::to_string(input_size));
+}
+
+}  // namespace
+
+Mlp::Mlp(const MlpShape& shape, float output_gain, Rng& rng, float hidden_gain) : shape_(shape) {
+  if (shape.input_size <= 0 || shape.output_size <= 0)
+    throw Error("nn::Mlp: input and output sizes must be positive");
+  int in = shape.input_size;
+  for (int h : shape.hidden_sizes) {
+    if (h <= 0) throw Error("nn::Mlp: hidden layer sizes must be positive, got " + std::to_string(h));
+    layers_.emplace_back(in, h, hidden_gain, rng);
+    in = h;
+  }
+  layers_.emplace_back(in, shape.output_size, output_gain, rng);
+}
+
+void Mlp::run(const Eigen::MatrixXf& x, std::vector<Eigen::MatrixXf>& acts) const {
+  check_input(x, shape_.input_size);
+  acts.resize(layers_.size() + 1);
+  acts[0] = x;
+  for (size_t i = 0; i < layers_.size(); ++i) {
+    const Dense& layer = layers_[i];
+    Eigen::MatrixXf& out = acts[i + 1];
+    out.resize(layer.out_size(), x.cols());
+    out.noalias() = layer.weight.value * acts[i];
+    out.colwise() += layer.bias.value.col(0);
+    if (i + 1 < layers_.size()) activate(out, shape_.activation);
+  }
+}
+
+const Eigen::MatrixXf& Mlp::forward(const Eigen::MatrixXf& x) {
+  run(x, train_acts_);
+  return train_acts_.back();
+}
+
+const Eigen::MatrixXf& Mlp::infer(const Eigen::MatrixXf& x) {
+  run(x, infer_acts_);
+  return infer_acts_.back();
+}
+
+Eigen::MatrixXf Mlp::evaluate(const Eigen::MatrixXf& x) const {
+  std::vector<Eigen::MatrixXf> acts;
+  run(x, acts);
+  return std::move(acts.back());
+}
+
+Eigen::MatrixXf Mlp::backward(const Eigen::MatrixXf& grad_output, bool need_input_grad) {
+  if (train_acts_.empty()) throw Error("nn::Mlp: backward() called before forward()");
+  if (grad_output.rows() != shape_.output_size || grad_output.cols() != train_acts_[0].cols())
+    throw Error("nn::Mlp: backward() gradient shape does not match the last forward() output");
+  Eigen::MatrixXf grad = grad_output;
+  Eigen::MatrixXf next;
+  for (size_t k = layers_.size(); k-- > 0;) {
+    Dense& layer = layers_[k];
+    if (k + 1 < layers_.size()) activation_backward(grad, train_acts_[k + 1], shape_.activation);
+    layer.weight.grad.noalias() += grad * train_acts_[k].transpose();
+    layer.bias.grad += grad.rowwise().sum();
+    if (k == 0 && !need_input_grad) return {};
+    next.noalias() = layer.weight.value.transpose() * grad;
+    grad.swap(next);
+  }
+  return grad;
+}
+
+void Mlp::zero_grad() {
+  for (Dense& layer : layers_) {
+    layer.weight.zero_grad();
+    layer.bias.zero_grad();
+  }
+}
+
+ParamList Mlp::params() {
+  ParamList list;
+  for (size_t i = 0; i < layers_.size(); ++i) {
+    const std::string prefix = "layer" + std::to_string(i);
+    list.push_back(param_of(layers_[i].weight, prefix + ".weight"));
+    list.push_back(param_of(layers_[i].bias, prefix + ".bias"));
+  }
+  return list;
+}
+
+namespace {
+
+void check_same_shape(const Mlp& a, const Mlp& b) {
+  bool same = a.layers().size() == b.layers().size();
+  for (size_t i = 0; same && i < a.layers().size(); ++i)
+    same = a.layers()[i].weight.value.rows() == b.layers()[i].weight.value.rows() &&
+           a.layers()[i].weight.value.cols() == b.layers()[i].weight.value.cols();
+  if (!same) throw Error("nn::Mlp: cannot copy values between networks of different shapes");
+}
+
+}  // namespace
+
+void Mlp::copy_values_from(const Mlp& other) {
+  check_same_shape(*this, other);
+  for (size_t i = 0; i < layers_.size(); ++i) {
+    layers_[i].weight.value = other.layers_[i].weight.value;
+    layers_[i].bias.value = other.layers_[i].bias.value;
+  }
+}
+
+void Mlp::blend_values_from(const Mlp& other, float tau) {
+  check_same_shape(*this, other);
+  for (size_t i = 0; i < layers_.size(); ++i) {
+    Dense& mine = layers_[i];
+    const Dense& theirs = other.layers_[i];
+    mine.weight.value = tau * theirs.weight.value + (1.0f - tau) * mine.weight.value;
+    mine.bias.value = tau * theirs.bias.value + (1.0f - tau) * mine.bias.value;
+  }
+}
+
+}  // namespace rdsim::nn

@@ -1,0 +1,86 @@
+// Reading the "env" object of a config: the env's published defaults, strict keys, one set of rules.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "rdsim/core/error.hpp"
+#include "rdsim/envs/registry.hpp"
+
+using Catch::Matchers::Contains;
+using rdsim::ConfigReader;
+
+namespace {
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const rdsim::Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+rdsim::EnvConfig read(const char* text) {
+  const auto json = nlohmann::json::parse(text);
+  ConfigReader r(json, "x.json", "env");
+  return rdsim::read_env_config(r);
+}
+
+}  // namespace
+
+TEST_CASE("env config rejects a bad observation mode and unknown keys", "[config]") {
+  CHECK_THAT(error_of([] { read(R"({"name": "jaka_button", "observation": "pixels"})"); }),
+             Contains("env.observation") && Contains("raw_pixels"));
+  CHECK_THAT(error_of([] { read(R"({"name": "jaka_button", "is_discret": true})"); }), Contains("env.is_discret"));
+  auto c = read(R"({"name": "jaka_button", "observation": "raw_pixels", "max_steps": 50})");
+  CHECK(c.observation == rdsim::ObservationMode::RawPixels);
+  CHECK(c.max_steps == 50);
+  CHECK(rdsim::to_json(c)["max_steps"] == 50);
+}
+
+TEST_CASE("every env publishes real defaults and a config is read over them", "[config]") {
+  const auto button = read(R"({"name": "jaka_button"})");
+  CHECK(button.action_step == 0.015);
+  CHECK(button.success_threshold == 0.025);
+  CHECK(button.max_distance == 0.7);
+  CHECK(button.max_steps == 200);
+  const auto obstacle = read(R"({"name": "jaka_obstacle", "action_step": 0.01})");
+  CHECK(obstacle.max_steps == 300);
+  CHECK(obstacle.max_distance == 0.9);
+  CHECK(obstacle.action_step == 0.01);
+  const auto tomato = read(R"({"name": "inmoov_tomato"})");
+  CHECK(tomato.action_step == 0.004);
+  CHECK(tomato.max_steps == 400);
+  CHECK(read(R"({"name": "cartpole"})").max_steps == 500);
+  // The resolved JSON records the values used, and reads back to the same config.
+  const auto json = rdsim::to_json(tomato);
+  CHECK(json["action_step"] == 0.004);
+  ConfigReader again(json, "config.json", "env");
+  CHECK(rdsim::to_json(rdsim::read_env_config(again)) == json);
+}
+
+TEST_CASE("env keys an env does not read are errors, and ranges hold for configs built in code", "[config]") {
+  CHECK_THAT(error_of([] { read(R"({"name": "cartpole", "action_step": 0.01})"); }),
+             Contains("env.action_step") && Contains("no effect on cartpole"));
+  CHECK(rdsim::to_json(rdsim::default_env_config("cartpole")).size() == 4);  // name, observation, is_discrete, max_steps
+  CHECK_THAT(error_of([] { read(R"({"name": "jaka_button", "action_step": 0})"); }),
+             Contains("env.action_step") && Contains("0.2"));
+  CHECK_THAT(error_of([] { read(R"({"name": "no_such_env"})"); }), Contains("env.name") && Contains("jaka_button"));
+  rdsim::EnvConfig zero = rdsim::default_env_config("jaka_button");
+  zero.action_step = 0.0;
+  CHECK_THAT(error_of([&] { rdsim::make_env(zero); }), Contains("env.action_step"));
+}
+
+TEST_CASE("env.renderer is read, written back and checked", "[config][render]") {
+  auto read = [](const nlohmann::json& env) {
+    ConfigReader r(env, "test.json", "env");
+    return rdsim::read_env_config(r);
+  };
+  CHECK(read({{"name", "jaka_button"}}).renderer == "osmesa");
+  for (const char* choice : {"osmesa", "egl", "auto"}) {
+    const rdsim::EnvConfig c = read({{"name", "jaka_button"}, {"renderer", choice}});
+    CHECK(c.renderer == choice);
+    CHECK(read(rdsim::to_json(c)).renderer == choice);
+  }
+  CHECK_THROWS_WITH(read({{"name", "jaka_button"}, {"renderer", "vulkan"}}),
+                    Contains("test.json") && Contains("env.renderer") && Contains("vulkan"));
+}
