@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "rdsim/app/bench_fps.hpp"
+#include "rdsim/app/config_reference.hpp"
 #include "rdsim/app/envs.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
@@ -83,6 +84,9 @@ int main(int argc, char** argv) {
   rdsim::RenderOptions render;
   add_render(app, render);
   app.add_subcommand("envs", "List the available environments");
+  app.add_subcommand("config-reference",
+                     "Print every config key with its type, default (per env), range and meaning "
+                     "(markdown; docs/config.md is its output)");
 
   CLI11_PARSE(app, argc, argv);
 
@@ -106,6 +110,7 @@ int main(int argc, char** argv) {
       return rdsim::bench_fps_command(bench);
     }
     if (name == "envs") return rdsim::envs_command();
+    if (name == "config-reference") return rdsim::config_reference_command();
     if (name == "render") return rdsim::render_command(render);
   } catch (const rdsim::Error& e) {
     std::fprintf(stderr, "rdsim: error: %s\n", e.what());
