@@ -41,6 +41,28 @@ TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, Vec
   return s;
 }
 
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+}  // namespace
+
+CheckpointSchedule::CheckpointSchedule(long long interval_steps, double interval_seconds, long long steps)
+    : interval_(interval_steps), seconds_(interval_seconds), last_(Clock::now()) {
+  next_step_ = interval_ > 0 ? (steps / interval_ + 1) * interval_ : 0;
+}
+
+bool CheckpointSchedule::due(long long steps) const {
+  if (interval_ > 0 && steps >= next_step_) return true;
+  return seconds_ > 0.0 && seconds_since(last_) >= std::max(seconds_, 20.0 * last_duration_);
+}
+
+void CheckpointSchedule::done(long long steps) {
+  last_ = Clock::now();
+  last_duration_ = seconds_since(started_);
+  if (interval_ > 0) next_step_ = (steps / interval_ + 1) * interval_;
+}
+
 void check_log_rows(const std::string& path, long long rows, const std::string& checkpoint) {
   if (rows == 0) return;
   std::ifstream in(path);

@@ -39,6 +39,7 @@ const std::vector<std::string>& RunFolder::run_files() {
 RunFolder::RunFolder(const std::string& dir, Mode mode) : dir_(dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
+  if (mode == Mode::Resume && !fs::is_directory(dir_, ec)) throw Error(dir + ": no such run folder to resume");
   fs::create_directories(dir_, ec);
   if (ec || !fs::is_directory(dir_)) throw Error(dir + ": cannot use as the run folder: " + (ec ? ec.message() : "not a folder"));
   const std::string lock_path = (dir_ / kLockName).string();

@@ -1,10 +1,8 @@
 // `rdsim train`: the one training loop for every algorithm (see include/rdsim/algorithms/algorithm.hpp).
 #include "rdsim/app/train.hpp"
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -18,7 +16,6 @@
 #include "rdsim/app/model_file.hpp"
 #include "rdsim/app/run_folder.hpp"
 #include "rdsim/app/train_config.hpp"
-#include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
@@ -72,38 +69,6 @@ std::vector<std::string> episode_row(const EpisodeRecord& e) {
           CsvWriter::cell(e.length),  CsvWriter::cell(e.success),   CsvWriter::cell(e.collision),
           CsvWriter::cell(e.out_of_bounds), CsvWriter::cell(e.wall_time)};
 }
-
-// When the run's files are saved: checkpoint.bin and model.bin together, every
-// checkpoint_interval env steps and every checkpoint_seconds of wall time, so that a kill -9 loses
-// at most about that much work. When writing a checkpoint takes long (a large replay buffer), the
-// time cadence stretches to 20 times the write, so that saving stays under 5% of the run.
-class CheckpointSchedule {
-public:
-  CheckpointSchedule(const TrainConfig& c, long long steps) : interval_(c.checkpoint_interval), seconds_(c.checkpoint_seconds) {
-    next_step_ = interval_ > 0 ? (steps / interval_ + 1) * interval_ : 0;
-    last_ = Clock::now();
-  }
-  bool due(long long steps) const {
-    if (interval_ > 0 && steps >= next_step_) return true;
-    return seconds_ > 0.0 && elapsed(last_) >= std::max(seconds_, 20.0 * last_duration_);
-  }
-  // Call around each save.
-  void start() { started_ = Clock::now(); }
-  void done(long long steps) {
-    last_ = Clock::now();
-    last_duration_ = elapsed(started_);
-    if (interval_ > 0) next_step_ = (steps / interval_ + 1) * interval_;
-  }
-
-private:
-  using Clock = std::chrono::steady_clock;
-  static double elapsed(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-  long long interval_;
-  double seconds_;
-  long long next_step_ = 0;
-  Clock::time_point last_, started_;
-  double last_duration_ = 0.0;
-};
 
 // The run's config and folder: a new run reads its config file (with the command line's
 // overrides) and takes a folder that holds no other run; a resumed one takes its folder first,
@@ -183,7 +148,7 @@ int train_command(const TrainOptions& o) {
     }
     write_model_file(folder.file(file), f);
   };
-  CheckpointSchedule schedule(config, vec.timesteps());
+  CheckpointSchedule schedule(config.checkpoint_interval, config.checkpoint_seconds, vec.timesteps());
   // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
   auto save = [&] {
     schedule.start();

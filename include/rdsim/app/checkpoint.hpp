@@ -1,4 +1,5 @@
 #pragma once
+#include <chrono>
 #include <string>
 
 #include "rdsim/algorithms/algorithm.hpp"
@@ -22,6 +23,27 @@ std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const T
 // is validated (counters in range, values finite, sizes against what is left of the payload);
 // rdsim::Error naming `source` otherwise.
 TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source);
+
+// When the run's files are saved: checkpoint.bin and model.bin together, every
+// checkpoint_interval env steps and every checkpoint_seconds of wall time (TrainConfig), so that a
+// kill -9 loses at most about that much work. When writing a checkpoint takes long (a large
+// replay buffer), the time period stretches to 20 times the write, so saving stays under 5%.
+class CheckpointSchedule {
+public:
+  CheckpointSchedule(long long interval_steps, double interval_seconds, long long steps);
+  bool due(long long steps) const;
+  // Call around each save.
+  void start() { started_ = Clock::now(); }
+  void done(long long steps);
+
+private:
+  using Clock = std::chrono::steady_clock;
+  long long interval_;
+  double seconds_;
+  long long next_step_ = 0;
+  Clock::time_point last_, started_;
+  double last_duration_ = 0.0;
+};
 
 // A resumed run keeps the first `rows` data rows of the log at `path`: rdsim::Error naming the
 // checkpoint when the log has fewer (the folder's logs belong to another run, or were cut).
