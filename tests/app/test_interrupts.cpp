@@ -176,7 +176,7 @@ TEST_CASE("two runs on one folder: the second gets one clear error, the first co
   rltest::ScratchDir dir("two_runs");
   // Wide layers make each update slow enough for the second run to come while the first trains.
   const std::string config = dir / "c.json";
-  rltest::spit(config, R"({"env": {"name": "cartpole"}, "seed": 4, "total_timesteps": 16384, "num_envs": 4,
+  rltest::spit(config, R"({"env": {"name": "cartpole"}, "seed": 4, "total_timesteps": 8192, "num_envs": 4,
       "network": {"hidden_sizes": [512, 512]}, "ppo": {"n_steps": 64, "batch_size": 64, "n_epochs": 8}})");
   const std::string run = dir / "run";
   proctest::Child first = proctest::start({"train", "--quiet", "--config", config, "--log-dir", run}, dir / "out1.txt", dir / "err1.txt");
@@ -195,7 +195,7 @@ TEST_CASE("two runs on one folder: the second gets one clear error, the first co
   REQUIRE(o.exit_code == 0);
   // Intact: every update has its row, every finished episode its row, and the files load.
   const std::vector<std::string> progress = rltest::lines(rltest::slurp(run + "/progress.csv"));
-  REQUIRE(progress.size() == 16384 / 256 + 1);
+  REQUIRE(progress.size() == 8192 / 256 + 1);
   const long long episodes = std::stoll(progress.back().substr(progress.back().find(',', progress.back().find(',') + 1) + 1));
   CHECK(data_rows(run + "/episodes.csv") == episodes);
   CHECK(proctest::run({"replay", run + "/model.bin", "-n", "1"}, dir.path.string()).exit_code == 0);

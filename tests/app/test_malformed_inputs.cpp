@@ -23,6 +23,14 @@ namespace {
 
 constexpr unsigned long long kAddressSpace = 1ull << 30;  // 1 GiB, as `ulimit -v 1048576`
 
+// The training runs' arguments after the config. Under AddressSanitizer there is no address-space
+// limit (proctest::kAddressSanitizer), so the memory check gets the limit the 1 GiB would give it.
+std::vector<std::string> train_args(const std::string& config, const std::string& log_dir) {
+  std::vector<std::string> args{"train", "--quiet", "--config", config, "--log-dir", log_dir};
+  if (proctest::kAddressSanitizer) args.insert(args.end(), {"--max-memory", "0.8"});
+  return args;
+}
+
 std::string source_root() {
   const char* root = std::getenv("RDSIM_ROOT");
   return root && *root ? root : RDSIM_SOURCE_DIR;
@@ -177,7 +185,7 @@ TEST_CASE("malformed inputs: the corpus (configs, URDFs, command lines) gets one
     const std::string run = dir / ("run" + std::to_string(n++));
     if (c.kind == "config") {
       const std::string file = corpus + "/" + c.input;
-      check.expect_error(c.input, {"train", "--quiet", "--config", file, "--log-dir", run}, {file, c.expected}, run);
+      check.expect_error(c.input, train_args(file, run), {file, c.expected}, run);
     } else if (c.kind == "urdf") {
       const fs::path assets = fs::path(run) / "assets";
       fs::create_directories(assets);
@@ -187,8 +195,7 @@ TEST_CASE("malformed inputs: the corpus (configs, URDFs, command lines) gets one
       const std::string config = run + "/config_in.json";
       rltest::spit(config, R"({"env": {"name": "jaka_button", "urdf_root": ")" + assets.string() +
                                R"("}, "total_timesteps": 256, "network": {"hidden_sizes": [8]}, "ppo": {"n_steps": 64, "batch_size": 64}})");
-      check.expect_error(c.input, {"train", "--quiet", "--config", config, "--log-dir", run + "/out"}, {target, c.expected},
-                         run + "/out");
+      check.expect_error(c.input, train_args(config, run + "/out"), {target, c.expected}, run + "/out");
     } else if (c.kind == "cli") {
       std::string line = c.target;
       for (const auto& [key, value] : std::map<std::string, std::string>{{"{tmp}", dir.path.string()}, {"{big}", big}, {"{root}", source_root()}})
