@@ -159,7 +159,11 @@ void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchF
     std::string phys = r.physics_per_s ? fmt(*r.physics_per_s) : "-";
     std::string ratio = r.physics_per_s ? fmt(*r.physics_per_s / r.steps_per_s, "%.2fx") : "-";
     std::string paper = r.paper_steps_per_s ? fmt(*r.paper_steps_per_s) : "-";
-    std::string gain = r.paper_steps_per_s ? fmt(r.steps_per_s / *r.paper_steps_per_s, "%.0fx") : "-";
+    std::string gain = "-";
+    if (r.paper_steps_per_s) {  // two decimals below 10x, so that a slower row does not read "0x"
+      const double g = r.steps_per_s / *r.paper_steps_per_s;
+      gain = fmt(g, g < 10.0 ? "%.2fx" : "%.0fx");
+    }
     const std::string image = r.image_size > 0 ? std::to_string(r.image_size) + "x" + std::to_string(r.image_size) : "-";
     std::fprintf(out, "%-16s %-13s %9s ", r.env.c_str(), r.mode.c_str(), image.c_str());
     if (o.paper) {
