@@ -80,6 +80,9 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::Range(1LL, 1'000'000'000LL))->capture_default_str();
+  cmd->add_flag("--paper", o.paper,
+                "Like-for-like Table 3: each robot env's paper preset (configs/paper/, the original's per-step "
+                "work) next to its defaults, ground truth and 224x224 pixels");
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)")
       ->expected(0, 1)
       ->default_str("-");
