@@ -13,6 +13,7 @@
 
 #include "rdsim/app/bench_fps.hpp"
 #include "rdsim/app/config_reference.hpp"
+#include "rdsim/app/dashboard.hpp"
 #include "rdsim/app/envs.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
@@ -53,6 +54,20 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::st
                   "Memory limit in GB for the run's estimated needs (default: 80% of the machine's memory)")
       ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
+  cmd->add_option("--dashboard", o.dashboard,
+                  "Serve the live dashboard of this run at HOST:PORT while training (e.g. 127.0.0.1:8097)");
+}
+
+void add_dashboard(CLI::App& app, rdsim::DashboardCommandOptions& o) {
+  auto* cmd = app.add_subcommand("dashboard", "Serve a live web page plotting the runs under the folders "
+                                              "(progress.csv), updated as they train");
+  cmd->add_option("runs", o.roots, "Folders holding run folders, or run folders (default: runs)");
+  cmd->add_option("--bind", o.bind, "HOST:PORT to listen on (loopback unless you name another address)")
+      ->capture_default_str();
+  cmd->add_option("--poll-ms", o.poll_ms, "How often the page asks for new rows (ms)")
+      ->check(CLI::Range(50, 60000))
+      ->capture_default_str();
+  cmd->add_option("--for", o.serve_s, "Stop after this many seconds (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
 }
 
 void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double& max_memory) {
@@ -166,6 +181,8 @@ int main(int argc, char** argv) {
   app.add_subcommand("config-reference",
                      "Print every config key with its type, default (per env), range and meaning "
                      "(markdown; docs/config.md is its output)");
+  rdsim::DashboardCommandOptions dashboard;
+  add_dashboard(app, dashboard);
 
   try {
     check_command(app, argc, argv);
@@ -198,6 +215,7 @@ int main(int argc, char** argv) {
     }
     if (name == "envs") return rdsim::envs_command();
     if (name == "config-reference") return rdsim::config_reference_command();
+    if (name == "dashboard") return rdsim::dashboard_command(dashboard);
     if (name == "render") {
       if (sub->count("--seed")) render.seed = render_seed.value("--seed");
       return rdsim::render_command(render);

@@ -11,6 +11,7 @@
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/checkpoint.hpp"
+#include "rdsim/app/dashboard.hpp"
 #include "rdsim/app/interrupt.hpp"
 #include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
@@ -19,6 +20,7 @@
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/dashboard/dashboard_server.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
@@ -115,6 +117,7 @@ int train_command(const TrainOptions& o) {
   const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
   const std::string checkpoint_path = folder.file("checkpoint.bin");
+  const auto dashboard = start_run_dashboard(o.dashboard, folder.path().string(), o.quiet);  // reads the CSVs only
 
   VecEnv vec(make_envs(config), config.seed, config.stats_window);
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
