@@ -6,7 +6,6 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <unistd.h>
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
@@ -15,6 +14,7 @@
 #include "rdsim/app/interrupt.hpp"
 #include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
+#include "rdsim/app/progress_display.hpp"
 #include "rdsim/app/run_folder.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/csv_writer.hpp"
@@ -31,34 +31,6 @@ const std::vector<std::string> progress_head = {"timesteps", "updates", "episode
                                                 "max_return", "mean_length", "success_rate"};
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
 const std::vector<std::string> progress_tail = {"steps_per_s", "wall_time"};
-
-// One line on a terminal (rewritten in place), plain periodic lines otherwise.
-class ProgressDisplay {
-public:
-  explicit ProgressDisplay(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO) == 1) {}
-
-  void show(long long t, long long total, const EpisodeStats& s, double sps, double wall, bool force = false) {
-    if (quiet_) return;
-    if (!force && wall - last_ < (tty_ ? 0.1 : 10.0)) return;
-    last_ = wall;
-    const double eta = sps > 0 ? static_cast<double>(total - t) / sps : 0.0;
-    char ret[64] = "-";
-    if (s.count > 0) std::snprintf(ret, sizeof ret, "%.1f", s.mean_return);
-    std::fprintf(stderr, "%s%lld/%lld steps (%3.0f%%)  return %s  success %.2f  %.0f steps/s  ETA %.0fs%s",
-                 tty_ ? "\r" : "", t, total, 100.0 * static_cast<double>(t) / static_cast<double>(total), ret,
-                 s.success_rate, sps, eta < 0 ? 0.0 : eta, tty_ ? "\x1b[K" : "\n");
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  void finish() {
-    if (!quiet_ && tty_ && shown_) std::fputc('\n', stderr);
-  }
-
-private:
-  bool quiet_, tty_;
-  bool shown_ = false;
-  double last_ = -1e9;
-};
 
 std::vector<std::unique_ptr<Env>> make_envs(const TrainConfig& config) {
   std::vector<std::unique_ptr<Env>> envs;
