@@ -15,6 +15,7 @@
 #include "rdsim/app/config_reference.hpp"
 #include "rdsim/app/dashboard.hpp"
 #include "rdsim/app/envs.hpp"
+#include "rdsim/app/plot.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
 #include "rdsim/app/train.hpp"
@@ -56,6 +57,21 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::st
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
   cmd->add_option("--dashboard", o.dashboard,
                   "Serve the live dashboard of this run at HOST:PORT while training (e.g. 127.0.0.1:8097)");
+}
+
+void add_plot(CLI::App& app, rdsim::PlotOptions& o) {
+  auto* cmd = app.add_subcommand("plot", "Draw the learning curves of runs (mean and band over each "
+                                         "algorithm's runs) from their progress.csv, as PNG or SVG");
+  cmd->add_option("runs", o.runs, "Run folders, or folders holding run folders")->required();
+  cmd->add_option("-o,--out", o.out, "Figure to write: FILE.png or FILE.svg")->required();
+  cmd->add_option("--metric", o.metric, "success, return, length, kl, or any progress.csv column")->capture_default_str();
+  cmd->add_option("--x", o.x, "x axis: a progress.csv column (timesteps, updates, episodes, wall_time)")->capture_default_str();
+  cmd->add_option("--band", o.band, "std: mean ± 1 standard deviation over runs; minmax: their range")
+      ->check(CLI::IsMember({"std", "minmax"}))
+      ->capture_default_str();
+  cmd->add_option("--title", o.title, "Title (default: env and metric)");
+  cmd->add_option("--width", o.width, "Width in pixels")->check(CLI::Range(200, 8000))->capture_default_str();
+  cmd->add_option("--height", o.height, "Height in pixels")->check(CLI::Range(150, 8000))->capture_default_str();
 }
 
 void add_dashboard(CLI::App& app, rdsim::DashboardCommandOptions& o) {
@@ -183,6 +199,8 @@ int main(int argc, char** argv) {
                      "(markdown; docs/config.md is its output)");
   rdsim::DashboardCommandOptions dashboard;
   add_dashboard(app, dashboard);
+  rdsim::PlotOptions plot;
+  add_plot(app, plot);
 
   try {
     check_command(app, argc, argv);
@@ -216,6 +234,7 @@ int main(int argc, char** argv) {
     if (name == "envs") return rdsim::envs_command();
     if (name == "config-reference") return rdsim::config_reference_command();
     if (name == "dashboard") return rdsim::dashboard_command(dashboard);
+    if (name == "plot") return rdsim::plot_command(plot);
     if (name == "render") {
       if (sub->count("--seed")) render.seed = render_seed.value("--seed");
       return rdsim::render_command(render);
