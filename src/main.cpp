@@ -98,6 +98,15 @@ void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double
                   "size: env.render_width x render_height of the model's config)");
   cmd->add_option("--max-memory", max_memory, "Memory limit in GB (default: 80% of the machine's memory)")
       ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
+  cmd->add_option("--video", o.video_path,
+                  "Write a video of the episodes, captioned with episode, step, return and success: "
+                  "FILE.mp4 (H.264, when built with FFmpeg) or FILE.gif (robot envs)");
+  cmd->add_option("--fps", o.video_fps, "Video frames per second")->check(CLI::Range(1, 240))->capture_default_str();
+  cmd->add_option("--every", o.frame_every, "Keep every k-th step's frame (--record, --video)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--width", o.frame_width, "Frame width (default: the config's env.render_width)")->check(CLI::Range(8, 4096));
+  cmd->add_option("--height", o.frame_height, "Frame height (default: env.render_height)")->check(CLI::Range(8, 4096));
 }
 
 void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
