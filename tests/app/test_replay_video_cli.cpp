@@ -24,7 +24,7 @@ TEST_CASE("replay --video films the episodes with a caption; GIF always, MP4 wit
   // Frames: every 2nd step from the reset on, each episode's last step, and that one held for
   // half a second (5 frames at 10 fps).
   int expected = 0;
-  const std::regex episode_line("length (\\d+)");
+  const std::regex episode_line("episode \\d+: return [^,]+, length (\\d+)");
   for (std::sregex_iterator it(r.out.begin(), r.out.end(), episode_line), end; it != end; ++it) {
     const int length = std::stoi((*it)[1]);
     expected += length / 2 + 1 + length % 2 + 4;
