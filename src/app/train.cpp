@@ -89,7 +89,6 @@ int train_command(const TrainOptions& o) {
   const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
   const std::string checkpoint_path = folder.file("checkpoint.bin");
-  const auto dashboard = start_run_dashboard(o.dashboard, folder.path().string(), o.quiet);  // reads the CSVs only
 
   VecEnv vec(make_envs(config), config.seed, config.stats_window);
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
@@ -104,6 +103,7 @@ int train_command(const TrainOptions& o) {
 
   const nlohmann::json resolved = to_json(config);
   write_file_atomic(folder.file("config.json"), resolved.dump(2) + "\n");
+  const auto dashboard = start_run_dashboard(o.dashboard, folder.path().string(), o.quiet);  // reads the run's files only
   CsvWriter episodes(folder.file("episodes.csv"), episode_columns, resume ? state.episode_rows : -1);
   std::unique_ptr<CsvWriter> progress;  // its columns are known after the first update
 

@@ -32,7 +32,7 @@ std::vector<std::string> find_run_folders(const std::string& root, int max_depth
   std::vector<std::string> runs;
   auto is_run = [](const fs::path& dir) {
     std::error_code e;
-    return fs::is_regular_file(dir / progress_csv_name, e);
+    return fs::is_regular_file(dir / progress_csv_name, e) || fs::is_regular_file(dir / run_config_name, e);
   };
   if (is_run(root)) runs.push_back(root);
   fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, ec), end;

@@ -98,16 +98,19 @@ bool BoundedServer::process_and_close_socket(socket_t sock) {
   const int read_ms = static_cast<int>(read_timeout_sec_ * 1000 + read_timeout_usec_ / 1000);
   const int write_ms = static_cast<int>(write_timeout_sec_ * 1000 + write_timeout_usec_ / 1000);
   CappedStream stream(sock, read_ms, write_ms);
-  for (std::size_t left = keep_alive_max_count_; left > 0 && is_running(); --left) {
+  // stop() closes the listening socket first and only then waits for the connections' tasks: a
+  // closed listening socket, not is_running(), tells a keep-alive connection to end.
+  auto stopping = [this] { return svr_sock_ == INVALID_SOCKET; };
+  for (std::size_t left = keep_alive_max_count_; left > 0 && !stopping(); --left) {
     // Wait for the next request on this connection in short slices, so stop() is not delayed.
     bool ready = stream.has_buffered();
-    for (time_t waited_ms = 0; !ready && is_running() && waited_ms < keep_alive_timeout_sec_ * 1000; waited_ms += 100) {
+    for (time_t waited_ms = 0; !ready && !stopping() && waited_ms < keep_alive_timeout_sec_ * 1000; waited_ms += 100) {
       ready = wait_for(sock, POLLIN, 100);
     }
     if (!ready) break;
     stream.new_request(max_request_bytes_);
     bool closed = false;
-    const bool ok = process_request(stream, left == 1, closed, [&](httplib::Request& req) {
+    const bool ok = process_request(stream, left == 1 || stopping(), closed, [&](httplib::Request& req) {
       stream.get_remote_ip_and_port(req.remote_addr, req.remote_port);
       stream.get_local_ip_and_port(req.local_addr, req.local_port);
     });

@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <charconv>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
@@ -147,12 +148,15 @@ void DashboardServer::Impl::progress(const httplib::Request& req, httplib::Respo
   }
   const auto run = index.find(req.get_param_value("run"));
   if (!run) return send_error(res, 404, "no such run");
-  if (!index.inside_root(run->progress_path, run->root)) return send_error(res, 404, "no such run");
-  CsvRows rows;
-  try {
-    rows = read_csv_rows(run->progress_path, from, max_rows_bytes);
-  } catch (const Error& e) {
-    return send_error(res, 422, e.what());
+  CsvRows rows;  // stays empty while the run has not written progress.csv yet
+  std::error_code ec;
+  if (std::filesystem::exists(run->progress_path, ec) || std::filesystem::is_symlink(run->progress_path, ec)) {
+    if (!index.inside_root(run->progress_path, run->root)) return send_error(res, 404, "no such run");
+    try {
+      rows = read_csv_rows(run->progress_path, from, max_rows_bytes);
+    } catch (const Error& e) {
+      return send_error(res, 422, e.what());
+    }
   }
   nlohmann::json body = {{"columns", rows.columns},
                          {"rows", rows.rows},  // NaN (an empty cell) is written as null

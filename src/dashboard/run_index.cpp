@@ -64,7 +64,10 @@ void RunIndex::rescan(bool force) {
       run.info = read_run_info(dir);
       run.progress_path = (fs::path(dir) / progress_csv_name).string();
       run.root = k;
-      if (inside_root(run.progress_path, k)) found.push_back(std::move(run));
+      // A run folder, or a progress.csv, reached through a link that leaves the root is not served.
+      std::error_code ec;
+      const bool has_log = fs::exists(run.progress_path, ec) || fs::is_symlink(run.progress_path, ec);
+      if (inside_root(dir, k) && (!has_log || inside_root(run.progress_path, k))) found.push_back(std::move(run));
     }
   }
   runs_ = std::move(found);

@@ -1,6 +1,10 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
+#include <memory>
+#include <thread>
+
 #include "dashboard_test_util.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/dashboard/dashboard_server.hpp"
@@ -196,4 +200,40 @@ TEST_CASE("dashboard bind addresses", "[dashboard]") {
   CHECK_THROWS_WITH(rdsim::DashboardServer(same), Catch::Contains("cannot listen on 127.0.0.1:"));
   rdsim::DashboardOptions missing = options_for(root / "absent");
   CHECK_THROWS_WITH(rdsim::DashboardServer(missing), Catch::Contains("not a folder"));
+}
+
+TEST_CASE("dashboard stops while a browser keeps polling on a kept-alive connection", "[dashboard]") {
+  const fs::path root = scratch_dir("stop");
+  make_run(root / "run", "ppo", 1, 2);
+  auto server = std::make_unique<rdsim::DashboardServer>(options_for(root));
+  const int port = server->port();
+  std::atomic<bool> done = false;
+  std::atomic<int> answers = 0;
+  std::thread browser([&] {
+    const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<std::uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0) {
+      const std::string request = "GET /api/runs HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n\r\n";
+      char buf[4096];
+      const auto start = std::chrono::steady_clock::now();
+      while (!done && std::chrono::steady_clock::now() - start < std::chrono::seconds(10) &&
+             ::send(sock, request.data(), request.size(), MSG_NOSIGNAL) > 0) {
+        pollfd p{sock, POLLIN, 0};
+        if (::poll(&p, 1, 1000) <= 0 || ::recv(sock, buf, sizeof buf, 0) <= 0) break;
+        ++answers;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+    }
+    ::close(sock);
+  });
+  while (answers < 3) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const auto start = std::chrono::steady_clock::now();
+  server.reset();  // stops and joins
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  done = true;
+  browser.join();
+  CHECK(took < 5.0);  // a slice of the keep-alive wait, not "when the browser stops asking" (10 s here)
 }

@@ -22,7 +22,8 @@ struct RunInfo {
 };
 RunInfo read_run_info(const std::string& dir);
 
-// The run folders (folders holding a progress.csv) at or below `root`, at most max_depth levels
+// The run folders (folders holding a progress.csv, or a config.json: a run that has not finished its
+// first update yet) at or below `root`, at most max_depth levels
 // down and at most max_runs of them, sorted by path. Symbolic links to folders are not followed
 // and unreadable folders are passed over. Throws rdsim::Error when `root` is not a folder.
 std::vector<std::string> find_run_folders(const std::string& root, int max_depth = 4, std::size_t max_runs = 1000);
