@@ -113,6 +113,10 @@ bool BoundedServer::process_and_close_socket(socket_t sock) {
     const bool ok = process_request(stream, left == 1 || stopping(), closed, [&](httplib::Request& req) {
       stream.get_remote_ip_and_port(req.remote_addr, req.remote_port);
       stream.get_local_ip_and_port(req.local_addr, req.local_port);
+      // Answers go out uncompressed: Debian's httplib would otherwise Brotli-compress every answer a
+      // browser asks for, which cost more CPU than everything else the dashboard does (measured
+      // with perf: 47 % of the server's time), to save bytes on a local connection.
+      req.headers.erase("Accept-Encoding");
     });
     if (!ok || closed || stream.exhausted()) break;
   }

@@ -7,7 +7,8 @@
 // headers and body together) is capped at max_request_bytes, and the connection is closed when a
 // request reaches it. httplib 0.11 limits the request line (414) and each header line (8 KiB) and,
 // with set_payload_max_length, the body (413), but not how many header lines come: without this
-// cap a client could make one request use memory without end.
+// cap a client could make one request use memory without end. Answers are never compressed (see
+// bounded_server.cpp).
 namespace rdsim {
 
 class BoundedServer : public httplib::Server {

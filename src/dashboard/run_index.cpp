@@ -83,7 +83,7 @@ std::vector<IndexedRun> RunIndex::runs() {
 
 std::optional<IndexedRun> RunIndex::find(const std::string& id) {
   std::lock_guard lock(mutex_);
-  rescan(false);
+  if (!scanned_once_) rescan(true);
   auto it = std::find_if(runs_.begin(), runs_.end(), [&](const IndexedRun& r) { return r.id == id; });
   if (it == runs_.end()) {
     rescan(true);

@@ -38,8 +38,9 @@ TEST_CASE("dashboard serves its embedded page and lists the runs", "[dashboard]"
   REQUIRE(port > 0);
   CHECK(server.url() == "http://127.0.0.1:" + std::to_string(port) + "/");
 
-  const std::string page = get(port, "/");
+  const std::string page = get(port, "/", "Accept-Encoding: gzip, deflate, br\r\n");
   CHECK(status_of(page) == 200);
+  CHECK(page.find("Content-Encoding") == std::string::npos);  // never compressed (CPU, see bounded_server.cpp)
   CHECK(page.find("text/html") != std::string::npos);
   CHECK(body_of(page).find("uPlot.iife.min.js") != std::string::npos);
   CHECK(status_of(get(port, "/assets/dashboard.js")) == 200);

@@ -29,7 +29,7 @@ public:
 
   // Every run found, rescanning the roots when the last scan is older than a second.
   std::vector<IndexedRun> runs();
-  // The run with this id (rescans when it is not known yet, at most five times a second), or nothing.
+  // The run with this id (rescans only when it is not known, at most five times a second), or nothing.
   std::optional<IndexedRun> find(const std::string& id);
   // Whether `file` (after resolving links) lies inside the folder of root `root_number`.
   bool inside_root(const std::string& file, std::size_t root_number) const;

@@ -211,6 +211,17 @@ function chartWidth(el) {
   return Math.max(300, el.clientWidth - 8);
 }
 
+// Charts follow their grid cell's width (the grid settles after the first charts appear).
+const resizer = new ResizeObserver((entries) => {
+  for (const entry of entries) {
+    for (const chart of state.charts.values()) {
+      if (chart.el === entry.target && chart.plot.width !== chartWidth(chart.el)) {
+        chart.plot.setSize({width: chartWidth(chart.el), height: 260});
+      }
+    }
+  }
+});
+
 function makeChart(spec, runs, xName, logScale, data) {
   const old = state.charts.get(spec.column);
   let el = old && old.el;
@@ -220,6 +231,7 @@ function makeChart(spec, runs, xName, logScale, data) {
     el.className = 'chart';
     el.dataset.column = spec.column;
     $('charts').appendChild(el);
+    resizer.observe(el);
   }
   const opts = {
     title: spec.title,
@@ -249,6 +261,7 @@ function draw() {
     if (runs.length === 0) {
       if (old) {
         old.plot.destroy();
+        resizer.unobserve(old.el);
         old.el.remove();
         state.charts.delete(spec.column);
       }
@@ -331,9 +344,4 @@ $('smoothing').addEventListener('input', () => {
 });
 $('log-scale').addEventListener('change', redrawAll);
 $('x-axis').addEventListener('change', redrawAll);
-window.addEventListener('resize', () => {
-  for (const chart of state.charts.values()) {
-    chart.plot.setSize({width: chartWidth(chart.el), height: 260});
-  }
-});
 poll.now();
