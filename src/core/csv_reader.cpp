@@ -71,10 +71,17 @@ CsvRows read_csv_rows(const std::string& path, std::uint64_t from, std::size_t m
   if (!file) throw Error(path + ": cannot open: " + std::strerror(errno));
   CsvRows out;
 
-  // The header: the first line, when it is complete.
-  std::string head(max_csv_line_bytes + 1, '\0');
-  head.resize(std::fread(head.data(), 1, head.size(), file.get()));
-  const std::size_t head_end = head.find('\n');
+  // The header: the first line, when it is complete (read in pieces: it is usually short).
+  std::string head;
+  std::size_t head_end = std::string::npos;
+  char piece[4096];
+  while (head_end == std::string::npos && head.size() <= max_csv_line_bytes) {
+    const std::size_t got = std::fread(piece, 1, sizeof piece, file.get());
+    if (got == 0) break;
+    head_end = std::string_view(piece, got).find('\n');
+    if (head_end != std::string::npos) head_end += head.size();
+    head.append(piece, got);
+  }
   if (head_end == std::string::npos) {
     if (head.size() > max_csv_line_bytes) throw Error(path + ": the header line is longer than 64 KiB: not a CSV log");
     return out;  // the writer has not finished the header yet

@@ -63,7 +63,7 @@ HeadlessBrowser::HeadlessBrowser(int width, int height) {
   std::vector<std::string> args = {binary, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
                                    "--no-first-run", "--disable-background-networking",
                                    "--disable-component-update", "--disable-sync", "--disable-extensions",
-                                   "--mute-audio", "--hide-scrollbars", "--remote-debugging-pipe", size,
+                                   "--mute-audio", "--hide-scrollbars", "--disable-dev-shm-usage", "--remote-debugging-pipe", size,
                                    user_data, "about:blank"};
   pid_ = ::fork();
   if (pid_ < 0) throw std::runtime_error("fork failed");
