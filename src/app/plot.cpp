@@ -7,7 +7,7 @@
 #include <set>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/run_folder.hpp"
+#include "rdsim/core/run_files.hpp"
 #include "rdsim/plot/figure.hpp"
 #include "rdsim/plot/learning_curves.hpp"
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/core/run_folder.hpp"
+#include "rdsim/core/run_files.hpp"
 
 // The runs a dashboard serves: every run folder under its roots (find_run_folders), each named by
 // an id made from its root's number and its path below that root ("0:jaka_button/seed1"). A

@@ -2,7 +2,7 @@
 #include <string>
 #include <vector>
 
-#include "rdsim/core/run_folder.hpp"
+#include "rdsim/core/run_files.hpp"
 
 // The data of a learning-curve figure, from the runs' progress.csv alone: each run's metric
 // against an x column, and per algorithm the mean and a band over its runs (its seeds).

@@ -1,16 +1,24 @@
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
-// What `rdsim train` leaves in a run folder, as the tools that only read runs (the dashboard,
-// `rdsim plot`) see it: progress.csv, episodes.csv and config.json (src/app/train.cpp writes them).
+// The files `rdsim train` leaves in a run folder (src/app/train.cpp writes them), named once here
+// for every library that writes or reads runs, and what the tools that only read runs (the
+// dashboard, `rdsim plot`) learn from them.
 namespace rdsim {
 
-inline constexpr const char* progress_csv_name = "progress.csv";
-inline constexpr const char* episodes_csv_name = "episodes.csv";
-inline constexpr const char* run_config_name = "config.json";
+inline constexpr const char* run_config_name = "config.json";    // the resolved config
+inline constexpr const char* progress_csv_name = "progress.csv";  // one row per update
+inline constexpr const char* episodes_csv_name = "episodes.csv";  // one row per finished episode
+inline constexpr const char* model_file_name = "model.bin";       // the policy (app/model_file.hpp)
+inline constexpr const char* checkpoint_file_name = "checkpoint.bin";  // the model plus what --resume needs
+
+// All of them.
+inline constexpr std::array<const char*, 5> run_file_names = {run_config_name, progress_csv_name, episodes_csv_name,
+                                                              model_file_name, checkpoint_file_name};
 
 // A run's identity from its config.json. Reading is lenient: a run whose config.json is missing or
 // unreadable (a run that is just starting, a foreign folder) has empty fields, never an error.

@@ -4,14 +4,14 @@
 #include <unistd.h>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/run_folder.hpp"
+#include "rdsim/core/run_files.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
 fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rdsim_run_folder_" + std::to_string(::getpid())) / name;
+  const fs::path dir = fs::temp_directory_path() / ("rdsim_run_files_" + std::to_string(::getpid())) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -1,4 +1,4 @@
-#include "rdsim/core/run_folder.hpp"
+#include "rdsim/core/run_files.hpp"
 
 #include <algorithm>
 #include <filesystem>
