@@ -116,13 +116,17 @@ for i in $(seq "$repeats"); do
   run_with_dashboard "$out/with_$i"
   read -r sps cpu main other < <(measure "$out/with_$i")
   with+=("$sps") cpu_with+=("$cpu")
-  share+=("$(awk -v m="$main" -v o="$other" 'BEGIN { printf "%.3f", m > 0 ? 100 * o / m : 0 }')")
-  echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (training thread $main s, dashboard threads $other s)"
+  if awk -v m="$main" 'BEGIN { exit !(m > 0) }'; then
+    share+=("$(awk -v m="$main" -v o="$other" 'BEGIN { printf "%.3f", 100 * o / m }')")
+    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (training thread $main s, dashboard threads $other s)"
+  else  # the thread sampler did not find the process (a loaded machine): no share from this run
+    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (threads not sampled)"
+  fi
 done
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print (NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2) }'; }
 m0=$(median "${without[@]}") m1=$(median "${with[@]}")
 c0=$(median "${cpu_without[@]}") c1=$(median "${cpu_with[@]}")
-sh=$(median "${share[@]}")
+sh=$(median "${share[@]:-0}")
 awk -v a="$m0" -v b="$m1" -v c="$c0" -v d="$c1" -v s="$sh" 'BEGIN {
   printf "median CPU time of the dashboard threads: %.2f%% of the training thread'"'"'s\n", s
   printf "median steps/s: %.1f without, %.1f with the dashboard and its client: %+.2f%%\n", a, b, (b / a - 1) * 100
