@@ -20,6 +20,7 @@
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/run_files.hpp"
 #include "rdsim/dashboard/dashboard_server.hpp"
 #include "rdsim/envs/registry.hpp"
 
@@ -69,7 +70,7 @@ RunStart start_run(const TrainOptions& o) {
   }
   if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
   run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
-  const std::string path = run.folder->file("checkpoint.bin");
+  const std::string path = run.folder->file(checkpoint_file_name);
   run.checkpoint = read_model_file(path);
   if (run.checkpoint.kind != ModelKind::Checkpoint) throw Error(path + ": is a model, not a checkpoint");
   nlohmann::json embedded = run.checkpoint.config;
@@ -88,7 +89,7 @@ int train_command(const TrainOptions& o) {
   const TrainConfig& config = run.config;
   const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
-  const std::string checkpoint_path = folder.file("checkpoint.bin");
+  const std::string checkpoint_path = folder.file(checkpoint_file_name);
 
   VecEnv vec(make_envs(config), config.seed, config.stats_window);
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
@@ -97,14 +98,14 @@ int train_command(const TrainOptions& o) {
     check_model_spec(run.checkpoint, vec.spec(), checkpoint_path);
     state = restore_checkpoint(run.checkpoint.payload, *algo, vec, checkpoint_path);
     run.checkpoint.payload.clear();
-    check_log_rows(folder.file("progress.csv"), state.progress_rows, checkpoint_path);
-    check_log_rows(folder.file("episodes.csv"), state.episode_rows, checkpoint_path);
+    check_log_rows(folder.file(progress_csv_name), state.progress_rows, checkpoint_path);
+    check_log_rows(folder.file(episodes_csv_name), state.episode_rows, checkpoint_path);
   }
 
   const nlohmann::json resolved = to_json(config);
-  write_file_atomic(folder.file("config.json"), resolved.dump(2) + "\n");
+  write_file_atomic(folder.file(run_config_name), resolved.dump(2) + "\n");
   const auto dashboard = start_run_dashboard(o.dashboard, folder.path().string(), o.quiet);  // reads the run's files only
-  CsvWriter episodes(folder.file("episodes.csv"), episode_columns, resume ? state.episode_rows : -1);
+  CsvWriter episodes(folder.file(episodes_csv_name), episode_columns, resume ? state.episode_rows : -1);
   std::unique_ptr<CsvWriter> progress;  // its columns are known after the first update
 
   auto save_file = [&](const std::string& file, ModelKind kind) {
@@ -127,8 +128,8 @@ int train_command(const TrainOptions& o) {
   // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
   auto save = [&] {
     schedule.start();
-    save_file("checkpoint.bin", ModelKind::Checkpoint);
-    save_file("model.bin", ModelKind::Model);
+    save_file(checkpoint_file_name, ModelKind::Checkpoint);
+    save_file(model_file_name, ModelKind::Model);
     schedule.done(vec.timesteps());
   };
   if (!resume) save();  // from the start, `--resume` always finds something to continue
@@ -155,7 +156,7 @@ int train_command(const TrainOptions& o) {
       std::vector<std::string> columns = progress_head;
       for (const auto& [name, value] : metrics) columns.push_back(name);
       columns.insert(columns.end(), progress_tail.begin(), progress_tail.end());
-      progress = std::make_unique<CsvWriter>(folder.file("progress.csv"), columns, resume ? state.progress_rows : -1);
+      progress = std::make_unique<CsvWriter>(folder.file(progress_csv_name), columns, resume ? state.progress_rows : -1);
     }
     const EpisodeStats s = vec.episodes().stats();
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -183,7 +184,7 @@ int train_command(const TrainOptions& o) {
   display.finish();
   if (interrupts.requested()) {
     std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
-                 vec.timesteps(), total, checkpoint_path.c_str(), folder.file("model.bin").c_str(),
+                 vec.timesteps(), total, checkpoint_path.c_str(), folder.file(model_file_name).c_str(),
                  folder.path().string().c_str());
     return interrupts.exit_code();
   }
@@ -191,7 +192,7 @@ int train_command(const TrainOptions& o) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
                 config.algorithm.name().c_str(), config.env.name.c_str(), vec.timesteps(), vec.episodes().episodes(),
-                s.count, s.mean_return, vec.wall_time(), folder.file("model.bin").c_str());
+                s.count, s.mean_return, vec.wall_time(), folder.file(model_file_name).c_str());
   }
   return 0;
 }
