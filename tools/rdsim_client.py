@@ -200,6 +200,58 @@ class RemoteEnv:
         self.close()
 
 
+class ServerProcess:
+    """`rdsim serve` as a child process on a free loopback port, stopped (SIGTERM) on exit:
+
+        with ServerProcess("build/rdsim", keys="keys") as server:
+            env = RemoteEnv(server.address, {"name": "cartpole"}, ...)
+
+    Without keys it runs with --insecure (plain text, loopback only). Its stderr (the session log)
+    goes to `log` (a path) when given. stop() returns the exit status.
+    """
+
+    def __init__(self, rdsim, keys=None, args=(), log=None, startup_timeout=30.0):
+        import select
+        import subprocess
+        cmd = [rdsim, "serve", "--bind", "tcp://127.0.0.1:*"]
+        cmd += ["--keys", keys] if keys else ["--insecure"]
+        cmd += list(args)
+        self._log = open(log, "wb") if log else subprocess.DEVNULL
+        self.process = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=self._log)
+        ready, _, _ = select.select([self.process.stdout], [], [], startup_timeout)
+        line = self.process.stdout.readline().decode() if ready else ""
+        if "listening on " not in line:
+            self.stop()
+            raise RdsimError(f"{' '.join(cmd)} did not start: {line.strip() or 'no output'}")
+        self.address = line.split("listening on ", 1)[1].split()[0]
+        self.pid = self.process.pid
+
+    def alive(self):
+        return self.process.poll() is None
+
+    def stop(self, timeout=10.0):
+        import signal
+        import subprocess
+        if self.process.poll() is None:
+            self.process.send_signal(signal.SIGTERM)
+            try:
+                self.process.wait(timeout)
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.wait()
+                raise RdsimError(f"rdsim serve (pid {self.pid}) did not stop within {timeout:g} s of SIGTERM")
+        if hasattr(self._log, "close"):
+            self._log.close()
+        self.process.stdout.close()
+        return self.process.returncode
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description="Drive an env on an `rdsim serve` with random actions.")
     p.add_argument("address", help="tcp://HOST:PORT of the server")
