@@ -4,13 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
 
 #include "rdsim/app/bench_run.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/files.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/registry.hpp"
 
@@ -151,14 +149,8 @@ int bench_fps_command(const BenchFpsOptions& o) {
     }
   }
   if (rows.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
-  // With JSON on stdout the human table goes to stderr, so the JSON stays machine-readable.
-  print_table(o.json_path == "-" ? stderr : stdout, rows, o);
-  if (o.json_path == "-") {
-    std::cout << to_json(rows, o).dump(2) << "\n";
-  } else if (!o.json_path.empty()) {
-    write_file_atomic(o.json_path, to_json(rows, o).dump(2) + "\n");
-    std::printf("wrote %s\n", o.json_path.c_str());
-  }
+  print_table(table_stream(o.json_path), rows, o);
+  write_bench_json(o.json_path, to_json(rows, o));
   return 0;
 }
 

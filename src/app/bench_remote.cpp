@@ -5,14 +5,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <iostream>
 #include <latch>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "rdsim/app/bench_run.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/files.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/curve_keys.hpp"
 #include "rdsim/remote/remote_env.hpp"
@@ -173,13 +171,8 @@ int bench_remote_command(const BenchRemoteOptions& o) {
                            1, o, true));
   if (o.clients > 1) rows.push_back(measure("ground truth", ground, link, o.clients, o, false));
 
-  print_table(o.json_path == "-" ? stderr : stdout, rows, o);
-  if (o.json_path == "-") {
-    std::cout << to_json(rows, o).dump(2) << "\n";
-  } else if (!o.json_path.empty()) {
-    write_file_atomic(o.json_path, to_json(rows, o).dump(2) + "\n");
-    std::printf("wrote %s\n", o.json_path.c_str());
-  }
+  print_table(table_stream(o.json_path), rows, o);
+  write_bench_json(o.json_path, to_json(rows, o));
   return 0;
 }
 

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "rdsim/core/files.hpp"
 
 namespace rdsim {
 namespace {
@@ -52,6 +56,17 @@ double env_run(Env& env, long long steps, std::uint64_t seed, long long& episode
     }
   }
   return static_cast<double>(steps) / std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::FILE* table_stream(const std::string& json_path) { return json_path == "-" ? stderr : stdout; }
+
+void write_bench_json(const std::string& json_path, const nlohmann::json& results) {
+  if (json_path == "-") {
+    std::cout << results.dump(2) << "\n";
+  } else if (!json_path.empty()) {
+    write_file_atomic(json_path, results.dump(2) + "\n");
+    std::printf("wrote %s\n", json_path.c_str());
+  }
 }
 
 }  // namespace rdsim

@@ -43,7 +43,7 @@ RemoteLink::RemoteLink(const RemoteEnvConfig& config)
   socket_.set(zmq::sockopt::linger, 200);  // ms to deliver a last close
   const std::string monitor = next_monitor_endpoint();
   if (zmq_socket_monitor(socket_.handle(), monitor.c_str(),
-                         ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL) != 0)
+                         ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL | ZMQ_EVENT_DISCONNECTED) != 0)
     throw Error(std::string("remote env: cannot monitor the socket: ") + zmq_strerror(zmq_errno()));
   monitor_.connect(monitor);
   try {
@@ -85,6 +85,14 @@ void RemoteLink::check_monitor() {
       throw Error(endpoint_ + ": the CurveZMQ handshake failed (" +
                   (curve_ ? "is server_key the server's public key?" : "the server wants keys: set server_key and client_key") +
                   ")");
+    if (kind == ZMQ_EVENT_DISCONNECTED) {
+      // Before any reply the handshake failed; after one, the session and its env are gone.
+      if (!replied_)
+        throw Error(endpoint_ + ": the server closed the connection before answering (" +
+                    (curve_ ? "is server_key the server's public key?" : "does the server want keys? set server_key and client_key") +
+                    ")");
+      throw Error(endpoint_ + ": the connection to the server was lost: the session and its env are gone");
+    }
   }
 }
 
@@ -128,6 +136,7 @@ Message RemoteLink::call(Message request) {
       continue;  // the late reply of an earlier request that timed out
     }
     const auto error = reply.header.find("error");
+    replied_ = true;
     if (error != reply.header.end()) throw Error(endpoint_ + ": " + (error->is_string() ? error->get<std::string>() : error->dump()));
     return reply;
   }

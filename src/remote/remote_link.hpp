@@ -36,6 +36,7 @@ private:
   zmq::socket_t monitor_;
   long long next_id_ = 1;
   bool curve_ = false;
+  bool replied_ = false;  // a reply came on this connection
 };
 
 }  // namespace rdsim::remote
