@@ -116,8 +116,10 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   }
   renderer_backend_ = config.renderer;
   robot_info_ = robot_info_of(*task_);
+  // The task's first-person cameras, and the main view fixed in the world to watch the whole task.
+  terms_.cameras.push_back(world_camera("scene", terms_.main_view));
   for (const CameraMount& m : terms_.cameras) {
-    task_->robot_model().require_link(m.link);
+    if (!m.link.empty()) task_->robot_model().require_link(m.link);
     robot_info_.cameras.push_back({m.name, m.link, m.fov_deg});
   }
 }

@@ -27,9 +27,21 @@ std::vector<CameraMount> inmoov_eye_cameras() {
   return mounts;
 }
 
+CameraMount world_camera(const std::string& name, const OrbitView& view) {
+  const Camera c = make_orbit_camera(view, 1, 1);
+  CameraMount m;
+  m.name = name;
+  m.position = c.eye;
+  m.forward = (c.target - c.eye).normalized();
+  m.up = c.up;
+  m.fov_deg = c.fov_deg;
+  m.znear = c.znear;
+  return m;
+}
+
 RobotCameras::RobotCameras(const ReachTask& task, std::vector<CameraMount> mounts, std::string renderer_backend)
     : mounts_(std::move(mounts)), backend_(std::move(renderer_backend)) {
-  for (const CameraMount& m : mounts_) links_.push_back(task.robot_model().require_link(m.link));
+  for (const CameraMount& m : mounts_) links_.push_back(m.link.empty() ? -1 : task.robot_model().require_link(m.link));
   add_task_bodies(scene_, task);
 }
 
@@ -49,7 +61,8 @@ void RobotCameras::render(const ReachTask& task, int index, int width, int heigh
     throw Error("camera image size " + std::to_string(width) + "x" + std::to_string(height) + ": expected 1.." +
                 std::to_string(max) + " pixels per side");
   const CameraMount& m = mounts_[static_cast<size_t>(index)];
-  const Eigen::Isometry3f link = task.robot().link_pose(links_[static_cast<size_t>(index)]);
+  const int link_index = links_[static_cast<size_t>(index)];
+  const Eigen::Isometry3f link = link_index < 0 ? Eigen::Isometry3f::Identity() : task.robot().link_pose(link_index);
   Camera camera;
   camera.eye = link * m.position;
   camera.target = camera.eye + link.linear() * m.forward;

@@ -9,7 +9,7 @@ Needs only Debian's python3-zmq and python3-numpy (run it with /usr/bin/python3)
         obs, info = env.reset(seed=1)
         obs, reward, terminated, truncated, info = env.step(3)   # Gymnasium-style
         obs, reward, terminated, truncated, info = env.position([0.5, 0.0, 0.1])
-        images = env.cameras(224, 224)                            # {"wrist": uint8 (224, 224, 3)}
+        images = env.cameras(224, 224)             # {"wrist": uint8 (224, 224, 3), "scene": ...}
 
 Run as a program it drives an env with random actions and prints what happens:
 
@@ -170,8 +170,8 @@ class RemoteEnv:
         return self._step_reply({"request": "joints", "joints": [float(v) for v in targets]})
 
     def cameras(self, width=224, height=224, names=None):
-        """{camera name: uint8 array (height, width, 3)} of the robot's first-person cameras
-        (InMoov: left_eye, right_eye; Jaka: wrist), or only those in `names`."""
+        """{camera name: uint8 array (height, width, 3)} of the robot's cameras (InMoov: left_eye,
+        right_eye; Jaka: wrist; every robot env: scene, the main view), or only those in `names`."""
         header = {"request": "cameras", "width": int(width), "height": int(height)}
         if names is not None:
             header["cameras"] = list(names)

@@ -1,6 +1,7 @@
 #include "remote_link.hpp"
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstring>
 
@@ -107,7 +108,12 @@ Message RemoteLink::call(Message request) {
     if (left.count() <= 0)
       throw Error(endpoint_ + ": no reply within " + std::to_string(static_cast<long long>(timeout_)) +
                   " s (is `rdsim serve` running there" + (curve_ ? ", and is server_key its public key?" : "?") + ")");
-    zmq::poll(items, left);
+    try {
+      zmq::poll(items, left);
+    } catch (const zmq::error_t& e) {
+      if (e.num() == EINTR) continue;  // a signal: wait on
+      throw Error(endpoint_ + ": " + e.what());
+    }
     if (items[1].revents & ZMQ_POLLIN) check_monitor();
     if (!(items[0].revents & ZMQ_POLLIN)) continue;
     std::vector<zmq::message_t> parts;

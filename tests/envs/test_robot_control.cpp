@@ -61,9 +61,11 @@ TEST_CASE("robot control: the Jaka's joints, limits and wrist camera as its URDF
   CHECK(info.joints[1].lower == Approx(-1.4835299f));
   CHECK(info.joints[1].upper == Approx(4.6251225f));
   CHECK(info.joints[0].max_velocity == Approx(3.1416f));
-  REQUIRE(info.cameras.size() == 1);
+  REQUIRE(info.cameras.size() == 2);
   CHECK(info.cameras[0].name == "wrist");
   CHECK(info.cameras[0].link == "flange_link");
+  CHECK(info.cameras[1].name == "scene");
+  CHECK(info.cameras[1].link.empty());
 }
 
 TEST_CASE("robot control: move_effector brings the flange to an absolute point by IK, one env step per call",
@@ -141,9 +143,10 @@ TEST_CASE("robot control: first-person cameras draw at the asked size and follow
   RobotControl& c = control(*env);
   env->reset(1);
   const RobotInfo& info = c.robot_info();
-  REQUIRE(info.cameras.size() == 2);
+  REQUIRE(info.cameras.size() == 3);
   CHECK(info.cameras[0].name == "left_eye");
   CHECK(info.cameras[1].name == "right_eye");
+  CHECK(info.cameras[2].name == "scene");
   Image left, right, small;
   c.camera_image(0, 96, 64, left);
   CHECK(left.width == 96);
@@ -160,9 +163,19 @@ TEST_CASE("robot control: first-person cameras draw at the asked size and follow
   Image down;
   c.camera_image(0, 96, 64, down);
   CHECK(image_difference(left, down) > 5.0);
-  CHECK_THROWS_WITH(c.camera_image(2, 64, 64, down), Contains("no such camera"));
+  CHECK_THROWS_WITH(c.camera_image(3, 64, 64, down), Contains("no such camera"));
   CHECK_THROWS_WITH(c.camera_image(0, 0, 64, down), Contains("1..4096"));
   CHECK_THROWS_WITH(c.camera_image(0, 64, 5000, down), Contains("1..4096"));
+}
+
+TEST_CASE("robot control: the scene camera is the raw-pixel observation's camera", "[envs][robot_control]") {
+  EnvConfig config = env_config("jaka_obstacle", true);
+  config.observation = ObservationMode::RawPixels;
+  auto env = make_env(config);
+  const Observation o = env->reset(2);
+  Image scene;
+  control(*env).camera_image(1, config.image_width, config.image_height, scene);
+  CHECK(scene.rgb == o.pixels);
 }
 
 TEST_CASE("robot control: the same calls from the same seed give bit-identical states", "[envs][robot_control]") {

@@ -86,7 +86,7 @@ class PythonClientTest(unittest.TestCase):
     def test_robot_control_position_joints_cameras_state(self):
         with self.env({"name": "inmoov_tomato"}) as env:
             self.assertEqual(len(env.joint_names), 54)
-            self.assertEqual(env.camera_names, ["left_eye", "right_eye"])
+            self.assertEqual(env.camera_names, ["left_eye", "right_eye", "scene"])
             env.reset(seed=1)
             goal = env.state()["effector_position"] + np.array([0.05, -0.05, 0.03])
             for _ in range(120):
@@ -100,7 +100,7 @@ class PythonClientTest(unittest.TestCase):
             targets[env.joint_names.index("neck_yaw")] = 0.5
             env.joints(targets)
             images = env.cameras(96, 64)
-            self.assertEqual(set(images), {"left_eye", "right_eye"})
+            self.assertEqual(set(images), {"left_eye", "right_eye", "scene"})
             self.assertEqual(images["left_eye"].shape, (64, 96, 3))
             self.assertEqual(images["left_eye"].dtype, np.uint8)
             self.assertGreater(images["left_eye"].std(), 1.0)  # a picture, not a blank

@@ -133,7 +133,7 @@ TEST_CASE("session: requests out of order or outside the spec are errors, and th
   CHECK_THROWS_WITH(s.handle(request(R"({"id": 4, "request": "joints", "joints": [0, 0]})")),
                     Contains("expected 6 joint targets"));
   CHECK_THROWS_WITH(s.handle(request(R"({"id": 4, "request": "cameras", "width": 8, "height": 8, "cameras": ["eye"]})")),
-                    Contains("no camera \"eye\" (this robot has: wrist)"));
+                    Contains("no camera \"eye\" (this robot has: wrist, scene)"));
   CHECK_THROWS_WITH(s.handle(request(R"({"id": 4, "request": "cameras", "width": 8, "height": 8, "cameras": ["wrist", "wrist"]})")),
                     Contains("named twice"));
   CHECK_THROWS_WITH(s.handle(request(R"({"id": 4, "request": "hello", "protocol": 1, "env": {"name": "cartpole"}})")),

@@ -34,11 +34,12 @@ struct JointInfo {
   float max_velocity = 0;      // the URDF speed limit (rad/s or m/s); 0 when the URDF has none
 };
 
-// A first-person camera fixed to a robot link (moves with it), e.g. an InMoov eye or a camera on
-// the Jaka's wrist.
+// A camera of the robot's world: fixed to a robot link (moves with it: an InMoov eye, the camera on
+// the Jaka's wrist) or, with an empty link, fixed in the world ("scene": the env's main view, for
+// watching the whole task).
 struct CameraInfo {
-  std::string name;   // "left_eye", "right_eye", "wrist"
-  std::string link;   // the URDF link it is fixed to
+  std::string name;   // "left_eye", "right_eye", "wrist", "scene"
+  std::string link;   // the URDF link it is fixed to; "" = fixed in the world
   float fov_deg = 60; // vertical field of view; the horizontal one follows from the image's aspect
 };
 
@@ -81,7 +82,7 @@ public:
   // limits. One env step. rdsim::Error for the wrong count or a non-finite value.
   virtual StepResult set_joint_targets(const Eigen::VectorXf& targets) = 0;
 
-  // What first-person camera `camera` (index into RobotInfo::cameras) sees now, as an RGB image
+  // What camera `camera` (index into RobotInfo::cameras) sees now, as an RGB image
   // of width x height (row 0 at the top). rdsim::Error for an unknown camera or a size outside
   // 1..max_camera_side.
   virtual void camera_image(int camera, int width, int height, Image& out) = 0;

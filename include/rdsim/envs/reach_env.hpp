@@ -31,7 +31,8 @@
 //                 never pays more than staying.
 //   truncation    at the spec's max_steps.
 // Every reaching env is also a RobotControl (core/robot_control.hpp): move_effector and
-// set_joint_targets are env steps judged by the same rules; camera_image draws the terms' cameras.
+// set_joint_targets are env steps judged by the same rules; camera_image draws the terms' cameras
+// and "scene", the main view fixed in the world.
 namespace rdsim {
 
 struct ReachTerms {
@@ -49,7 +50,7 @@ struct ReachTerms {
   std::vector<Eigen::Vector3f> target_choices;
   int default_choice = 0;
   OrbitView main_view, second_view;  // raw-pixel cameras (second: multi_view)
-  std::vector<CameraMount> cameras;  // first-person cameras (RobotControl::camera_image)
+  std::vector<CameraMount> cameras;  // first-person cameras (RobotControl::camera_image; "scene" is added)
 };
 
 class ReachEnv : public Env, public RobotControl {

@@ -8,17 +8,19 @@
 #include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/reach_task.hpp"
 #include "rdsim/envs/robot_scene.hpp"
+#include "rdsim/render/camera.hpp"
 #include "rdsim/render/renderer.hpp"
 
-// First-person cameras of a reaching task's robot (RobotControl::camera_image): cameras fixed to
-// robot links, drawn with the task's robot and static bodies at any size a caller asks for.
+// The cameras of a reaching task's robot (RobotControl::camera_image): cameras fixed to robot links
+// (first person) or to the world, drawn with the task's robot and static bodies at any size a
+// caller asks for.
 namespace rdsim {
 
-// A camera fixed to a link. Directions are in the link's frame; the image's up is `up` made
-// orthogonal to `forward`.
+// A camera fixed to a link, or to the world when `link` is empty. Position and directions are in
+// that frame; the image's up is `up` made orthogonal to `forward`.
 struct CameraMount {
   std::string name;   // "left_eye", "wrist", ...
-  std::string link;   // robot link (URDF name)
+  std::string link;   // robot link (URDF name); "" = the world frame
   Eigen::Vector3f position = Eigen::Vector3f::Zero();  // m, in the link frame
   Eigen::Vector3f forward = Eigen::Vector3f::UnitX();  // viewing direction
   Eigen::Vector3f up = Eigen::Vector3f::UnitZ();
@@ -33,6 +35,8 @@ CameraMount jaka_wrist_camera();
 // just clear of the head's face), looking straight ahead (+x of the eye, which the eye pan/tilt
 // joints turn), fov 60 deg.
 std::vector<CameraMount> inmoov_eye_cameras();
+// A camera fixed in the world where `view` puts it (the env's raw-pixel main view), named `name`.
+CameraMount world_camera(const std::string& name, const OrbitView& view);
 
 class RobotCameras {
 public:
@@ -51,7 +55,7 @@ public:
 
 private:
   std::vector<CameraMount> mounts_;
-  std::vector<int> links_;  // RobotModel link of each mount
+  std::vector<int> links_;  // RobotModel link of each mount; -1 for the world
   std::string backend_;
   RobotScene scene_;
   std::unique_ptr<Renderer> renderer_;
