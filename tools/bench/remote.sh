@@ -16,6 +16,7 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 bin=$(realpath "${RDSIM_BIN:-$root/build/rdsim}")
 python=${RDSIM_PYTHON:-/usr/bin/python3}
 out=${OUT:-$(mktemp -d /tmp/rdsim_remote_bench.XXXXXX)}
+mkdir -p "$out"
 learning=0 fuzz_only=0
 for arg in "$@"; do
   case $arg in
