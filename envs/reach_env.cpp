@@ -1,7 +1,5 @@
 #include "rdsim/envs/reach_env.hpp"
 
-#include <cmath>
-
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
