@@ -5,6 +5,7 @@
 
 #include "rdsim/app/bench_fps.hpp"
 #include "rdsim/app/bench_remote.hpp"
+#include "rdsim/app/config_reference.hpp"
 #include "rdsim/app/envs.hpp"
 #include "rdsim/app/keygen.hpp"
 #include "rdsim/app/render.hpp"
@@ -118,6 +119,9 @@ int main(int argc, char** argv) {
   rdsim::RenderOptions render;
   add_render(app, render);
   app.add_subcommand("envs", "List the available environments");
+  app.add_subcommand("config-reference",
+                     "Print every config key with its type, default (per env), range and meaning "
+                     "(markdown; docs/config.md is its output)");
   rdsim::ServeOptions serve;
   add_serve(app, serve);
   rdsim::KeygenOptions keygen;
@@ -147,6 +151,7 @@ int main(int argc, char** argv) {
       return rdsim::bench_fps_command(bench);
     }
     if (name == "envs") return rdsim::envs_command();
+    if (name == "config-reference") return rdsim::config_reference_command();
     if (name == "render") return rdsim::render_command(render);
     if (name == "serve") return rdsim::serve_command(serve);
     if (name == "keygen") return rdsim::keygen_command(keygen);
