@@ -105,7 +105,7 @@ RunStart start_run(const TrainOptions& o) {
 int train_command(const TrainOptions& o) {
   InterruptGuard interrupts;  // before anything slow: a Ctrl-C during setup still saves or quits cleanly
   RunStart run = start_run(o);
-  const TrainConfig& config = run.config;
+  TrainConfig& config = run.config;  // open_envs records a remote env's resolved values in it
   const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
   const std::string checkpoint_path = folder.file("checkpoint.bin");
