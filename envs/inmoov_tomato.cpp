@@ -77,6 +77,7 @@ ReachTerms inmoov_tomato_terms(const ReachTaskSpec& spec) {
   t.default_choice = InmoovTomato::default_target;
   t.main_view = inmoov_main_view();
   t.second_view = inmoov_second_view();
+  t.cameras = inmoov_eye_cameras();
   return t;
 }
 

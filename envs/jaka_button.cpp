@@ -43,7 +43,10 @@ ReachTaskSpec jaka_button_spec(const EnvConfig& config) {
 }
 
 ReachTerms jaka_button_terms() {
-  return ReachTerms{.press_body = JakaButton::button_index, .main_view = reach_main_view(), .second_view = reach_second_view()};
+  return ReachTerms{.press_body = JakaButton::button_index,
+                    .main_view = reach_main_view(),
+                    .second_view = reach_second_view(),
+                    .cameras = {jaka_wrist_camera()}};
 }
 
 std::unique_ptr<Env> make_jaka_button(const EnvConfig& config) { return std::make_unique<JakaButton>(config); }

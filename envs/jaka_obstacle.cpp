@@ -44,6 +44,7 @@ ReachTerms jaka_obstacle_terms(const EnvConfig& config) {
   t.observed_links = {"wrist_2_link", "wrist_3_link"};
   t.main_view = obstacle_main_view();
   t.second_view = reach_second_view();
+  t.cameras = {jaka_wrist_camera()};
   return t;
 }
 

@@ -81,6 +81,27 @@ void check_static_index(const ReachTaskSpec& s, int index, const char* what) {
                 std::to_string(s.statics.size()) + " static bodies");
 }
 
+RobotInfo robot_info_of(const ReachTask& task) {
+  RobotInfo info;
+  const Robot& robot = task.robot();
+  info.robot = robot.model().name;
+  info.effector_link = task.spec().ee_link;
+  info.workspace = task.spec().workspace;
+  for (int dof = 0; dof < robot.dof(); ++dof) {
+    const Joint& j = robot.model().joints[static_cast<size_t>(robot.dof_joint(dof))];
+    JointInfo ji;
+    ji.name = j.name;
+    ji.kind = j.type == JointType::Prismatic ? JointKind::Prismatic
+              : j.type == JointType::Continuous ? JointKind::Continuous
+                                                : JointKind::Revolute;
+    ji.lower = static_cast<float>(j.lower);
+    ji.upper = static_cast<float>(j.upper);
+    ji.max_velocity = static_cast<float>(j.velocity);
+    info.joints.push_back(ji);
+  }
+  return info;
+}
+
 }  // namespace
 
 ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config) : terms_(std::move(terms)) {
@@ -119,7 +140,17 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
     view.multi_view = false;
     viewer_ = std::make_unique<PixelView>(*task_, view, terms_.main_view, terms_.second_view);
   }
+  renderer_backend_ = config.renderer;
+  robot_info_ = robot_info_of(*task_);
+  // The task's first-person cameras, and the main view fixed in the world to watch the whole task.
+  terms_.cameras.push_back(world_camera("scene", terms_.main_view));
+  for (const CameraMount& m : terms_.cameras) {
+    if (!m.link.empty()) task_->robot_model().require_link(m.link);
+    robot_info_.cameras.push_back({m.name, m.link, m.fov_deg});
+  }
 }
+
+ReachEnv::~ReachEnv() = default;
 
 Observation ReachEnv::observe() const {
   Observation o;
@@ -176,8 +207,8 @@ void ReachEnv::select_target(int index) {
   task_->set_target(terms_.target_choices[static_cast<size_t>(index)]);
 }
 
-StepResult ReachEnv::step(const Action& action) {
-  const Eigen::Vector3f move = task_->move_for(action);  // a bad action is an error even after the end
+template <class SetTargets>
+StepResult ReachEnv::control_step(SetTargets&& set_targets) {
   StepResult r;
   if (done_) {
     // Stepping a finished episode: nothing moves, no reward.
@@ -186,7 +217,7 @@ StepResult ReachEnv::step(const Action& action) {
     return r;
   }
   walk();
-  task_->apply_move(move, rng_);
+  set_targets();
   task_->step_physics();
   ++steps_;
   r.observation = observe();
@@ -211,6 +242,44 @@ void ReachEnv::place_walking_body() {
   task_->world().set_static_pose(task_->static_body(index), pose);
   for (size_t k = 0; k < terms_.landmarks.size(); ++k)
     if (terms_.landmarks[k] == index) landmark_points_[k] = pose.translation();
+}
+
+StepResult ReachEnv::step(const Action& action) {
+  const Eigen::Vector3f move = task_->move_for(action);  // a bad action is an error even after the end
+  return control_step([&] { task_->apply_move(move, rng_); });
+}
+
+StepResult ReachEnv::move_effector(const Eigen::Vector3f& position) {
+  if (!position.allFinite()) throw Error(spec_.env_name + ": effector position must be finite numbers (m)");
+  return control_step([&] { task_->apply_effector_target(position); });
+}
+
+StepResult ReachEnv::set_joint_targets(const Eigen::VectorXf& targets) {
+  Robot& robot = task_->robot();
+  if (targets.size() != robot.dof())
+    throw Error(spec_.env_name + ": expected " + std::to_string(robot.dof()) + " joint targets (one per joint), got " +
+                std::to_string(targets.size()));
+  if (!targets.allFinite()) throw Error(spec_.env_name + ": joint targets must be finite numbers");
+  return control_step([&] { robot.set_position_targets(targets); });
+}
+
+RobotSnapshot ReachEnv::robot_state() {
+  const Robot& robot = task_->robot();
+  RobotSnapshot s;
+  s.joint_positions = robot.joint_positions();
+  s.joint_velocities = robot.joint_velocities();
+  s.joint_targets = robot.position_targets();
+  const Eigen::Isometry3f ee = robot.link_pose(task_->ee_link());
+  s.effector_position = ee.translation();
+  s.effector_orientation = Eigen::Quaternionf(ee.linear());
+  s.target = task_->target();
+  s.steps = steps_;
+  return s;
+}
+
+void ReachEnv::camera_image(int camera, int width, int height, Image& out) {
+  if (!cameras_) cameras_ = std::make_unique<RobotCameras>(*task_, terms_.cameras, renderer_backend_);
+  cameras_->render(*task_, camera, width, height, out);
 }
 
 // Reward, info and episode end of the step just taken (the rules in the header).
@@ -251,6 +320,8 @@ std::string ReachEnv::save_state() const {
   write_u32(out, static_cast<std::uint32_t>(steps_));
   write_u32(out, done_ ? 1 : 0);
   write_u32(out, static_cast<std::uint32_t>(target_index_));
+  write_f32(out, walk_offset_.x());  // m, the walking body's offset from its place (0 without one)
+  write_f32(out, walk_offset_.y());
   task_->save_state(out);
   return std::move(out).str();
 }
@@ -265,16 +336,24 @@ void ReachEnv::load_state(const std::string& bytes, const std::string& source) {
   const auto steps = static_cast<int>(read_u32(in, source));
   const std::uint32_t done = read_u32(in, source);
   const auto target_index = static_cast<int>(read_u32(in, source));
+  const float walk_x = read_f32(in, source);  // two statements: argument order is unspecified
+  const float walk_y = read_f32(in, source);
+  const Eigen::Vector2f walk_offset(walk_x, walk_y);
   const int choices = static_cast<int>(terms_.target_choices.size());
   if (steps < 0 || steps > spec_.max_episode_steps || done > 1 ||
       (choices > 0 ? target_index < 0 || target_index >= choices : target_index != -1))
     throw Error(source + ": env state of " + spec_.env_name + " is damaged (counters out of range)");
+  const float walk_range = terms_.walking_body >= 0 ? terms_.walk_range : 0.0f;
+  if (!walk_offset.allFinite() || walk_offset.cwiseAbs().maxCoeff() > walk_range)
+    throw Error(source + ": env state of " + spec_.env_name + " is damaged (walking body offset out of range)");
   task_->load_state(in, source);
   if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
   rng_ = rng;
   steps_ = steps;
   done_ = done != 0;
   target_index_ = target_index;
+  walk_offset_ = walk_offset;
+  if (terms_.walking_body >= 0) place_walking_body();
 }
 
 bool ReachEnv::step_physics_only() {

@@ -199,6 +199,15 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
     robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(q[i] + dq[i]));
 }
 
+void ReachTask::apply_effector_target(const Eigen::Vector3f& goal) {
+  const Eigen::Vector3f clipped = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
+  JointVector q(chain_->dof());
+  for (int i = 0; i < chain_->dof(); ++i) q[i] = robot_->joint_position(chain_dofs_[static_cast<size_t>(i)]);
+  const IkResult ik = solve_ik(*chain_, (base_inverse_ * clipped).cast<double>(), q);
+  for (int i = 0; i < chain_->dof(); ++i)
+    robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(ik.q[i]));
+}
+
 void ReachTask::step_physics() {
   for (int k = 0; k < spec_.action_repeat; ++k) world_->step();
   ee_ = robot_->link_pose(ee_link_).translation();

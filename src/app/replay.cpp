@@ -7,11 +7,11 @@
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/app/env_source.hpp"
 #include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/registry.hpp"
 #include "rdsim/render/png.hpp"
 #include "rdsim/video/overlay.hpp"
 #include "rdsim/video/video_writer.hpp"
@@ -101,7 +101,7 @@ int replay_command(const ReplayOptions& o) {
   if (o.frame_height > 0) config.env.render_height = o.frame_height;
   config.num_envs = 1;
   check_memory(estimate_training_memory(config, config_spec(config)), memory_limit(o.max_memory_gb), o.model_path);
-  auto env = make_env(config.env);
+  auto env = open_env(config.env, config.remote);
   check_model_spec(file, env->spec(), o.model_path);
   FrameCapture frames(o, *env, o.episodes, config.env.render_width, config.env.render_height);
   auto algo = make_algorithm(config.algorithm, config.seed, env->spec());

@@ -11,6 +11,7 @@
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/checkpoint.hpp"
 #include "rdsim/app/dashboard.hpp"
+#include "rdsim/app/env_source.hpp"
 #include "rdsim/app/interrupt.hpp"
 #include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
@@ -33,11 +34,6 @@ const std::vector<std::string> progress_head = {"timesteps", "updates", "episode
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
 const std::vector<std::string> progress_tail = {"steps_per_s", "wall_time"};
 
-std::vector<std::unique_ptr<Env>> make_envs(const TrainConfig& config) {
-  std::vector<std::unique_ptr<Env>> envs;
-  for (int i = 0; i < config.num_envs; ++i) envs.push_back(make_env(config.env));
-  return envs;
-}
 
 std::vector<std::string> episode_row(const EpisodeRecord& e) {
   return {CsvWriter::cell(e.episode), CsvWriter::cell(e.timesteps), CsvWriter::cell(e.episode_return),
@@ -86,12 +82,12 @@ RunStart start_run(const TrainOptions& o) {
 int train_command(const TrainOptions& o) {
   InterruptGuard interrupts;  // before anything slow: a Ctrl-C during setup still saves or quits cleanly
   RunStart run = start_run(o);
-  const TrainConfig& config = run.config;
+  TrainConfig& config = run.config;  // open_envs records a remote env's resolved values in it
   const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
   const std::string checkpoint_path = folder.file(checkpoint_file_name);
 
-  VecEnv vec(make_envs(config), config.seed, config.stats_window);
+  VecEnv vec(open_envs(config), config.seed, config.stats_window);
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
   TrainerState state;
   if (resume) {

@@ -8,8 +8,10 @@
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/robot_cameras.hpp"
 #include "rdsim/render/camera.hpp"
 
 // The one Env implementation of every reaching task (jaka_button, jaka_obstacle, inmoov_tomato):
@@ -35,6 +37,9 @@
 //   truncation    at the spec's max_steps.
 //   walking body  (ReachTerms::walking_body) before each step's move it moves by U(-walk_step,
 //                 walk_step) in x and y, staying within walk_range of its place; back there at reset.
+// Every reaching env is also a RobotControl (core/robot_control.hpp): move_effector and
+// set_joint_targets are env steps judged by the same rules; camera_image draws the terms' cameras
+// and "scene", the main view fixed in the world.
 namespace rdsim {
 
 struct ReachTerms {
@@ -58,11 +63,13 @@ struct ReachTerms {
   int walking_body = -1;      // index into ReachTaskSpec::statics of a body that random-walks (-1: none)
   float walk_step = 0.003f;   // m, largest move per step and axis
   float walk_range = 0.05f;   // m from its place, per axis
+  std::vector<CameraMount> cameras{};  // first-person cameras (RobotControl::camera_image; "scene" is added)
 };
 
-class ReachEnv : public Env, public EnvState {
+class ReachEnv : public Env, public EnvState, public RobotControl {
 public:
   ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config);
+  ~ReachEnv() override;
 
   const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
@@ -76,6 +83,12 @@ public:
   void load_state(const std::string& bytes, const std::string& source) override;
   void drop_caches() override { task_->drop_caches(); }
 
+  const RobotInfo& robot_info() const override { return robot_info_; }
+  RobotSnapshot robot_state() override;
+  StepResult move_effector(const Eigen::Vector3f& position) override;
+  StepResult set_joint_targets(const Eigen::VectorXf& targets) override;
+  void camera_image(int camera, int width, int height, Image& out) override;
+
   const ReachTask& task() const { return *task_; }
   ReachTask& task() { return *task_; }
   const ReachTerms& terms() const { return terms_; }
@@ -88,6 +101,9 @@ public:
 
 private:
   Observation observe() const;
+  // One env step: `set_targets` sets the joint targets, then physics, observation and judge().
+  template <class SetTargets>
+  StepResult control_step(SetTargets&& set_targets);
   void judge(StepResult& r) const;
   void walk();               // one random-walk step of the walking body
   void place_walking_body();  // puts it at its place + walk_offset_
@@ -97,6 +113,9 @@ private:
   std::unique_ptr<ReachTask> task_;
   std::unique_ptr<PixelView> pixels_;  // raw_pixels only
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
+  std::unique_ptr<RobotCameras> cameras_;  // made on the first camera_image
+  std::string renderer_backend_;
+  RobotInfo robot_info_;
   std::vector<Eigen::Vector3f> landmark_points_;
   std::vector<int> observed_links_;  // RobotModel link indices of terms_.observed_links
   Rng rng_;
