@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "rdsim/app/train_config.hpp"
@@ -41,6 +42,23 @@ TEST_CASE("the shipped CartPole configs parse with the documented values", "[tra
   CHECK(dqn.algorithm.name() == "dqn");
 }
 
+TEST_CASE("every shipped config parses, and its resolved form reads back to itself", "[train_config]") {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator("configs")) {
+    if (entry.path().extension() != ".json") continue;
+    INFO(entry.path());
+    const auto c = rdsim::read_train_config(entry.path().string());
+    const nlohmann::json j = rdsim::to_json(c);
+    CHECK(rdsim::to_json(rdsim::parse_train_config(j, "resolved", c.name)) == j);
+    ++count;
+  }
+  CHECK(count >= 20);
+  const auto ddpg = rdsim::read_train_config("configs/pendulum_ddpg.json");
+  CHECK(ddpg.algorithm.name() == "ddpg");
+  CHECK_FALSE(std::get<rdsim::DdpgConfig>(ddpg.algorithm.params).twin_q);  // DDPG's defaults, not TD3's
+  CHECK(ddpg.env.max_steps == 200);
+}
+
 TEST_CASE("the resolved config has every default and reads back to itself", "[train_config]") {
   rltest::ScratchDir dir("config_roundtrip");
   rltest::spit(dir / "tiny.json", R"({"env": {"name": "cartpole"}})");
@@ -74,7 +92,10 @@ TEST_CASE("config errors name the file and the key", "[train_config]") {
   check(R"({"env": {"name": "cartpole"}, "total_timesteps": 0})", "total_timesteps");
   check(R"({"env": {"name": "cartpole"}, "algorithm": "a2c", "a2c": {"optimizer": "sgd"}})", "a2c.optimizer");
   check(R"({"env": {"name": "cartpole"}, "a2c": {"optimizer": "adam"}})", "a2c: has no effect with \"algorithm\": \"ppo\"");
-  check(R"({"env": {"name": "cartpole"}, "algorithm": "sac"})", "algorithm: expected one of");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "sax"})", "algorithm: expected one of");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "ddpg", "td3": {"tau": 0.1}})", "td3: has no effect with \"algorithm\": \"ddpg\"");
+  check(R"({"env": {"name": "pendulum"}, "algorithm": "td3", "td3": {"action_noise": "pink"}})", "td3.action_noise");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "ars", "ars": {"n_delta": 4, "n_top": 5}})", "ars.n_top: expected at most n_delta");
   check(R"({"seed": 1})", "env: missing");
   check(R"({"env": {"name": "cartpole"}, "network": {"hidden_sizes": [64, -1]}})", "network.hidden_sizes");
   check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "dqn": {"batch_size": 0}})", "dqn.batch_size");
