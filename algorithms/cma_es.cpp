@@ -10,15 +10,9 @@
 #include <cmath>
 #include <numeric>
 
-#include "rdsim/algorithms/flat_policy.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
-#include "rdsim/algorithms/population.hpp"
-#include "rdsim/algorithms/running_normalizer.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/algorithms/policy_search.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/rng_bytes.hpp"
-#include "rdsim/nn/serialize.hpp"
 
 namespace rdsim {
 
@@ -153,87 +147,43 @@ void Strategy::load(std::istream& in, const std::string& source) {
 
 namespace {
 
-FlatPolicy checked_policy(const CmaEsConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
-                          const std::string& where) {
-  Rng init = Rng::derive(seed, rng_stream::network_init);
-  FlatPolicy policy(spec, network, config.zero_init, init, "cma_es", where);
-  if (policy.size() > cma::max_parameters)
-    throw Error(where + ": network.hidden_sizes: the policy has " + std::to_string(policy.size()) +
-                " parameters; cma_es keeps a full covariance matrix and allows at most " +
-                std::to_string(cma::max_parameters) + " (use smaller hidden layers, [] for a linear policy, or ars)");
-  return policy;
-}
-
-class CmaEs final : public Algorithm {
+class CmaEs final : public PolicySearch {
 public:
   CmaEs(const CmaEsConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
         const std::string& where)
-      : cfg_(config),
-        spec_(spec),
-        policy_(checked_policy(config, network, seed, spec, where)),
-        strategy_(policy_.parameters().cast<double>(), config.sigma, config.population_size),
-        normalizer_(policy_.observation_size()),
-        rng_(Rng::derive(seed, rng_stream::perturbations)) {}
+      : PolicySearch(spec, network, config.zero_init, config.normalize_observations, seed, "cma_es", where),
+        cfg_(config) {
+    if (policy_.size() > cma::max_parameters)
+      throw Error(where + ": network.hidden_sizes: the policy has " + std::to_string(policy_.size()) +
+                  " parameters; cma_es keeps a full covariance matrix and allows at most " +
+                  std::to_string(cma::max_parameters) + " (use smaller hidden layers, [] for a linear policy, or ars)");
+    strategy_ = cma::Strategy(policy_.parameters().cast<double>(), config.sigma, config.population_size);
+  }
 
   std::string name() const override { return "cma_es"; }
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
-  Action act(const Observation& observation, bool deterministic, Rng& rng) override;
-  void save(std::ostream& out, bool training_state) const override;
-  void load(std::istream& in, bool training_state, const std::string& source) override;
+
+protected:
+  void save_search(std::ostream& out) const override { strategy_.save(out); }
+  void load_search(std::istream& in, const std::string& source) override { strategy_.load(in, source); }
 
 private:
-  const RunningNormalizer* normalizer() const { return cfg_.normalize_observations ? &normalizer_ : nullptr; }
-
   CmaEsConfig cfg_;
-  Spec spec_;
-  FlatPolicy policy_;  // holds the strategy's mean between updates (what act() and model.bin use)
   cma::Strategy strategy_;
-  RunningNormalizer normalizer_;
-  Rng rng_;  // candidates
 };
 
 Metrics CmaEs::update(VecEnv& envs, const TrainProgress& /*progress*/) {
   std::vector<Eigen::VectorXf> candidates;
   for (const Eigen::VectorXd& x : strategy_.ask(rng_)) candidates.push_back(x.cast<float>());
-  RunningNormalizer seen(policy_.observation_size());
-  const PopulationResult result =
-      evaluate_population(envs, policy_, candidates, cfg_.episodes_per_candidate, normalizer(), &seen);
+  const PopulationResult result = evaluate(envs, candidates, cfg_.episodes_per_candidate);
   strategy_.tell(result.returns);
   policy_.set_parameters(strategy_.mean().cast<float>());
-  if (cfg_.normalize_observations) normalizer_.merge(seen);
 
-  const auto [lo, hi] = std::minmax_element(result.returns.begin(), result.returns.end());
-  return {{"candidate_mean_return", std::accumulate(result.returns.begin(), result.returns.end(), 0.0) /
-                                        static_cast<double>(result.returns.size())},
-          {"candidate_min_return", *lo},
-          {"candidate_max_return", *hi},
-          {"sigma", strategy_.sigma()},
-          {"mean_norm", strategy_.mean().norm()},
-          {"generation", static_cast<double>(strategy_.generation())}};
-}
-
-Action CmaEs::act(const Observation& observation, bool /*deterministic*/, Rng& /*rng*/) {
-  // The policy at the strategy's mean is deterministic: stochastic acting is the same.
-  Eigen::VectorXf obs(policy_.observation_size());
-  encode_observation(observation, spec_.observation, obs);
-  return policy_.act(obs, normalizer());
-}
-
-void CmaEs::save(std::ostream& out, bool training_state) const {
-  auto& self = const_cast<CmaEs&>(*this);  // params() hands out mutable views; saving only reads them
-  nn::save_params(self.policy_.params(), out);
-  normalizer_.save(out);
-  if (!training_state) return;
-  strategy_.save(out);
-  write_string(out, rng_to_bytes(rng_));
-}
-
-void CmaEs::load(std::istream& in, bool training_state, const std::string& source) {
-  nn::load_params(policy_.params(), in, source);
-  normalizer_.load(in, source);
-  if (!training_state) return;
-  strategy_.load(in, source);
-  rng_ = rng_from_bytes(read_string(in, source), source);
+  Metrics m = return_metrics(result);
+  m.emplace_back("sigma", strategy_.sigma());
+  m.emplace_back("mean_norm", strategy_.mean().norm());
+  m.emplace_back("generation", static_cast<double>(strategy_.generation()));
+  return m;
 }
 
 }  // namespace

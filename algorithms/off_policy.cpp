@@ -97,9 +97,7 @@ void OffPolicy::collect_step(VecEnv& envs, bool warmup) {
 
 Metrics OffPolicy::update(VecEnv& envs, const TrainProgress& progress) {
   const int n = envs.size();
-  // The last phase stops at the run's goal instead of overshooting by up to train_freq steps.
-  const long long left = progress.total_timesteps - envs.timesteps();
-  const long long calls = left > 0 ? std::min<long long>(settings_.train_freq, (left + n - 1) / n) : settings_.train_freq;
+  const long long calls = progress.phase_steps(settings_.train_freq, n);
   for (long long c = 0; c < calls; ++c) collect_step(envs, envs.timesteps() < settings_.learning_starts);
   const bool learning = envs.timesteps() > settings_.learning_starts;
   Metrics m = train(learning ? settings_.gradient_steps : 0, {envs.timesteps(), progress.total_timesteps});

@@ -27,8 +27,7 @@ public:
 
   Metrics update(VecEnv& envs, const TrainProgress& progress) override {
     const int n = envs.size();
-    const long long left = progress.total_timesteps - envs.timesteps();
-    const long long calls = left > 0 ? std::min<long long>(cfg_.n_steps, (left + n - 1) / n) : cfg_.n_steps;
+    const long long calls = progress.phase_steps(cfg_.n_steps, n);
     std::vector<Action> actions(static_cast<std::size_t>(n));
     for (long long c = 0; c < calls; ++c) {
       for (Action& a : actions) a = draw(rng_);

@@ -10,10 +10,16 @@
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"
+#include "toy_env.hpp"
 
 namespace checks {
 
 using EnvFactory = std::function<std::vector<std::unique_ptr<rdsim::Env>>()>;
+
+// `n` toy sign envs (toy_env.hpp).
+inline EnvFactory sign_envs(int n, bool discrete) {
+  return [n, discrete] { return toy::make_envs(n, discrete); };
+}
 
 inline std::vector<rdsim::Metrics> train(rdsim::Algorithm& algo, rdsim::VecEnv& envs, long long until, long long total) {
   std::vector<rdsim::Metrics> all;

@@ -25,16 +25,6 @@ Setup ars_setup(std::uint64_t seed) {
   return c;
 }
 
-checks::EnvFactory sign_envs(int n, bool discrete) {
-  return [n, discrete] { return toy::make_envs(n, discrete); };
-}
-
-Observation sign_observation(Rng& r) {
-  Observation o;
-  o.values = toy::vec({r.uniform() < 0.5 ? -1.0f : 1.0f, static_cast<float>(r.uniform())});
-  return o;
-}
-
 }  // namespace
 
 TEST_CASE("running normaliser: mean and variance of what it saw; merging equals seeing all", "[ars]") {
@@ -106,10 +96,10 @@ TEST_CASE("ARS learns the toy tasks with a linear policy", "[ars]") {
 
 TEST_CASE("ARS: same seed, same run; checkpoints resume exactly; models round-trip", "[ars][checkpoint]") {
   const Setup setup = ars_setup(2);
-  checks::same_seed_same_run(setup, sign_envs(3, true), 500);
-  checks::resume_is_exact(setup, sign_envs(3, false), 300, 800, 1000);
+  checks::same_seed_same_run(setup, checks::sign_envs(3, true), 500);
+  checks::resume_is_exact(setup, checks::sign_envs(3, false), 300, 800, 1000);
   VecEnv envs(toy::make_envs(2, false), 2);
   auto algo = make_algorithm(setup, envs.spec());
   checks::train(*algo, envs, 400, 400);
-  checks::model_round_trips(setup, *algo, envs.spec(), sign_observation);
+  checks::model_round_trips(setup, *algo, envs.spec(), toy::random_observation);
 }

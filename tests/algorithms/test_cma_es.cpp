@@ -21,10 +21,6 @@ Setup cma_setup(std::uint64_t seed) {
   return c;
 }
 
-checks::EnvFactory sign_envs(int n, bool discrete) {
-  return [n, discrete] { return toy::make_envs(n, discrete); };
-}
-
 // Runs the strategy on f (maximised) for `generations`; returns the final mean.
 Eigen::VectorXd optimise(cma::Strategy& es, const std::function<double(const Eigen::VectorXd&)>& f, int generations) {
   Rng rng(7);
@@ -83,16 +79,12 @@ TEST_CASE("CMA-ES learns the toy tasks with a linear policy", "[cma_es]") {
 
 TEST_CASE("CMA-ES: same seed, same run; checkpoints resume exactly; models round-trip", "[cma_es][checkpoint]") {
   const Setup setup = cma_setup(2);
-  checks::same_seed_same_run(setup, sign_envs(2, true), 300);
-  checks::resume_is_exact(setup, sign_envs(2, false), 200, 600, 1000);
+  checks::same_seed_same_run(setup, checks::sign_envs(2, true), 300);
+  checks::resume_is_exact(setup, checks::sign_envs(2, false), 200, 600, 1000);
   VecEnv envs(toy::make_envs(2, false), 2);
   auto algo = make_algorithm(setup, envs.spec());
   checks::train(*algo, envs, 300, 300);
-  checks::model_round_trips(setup, *algo, envs.spec(), [](Rng& r) {
-    Observation o;
-    o.values = toy::vec({static_cast<float>(r.uniform(-1, 1)), static_cast<float>(r.uniform())});
-    return o;
-  });
+  checks::model_round_trips(setup, *algo, envs.spec(), toy::random_observation);
 }
 
 TEST_CASE("CMA-ES refuses policies beyond its parameter limit", "[cma_es]") {

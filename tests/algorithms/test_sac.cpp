@@ -27,17 +27,6 @@ Setup sac_setup(std::uint64_t seed) {
   return c;
 }
 
-checks::EnvFactory sign_envs(int n) {
-  return [n] { return toy::make_envs(n, false); };
-}
-
-Observation sign_observation(float s) {
-  Observation o;
-  o.values.resize(2);
-  o.values << s, 0.5f;
-  return o;
-}
-
 }  // namespace
 
 TEST_CASE("SAC soft TD targets: minimum of the target critics minus the entropy term; no bootstrap after termination", "[sac]") {
@@ -56,10 +45,10 @@ TEST_CASE("SAC moves the policy towards the best action of a toy task", "[sac]")
   auto algo = make_algorithm(setup, envs.spec());
   CHECK(algo->name() == "sac");
   Rng rng(0);
-  const float before = algo->act(sign_observation(1.0f), true, rng).values[0];
+  const float before = algo->act(toy::observation(1.0f), true, rng).values[0];
   const auto metrics = checks::train(*algo, envs, 2500, 2500);
-  const float plus = algo->act(sign_observation(1.0f), true, rng).values[0];
-  const float minus = algo->act(sign_observation(-1.0f), true, rng).values[0];
+  const float plus = algo->act(toy::observation(1.0f), true, rng).values[0];
+  const float minus = algo->act(toy::observation(-1.0f), true, rng).values[0];
   INFO("action for s = +1: " << before << " -> " << plus << "; for s = -1: " << minus << " (best +-0.5)");
   CHECK(std::abs(plus - 0.5f) < 0.15f);
   CHECK(std::abs(minus + 0.5f) < 0.15f);
@@ -75,12 +64,12 @@ TEST_CASE("SAC: same seed, same run; checkpoints resume exactly; models round-tr
   setup.sac.learning_starts = 50;
   setup.sac.train_freq = 2;
   setup.sac.gradient_steps = 2;
-  checks::same_seed_same_run(setup, sign_envs(2), 400);
-  checks::resume_is_exact(setup, sign_envs(2), 300, 500, 1000);
+  checks::same_seed_same_run(setup, checks::sign_envs(2, false), 400);
+  checks::resume_is_exact(setup, checks::sign_envs(2, false), 300, 500, 1000);
   VecEnv envs(toy::make_envs(2, false), 3);
   auto algo = make_algorithm(setup, envs.spec());
   checks::train(*algo, envs, 300, 300);
-  checks::model_round_trips(setup, *algo, envs.spec(), [](Rng& r) { return sign_observation(static_cast<float>(r.uniform(-1, 1))); });
+  checks::model_round_trips(setup, *algo, envs.spec(), toy::random_observation);
 }
 
 TEST_CASE("SAC needs a bounded Box action space and vector observations", "[sac]") {

@@ -27,17 +27,6 @@ Setup td3_setup(const std::string& algorithm, std::uint64_t seed) {
   return c;
 }
 
-checks::EnvFactory sign_envs(int n) {
-  return [n] { return toy::make_envs(n, false); };
-}
-
-Observation sign_observation(float s) {
-  Observation o;
-  o.values.resize(2);
-  o.values << s, 0.5f;
-  return o;
-}
-
 }  // namespace
 
 TEST_CASE("DDPG is TD3 with one critic, no smoothing and no delay", "[td3]") {
@@ -63,8 +52,8 @@ TEST_CASE("TD3, DDPG (Gaussian and Ornstein-Uhlenbeck noise) move the policy tow
       CHECK(algo->name() == algorithm);
       const auto metrics = checks::train(*algo, envs, 2000, 2000);
       Rng rng(0);
-      const float plus = algo->act(sign_observation(1.0f), true, rng).values[0];
-      const float minus = algo->act(sign_observation(-1.0f), true, rng).values[0];
+      const float plus = algo->act(toy::observation(1.0f), true, rng).values[0];
+      const float minus = algo->act(toy::observation(-1.0f), true, rng).values[0];
       INFO(algorithm << " with " << noise << " noise: action for s = +1: " << plus << ", for s = -1: " << minus);
       CHECK(std::abs(plus - 0.5f) < 0.15f);
       CHECK(std::abs(minus + 0.5f) < 0.15f);
@@ -78,13 +67,13 @@ TEST_CASE("TD3 and DDPG: same seed, same run; checkpoints resume exactly; models
     Setup setup = td3_setup(algorithm, 4);
     setup.td3.learning_starts = setup.ddpg.learning_starts = 50;
     setup.td3.action_noise = setup.ddpg.action_noise = "ornstein_uhlenbeck";  // stateful noise is saved too
-    checks::same_seed_same_run(setup, sign_envs(2), 300);
-    checks::resume_is_exact(setup, sign_envs(2), 201, 500, 1000);
+    checks::same_seed_same_run(setup, checks::sign_envs(2, false), 300);
+    checks::resume_is_exact(setup, checks::sign_envs(2, false), 201, 500, 1000);
     VecEnv envs(toy::make_envs(2, false), 4);
     auto algo = make_algorithm(setup, envs.spec());
     checks::train(*algo, envs, 300, 300);
     checks::model_round_trips(setup, *algo, envs.spec(),
-                              [](Rng& r) { return sign_observation(static_cast<float>(r.uniform(-1, 1))); });
+                              toy::random_observation);
   }
 }
 

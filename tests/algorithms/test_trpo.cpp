@@ -25,10 +25,6 @@ Setup trpo_setup(std::uint64_t seed) {
   return c;
 }
 
-checks::EnvFactory sign_envs(int n, bool discrete) {
-  return [n, discrete] { return toy::make_envs(n, discrete); };
-}
-
 Eigen::MatrixXf random_matrix(int rows, int cols, Rng& rng) {
   Eigen::MatrixXf m(rows, cols);
   for (Eigen::Index k = 0; k < m.size(); ++k) m.data()[k] = static_cast<float>(rng.normal());
@@ -116,16 +112,12 @@ TEST_CASE("TRPO learns the toy task within its trust region", "[trpo]") {
 
 TEST_CASE("TRPO: same seed, same run; checkpoints resume exactly; models round-trip", "[trpo][checkpoint]") {
   const Setup setup = trpo_setup(2);
-  checks::same_seed_same_run(setup, sign_envs(2, false), 512);
-  checks::resume_is_exact(setup, sign_envs(2, true), 256, 768, 1024);
+  checks::same_seed_same_run(setup, checks::sign_envs(2, false), 512);
+  checks::resume_is_exact(setup, checks::sign_envs(2, true), 256, 768, 1024);
   VecEnv envs(toy::make_envs(2, false), 2);
   auto algo = make_algorithm(setup, envs.spec());
   checks::train(*algo, envs, 256, 256);
-  checks::model_round_trips(setup, *algo, envs.spec(), [](Rng& r) {
-    Observation o;
-    o.values = toy::vec({static_cast<float>(r.uniform(-1, 1)), static_cast<float>(r.uniform())});
-    return o;
-  });
+  checks::model_round_trips(setup, *algo, envs.spec(), toy::random_observation);
 }
 
 TEST_CASE("TRPO refuses a shared trunk", "[trpo]") {

@@ -98,6 +98,17 @@ private:
   float sign_ = 1.0f;
 };
 
+// The observation (s, t / length) of SignEnv.
+inline rdsim::Observation observation(float s, float time = 0.5f) {
+  rdsim::Observation o;
+  o.values = vec({s, time});
+  return o;
+}
+// A random one: s = +-1, time in [0, 1).
+inline rdsim::Observation random_observation(rdsim::Rng& rng) {
+  return observation(rng.uniform() < 0.5 ? -1.0f : 1.0f, static_cast<float>(rng.uniform()));
+}
+
 inline std::vector<std::unique_ptr<rdsim::Env>> make_envs(int n, bool discrete = true, int length = 10,
                                                           int terminate_at = 0) {
   std::vector<std::unique_ptr<rdsim::Env>> envs;
