@@ -75,6 +75,13 @@ Observation Pendulum::reset(std::optional<std::uint64_t> seed) {
 StepResult Pendulum::step(const Action& action) {
   if (action.values.size() != 1 || !std::isfinite(action.values[0]))
     throw Error("pendulum: expected one finite torque value, got " + std::to_string(action.values.size()) + " values");
+  StepResult r;
+  if (steps_ >= spec_.max_episode_steps) {
+    // Stepping a finished episode (it only ends by truncation): nothing moves, no reward.
+    r.observation = observe();
+    r.terminated = true;
+    return r;
+  }
   const double u = std::clamp(static_cast<double>(action.values[0]), -max_torque, max_torque);
   const double angle = normalize_angle(theta_);
   const double cost = angle * angle + 0.1 * theta_dot_ * theta_dot_ + 0.001 * u * u;
@@ -85,7 +92,6 @@ StepResult Pendulum::step(const Action& action) {
   theta_dot_ = new_theta_dot;
   ++steps_;
 
-  StepResult r;
   r.observation = observe();
   r.reward = static_cast<float>(-cost);
   r.terminated = false;
