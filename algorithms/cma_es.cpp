@@ -125,8 +125,11 @@ void Strategy::load(std::istream& in, const std::string& source) {
                 std::to_string(dimension()) + " (a different network?)");
   const auto lambda = static_cast<int>(read_u32(in, source));
   if (lambda != lambda_) throw Error(source + ": CMA-ES population " + std::to_string(lambda) + ", expected " + std::to_string(lambda_));
-  const auto generation = static_cast<long long>(read_u64(in, source));
+  const std::uint64_t generation_bits = read_u64(in, source);
   const double sigma = read_f64(in, source);
+  if (generation_bits > (1ull << 50) || !std::isfinite(sigma) || sigma <= 0.0)
+    throw Error(source + ": CMA-ES state is damaged (generation or step size out of range)");
+  const auto generation = static_cast<long long>(generation_bits);
   const auto read_doubles = [&](Eigen::Index count) {
     Eigen::VectorXd v(count);
     for (Eigen::Index i = 0; i < count; ++i) v[i] = read_f64(in, source);
@@ -134,6 +137,8 @@ void Strategy::load(std::istream& in, const std::string& source) {
   };
   Eigen::VectorXd mean = read_doubles(n), p_sigma = read_doubles(n), p_c = read_doubles(n);
   const Eigen::VectorXd c = read_doubles(static_cast<Eigen::Index>(n) * n);
+  if (!mean.allFinite() || !p_sigma.allFinite() || !p_c.allFinite() || !c.allFinite())
+    throw Error(source + ": CMA-ES state holds values that are not finite (damaged file?)");
   generation_ = generation;
   sigma_ = sigma;
   mean_ = mean;

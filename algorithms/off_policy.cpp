@@ -131,7 +131,9 @@ void OffPolicy::load(std::istream& in, bool training_state, const std::string& s
   load_training(in, source);
   explore_rng_ = rng_from_bytes(read_string(in, source), source);
   replay_rng_ = rng_from_bytes(read_string(in, source), source);
-  gradient_steps_ = static_cast<long long>(read_u64(in, source));
+  const std::uint64_t gradient_steps = read_u64(in, source);
+  if (gradient_steps > (1ull << 50)) throw Error(source + ": checkpoint holds a gradient-step count out of range (damaged file?)");
+  gradient_steps_ = static_cast<long long>(gradient_steps);
   buffer_.load(in, source);
 }
 

@@ -54,6 +54,11 @@ ReplayBuffer::ReplayBuffer(long long capacity, const ObservationSpace& space, in
   terminated_.resize(n);
 }
 
+int ReplayBuffer::largest_action() const {
+  if (action_dim_ > 0 || size_ == 0) return -1;  // Box actions have no index
+  return actions_.head(static_cast<Eigen::Index>(size_)).maxCoeff();
+}
+
 std::size_t ReplayBuffer::observation_bytes() const {
   return 2 * static_cast<std::size_t>(observation_size_) * static_cast<std::size_t>(capacity_) *
          (pixels_ ? 1 : sizeof(float));
@@ -219,6 +224,11 @@ void ReplayBuffer::load(std::istream& in, const std::string& source) {
     read(actions_.data(), n * 4);
   read(rewards_.data(), n * 4);
   read(terminated_.data(), n * 4);
+  const bool finite = pixels_ || (observations_.leftCols(n).allFinite() && next_observations_.leftCols(n).allFinite());
+  const bool actions_ok = box ? action_values_.leftCols(n).allFinite() : (n == 0 || actions_.head(n).minCoeff() >= 0);
+  if (!finite || !actions_ok || !rewards_.head(n).allFinite() ||
+      !(terminated_.head(n).array() == 0.0f || terminated_.head(n).array() == 1.0f).all())
+    throw Error(source + ": replay buffer holds damaged values (damaged file?)");
   size_ = size;
   next_ = next;
 }

@@ -62,12 +62,16 @@ void RunningNormalizer::load(std::istream& in, const std::string& source) {
   if (n != static_cast<std::uint32_t>(size()))
     throw Error(source + ": observation statistics of " + std::to_string(n) + " values, expected " +
                 std::to_string(size()) + " (a different env?)");
-  const auto count = static_cast<long long>(read_u64(in, source));
+  const std::uint64_t count_bits = read_u64(in, source);
+  if (count_bits > (1ull << 50)) throw Error(source + ": observation statistics hold a count out of range (damaged file?)");
+  const auto count = static_cast<long long>(count_bits);
   Eigen::VectorXd mean(n), m2(n);
   for (std::uint32_t i = 0; i < n; ++i) {
     mean[i] = read_f64(in, source);
     m2[i] = read_f64(in, source);
   }
+  if (!mean.allFinite() || !m2.allFinite() || (m2.array() < 0.0).any())
+    throw Error(source + ": observation statistics hold damaged values (damaged file?)");
   count_ = count;
   mean_ = mean;
   m2_ = m2;

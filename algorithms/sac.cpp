@@ -217,7 +217,9 @@ void Sac::load_training(std::istream& in, const std::string& source) {
   critic_optimizer_->load_state(in, source);
   alpha_optimizer_->load_state(in, source);
   noise_rng_ = rng_from_bytes(read_string(in, source), source);
-  updates_ = static_cast<long long>(read_u64(in, source));
+  const std::uint64_t updates = read_u64(in, source);
+  if (updates > (1ull << 50)) throw Error(source + ": checkpoint holds an update count out of range (damaged file?)");
+  updates_ = static_cast<long long>(updates);
 }
 
 }  // namespace

@@ -195,13 +195,16 @@ void Td3::load_training(std::istream& in, const std::string& source) {
   actor_optimizer_->load_state(in, source);
   critic_optimizer_->load_state(in, source);
   noise_rng_ = rng_from_bytes(read_string(in, source), source);
-  updates_ = static_cast<long long>(read_u64(in, source));
+  const std::uint64_t updates = read_u64(in, source);
+  if (updates > (1ull << 50)) throw Error(source + ": checkpoint holds an update count out of range (damaged file?)");
+  updates_ = static_cast<long long>(updates);
   last_actor_loss_ = read_f64(in, source);
   const std::uint32_t rows = read_u32(in, source), cols = read_u32(in, source);
   if (rows != 0 && rows != static_cast<std::uint32_t>(action_dim_)) throw Error(source + ": damaged exploration noise state");
   if (cols > 4096) throw Error(source + ": damaged exploration noise state");
   ou_state_.resize(rows, cols);
   read_bytes(in, ou_state_.data(), static_cast<std::size_t>(ou_state_.size()) * 4, source);
+  if (!std::isfinite(last_actor_loss_) || !ou_state_.allFinite()) throw Error(source + ": damaged exploration noise state");
 }
 
 }  // namespace

@@ -115,6 +115,8 @@ void Pendulum::load_state(const std::string& bytes, const std::string& source) {
   if (bytes.size() != sizeof(Snapshot) + sizeof(Rng)) throw Error(source + ": not a pendulum state");
   Snapshot s;
   std::memcpy(&s, bytes.data(), sizeof(Snapshot));
+  if (!std::isfinite(s.theta) || !std::isfinite(s.theta_dot) || s.steps < 0 || s.steps > spec_.max_episode_steps)
+    throw Error(source + ": pendulum state is damaged (values out of range)");
   rng_ = rng_from_bytes(bytes.substr(sizeof(Snapshot)), source);
   theta_ = s.theta;
   theta_dot_ = s.theta_dot;

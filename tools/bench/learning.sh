@@ -54,7 +54,7 @@ run_seed() {
   local extra=()
   [ -n "${TIMESTEPS:-}" ] && extra=(--timesteps "$TIMESTEPS")
   start=$(date +%s%N)
-  if ! "$bin" train --quiet --config "$config" --seed "$seed" --log-dir "$dir" "${extra[@]}" >"$out/seed$seed.log" 2>&1; then
+  if ! "$bin" train --quiet --overwrite --config "$config" --seed "$seed" --log-dir "$dir" "${extra[@]}" >"$out/seed$seed.log" 2>&1; then
     echo "seed $seed: training failed (see $out/seed$seed.log)"
     return 0
   fi

@@ -56,6 +56,8 @@ public:
   int observation_size() const { return observation_size_; }
   int action_dim() const { return action_dim_; }  // 0: Discrete actions
   bool stores_pixels() const { return pixels_; }
+  // The largest action index stored (-1 when empty or the actions are Box vectors).
+  int largest_action() const;
   // Bytes held by the stored observations (both observation and next observation).
   std::size_t observation_bytes() const;
 
@@ -64,7 +66,9 @@ public:
   void sample(int batch_size, Rng& rng, ReplayBatch& out) const;
 
   // The stored transitions and ring position (checkpoints). load() throws rdsim::Error naming
-  // `source` when capacity, observation size, action kind or storage type differ from this buffer's.
+  // `source` when capacity, observation size, action kind or storage type differ from this buffer's,
+  // or the stored values are damaged (not finite, actions out of range, terminated flags other than
+  // 0/1).
   void save(std::ostream& out) const;
   void load(std::istream& in, const std::string& source);
 

@@ -47,6 +47,7 @@ void describe(V& v, C& c) {
           "target entropy per action dimension (SB3's \"auto\" is -1, i.e. -dim in total)");
   v.field("target_update_interval", c.target_update_interval, config::Range{1, 1'000'000},
           "gradient steps between target-critic updates");
+  v.check(c.batch_size <= c.buffer_size, "batch_size", "expected at most buffer_size (" + std::to_string(c.buffer_size) + ")");
 }
 
 // rdsim::Error naming `where` (the config file) when the env has discrete actions, pixels,

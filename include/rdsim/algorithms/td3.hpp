@@ -66,6 +66,7 @@ void describe(V& v, C& c) {
           "std (sigma) of the exploration noise, in units of half the action range");
   v.field("ou_theta", c.ou_theta, config::Range{0.0, 1e3}, "Ornstein-Uhlenbeck mean reversion rate");
   v.field("ou_dt", c.ou_dt, config::Range{1e-6, 1e3}, "Ornstein-Uhlenbeck time step");
+  v.check(c.batch_size <= c.buffer_size, "batch_size", "expected at most buffer_size (" + std::to_string(c.buffer_size) + ")");
 }
 
 template <class V, class C>
