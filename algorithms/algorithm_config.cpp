@@ -8,7 +8,7 @@ namespace rdsim {
 namespace {
 
 // The name of each AlgorithmParams alternative in configs, in the variant's order.
-constexpr const char* kNames[] = {"ppo", "a2c", "dqn"};
+constexpr const char* kNames[] = {"ppo", "a2c", "dqn", "sac", "td3", "ddpg", "trpo", "ars", "cma_es", "random"};
 static_assert(std::size(kNames) == std::variant_size_v<AlgorithmParams>, "one name per AlgorithmParams alternative");
 
 template <std::size_t I = 0>
@@ -74,6 +74,13 @@ std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_
     std::unique_ptr<Algorithm> operator()(const PpoConfig& p) const { return make_ppo(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const A2cConfig& p) const { return make_a2c(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const DqnConfig& p) const { return make_dqn(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const SacConfig& p) const { return make_sac(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const Td3Config& p) const { return make_td3(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const DdpgConfig& p) const { return make_ddpg(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const TrpoConfig& p) const { return make_trpo(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const ArsConfig& p) const { return make_ars(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const CmaEsConfig& p) const { return make_cma_es(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const RandomConfig& p) const { return make_random(p, c.network, seed, spec, c.source); }
   };
   return std::visit(Make{c, seed, spec}, c.params);
 }

@@ -228,9 +228,7 @@ void Dqn::gradient_step(double& loss_sum, double& q_sum, double& norm_sum) {
 
 Metrics Dqn::update(VecEnv& envs, const TrainProgress& progress) {
   const int n = envs.size();
-  // The last phase stops at the run's goal instead of overshooting by up to train_freq steps.
-  const long long left = progress.total_timesteps - envs.timesteps();
-  const long long calls = left > 0 ? std::min<long long>(cfg_.train_freq, (left + n - 1) / n) : cfg_.train_freq;
+  const long long calls = progress.phase_steps(cfg_.train_freq, n);
   double epsilon = 0.0;
   for (long long c = 0; c < calls; ++c) {
     epsilon = dqn::epsilon_at(envs.timesteps(), progress.total_timesteps, cfg_.exploration_fraction,

@@ -46,6 +46,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
   if (envs_.empty()) throw Error("VecEnv needs at least one env");
   for (int i = 0; i < size(); ++i) observations_.push_back(envs_[static_cast<std::size_t>(i)]->reset(env_seed(seed, i)));
   results_.resize(envs_.size());
+  all_active_.assign(envs_.size(), true);
 }
 
 double VecEnv::wall_time() const {
@@ -53,12 +54,21 @@ double VecEnv::wall_time() const {
 }
 
 const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions) {
-  if (actions.size() != envs_.size()) throw Error("VecEnv::step: one action per env expected");
-  timesteps_ += size();
+  return step(actions, all_active_);
+}
+
+const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, const std::vector<bool>& active) {
+  if (actions.size() != envs_.size() || active.size() != envs_.size())
+    throw Error("VecEnv::step: one action and one active flag per env expected");
+  for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
   const double now = wall_time();
   for (std::size_t i = 0; i < envs_.size(); ++i) {
-    StepResult r = envs_[i]->step(actions[i]);
     EnvStep& s = results_[i];
+    if (!active[i]) {
+      s = EnvStep{};
+      continue;
+    }
+    StepResult r = envs_[i]->step(actions[i]);
     s.reward = r.reward;
     s.terminated = r.terminated;
     s.truncated = r.truncated;

@@ -9,7 +9,7 @@
 #include "rdsim/core/rng.hpp"
 
 // The interface between the training loop (src/app/train.cpp) and a learning algorithm
-// (PPO, A2C, DQN). The loop owns the environments (a VecEnv, which also counts timesteps and
+// (PPO, A2C, DQN, SAC, TD3/DDPG, TRPO, ARS, CMA-ES, random). The loop owns the environments (a VecEnv, which also counts timesteps and
 // tracks episodes), the log files and the model/checkpoint files; an algorithm owns its
 // networks, optimiser and random streams, and decides how many env steps one update takes.
 //
@@ -21,10 +21,12 @@
 //   }
 //   model.bin <- algo->save(out, /*training_state=*/false)
 //
-// Writing a new algorithm (e.g. off-policy DQN): step the envs ONLY through VecEnv::step (so
-// timesteps and episode statistics stay right), use VecEnv::step results' `final_observation`
-// to bootstrap on truncation (never on termination), draw all randomness from Rng streams
-// derived with Rng::derive(config.seed, rng_stream::...) and save them in save(.., true).
+// Writing a new algorithm: step the envs ONLY through VecEnv::step (so timesteps and episode
+// statistics stay right), use VecEnv::step results' `final_observation` to bootstrap on
+// truncation (never on termination), draw all randomness from Rng streams derived with
+// Rng::derive(config.seed, rng_stream::...) and save them in save(.., true). Start from what a
+// family shares: OnPolicy (rollouts + GAE: PPO, A2C, TRPO), OffPolicy (replay of Box
+// transitions: SAC, TD3/DDPG) or PolicySearch (candidates judged by whole episodes: ARS, CMA-ES).
 namespace rdsim {
 
 class VecEnv;  // vec_env.hpp
@@ -45,13 +47,20 @@ struct TrainProgress {
     const double r = 1.0 - static_cast<double>(at_timesteps) / static_cast<double>(total_timesteps);
     return r < 0.0 ? 0.0 : (r > 1.0 ? 1.0 : r);
   }
+
+  // VecEnv steps of `num_envs` envs in a collection phase that wants `wanted` of them, starting
+  // at `timesteps`: the last phase stops at the run's goal instead of overshooting it.
+  long long phase_steps(long long wanted, int num_envs) const {
+    const long long left = total_timesteps - timesteps;
+    return left > 0 && (left + num_envs - 1) / num_envs < wanted ? (left + num_envs - 1) / num_envs : wanted;
+  }
 };
 
 class Algorithm {
 public:
   virtual ~Algorithm() = default;
 
-  // "ppo", "a2c", "dqn".
+  // The algorithm's name in configs: "ppo", "a2c", "dqn", "sac", "td3", "ddpg", "trpo", "ars", "cma_es", "random".
   virtual std::string name() const = 0;
 
   // Collects experience by stepping `envs` (as many steps as the algorithm's update needs,

@@ -8,9 +8,15 @@
 
 #include "rdsim/algorithms/a2c.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/ars.hpp"
+#include "rdsim/algorithms/cma_es.hpp"
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/ppo.hpp"
+#include "rdsim/algorithms/random.hpp"
+#include "rdsim/algorithms/sac.hpp"
+#include "rdsim/algorithms/td3.hpp"
+#include "rdsim/algorithms/trpo.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/memory_estimate.hpp"
 
@@ -20,14 +26,15 @@
 // AlgorithmParams and one row in algorithm_config.cpp's table.
 namespace rdsim {
 
-using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig>;
+using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig, SacConfig, Td3Config, DdpgConfig, TrpoConfig,
+                                     ArsConfig, CmaEsConfig, RandomConfig>;
 
 struct AlgorithmConfig {
   NetworkConfig network;
   AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
   std::string source;      // the config file, for messages
 
-  std::string name() const;  // "ppo", "a2c", "dqn"
+  std::string name() const;  // "ppo", "a2c", "dqn", "sac", ...
 };
 
 // Every algorithm name, in registry order.
@@ -53,7 +60,7 @@ void estimate_algorithm_memory(const AlgorithmConfig& config, const Spec& spec, 
 
 // Creates the algorithm for envs described by `spec`, with fresh weights drawn from
 // Rng::derive(seed, rng_stream::network_init). rdsim::Error when the algorithm cannot handle the
-// spec (e.g. DQN with a Box action space).
+// spec (e.g. DQN with a Box action space, SAC with a Discrete one).
 std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& config, std::uint64_t seed, const Spec& spec);
 
 }  // namespace rdsim

@@ -83,8 +83,10 @@ inline constexpr std::uint64_t network_init = 1;
 inline constexpr std::uint64_t action_sampling = 2;
 inline constexpr std::uint64_t minibatch_shuffle = 3;
 inline constexpr std::uint64_t replay_sampling = 4;   // off-policy replay buffers
-inline constexpr std::uint64_t exploration = 5;       // epsilon-greedy draws
+inline constexpr std::uint64_t exploration = 5;       // epsilon-greedy draws, warm-up actions, action noise
 inline constexpr std::uint64_t evaluation = 6;        // `rdsim replay --stochastic`
+inline constexpr std::uint64_t training_noise = 7;    // noise inside gradient steps (SAC actions, TD3 smoothing)
+inline constexpr std::uint64_t perturbations = 8;     // ARS directions, CMA-ES candidates
 inline constexpr std::uint64_t env_base = 1000;
 }  // namespace rng_stream
 
