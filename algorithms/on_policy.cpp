@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "rdsim/algorithms/advantage.hpp"
+#include "rdsim/algorithms/behavior_cloning.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
@@ -54,6 +55,13 @@ void OnPolicy::load(std::istream& in, bool training_state, const std::string& so
   sample_rng_ = rng_from_bytes(read_string(in, source), source);
   shuffle_rng_ = rng_from_bytes(read_string(in, source), source);
   updates_ = static_cast<long long>(read_u64(in, source));
+}
+
+std::vector<Metrics> OnPolicy::learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
+                                                         Rng& rng, bool pretrain) {
+  if (!pretrain) return {};  // a resumed run: the checkpoint holds the pre-trained weights
+  const DemoSplit data = split_demonstrations(demos, spec_.observation, config.validation_fraction, settings_.gamma, rng);
+  return fit_to_demonstrations(*policy_, data, config, config.fit_critic, rng);
 }
 
 }  // namespace rdsim

@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "rdsim/app/bench_fps.hpp"
+#include "rdsim/app/demos.hpp"
 #include "rdsim/app/envs.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
@@ -65,6 +66,27 @@ void add_render(CLI::App& app, rdsim::RenderOptions& o) {
   cmd->add_flag("--random-target", o.random_target, "Randomise the target at reset (env.random_target)");
 }
 
+void add_demos(CLI::App& app, std::string& info_path, rdsim::DemosRecordOptions& o) {
+  auto* cmd = app.add_subcommand("demos", "Demonstration files: what one holds, recording the scripted expert");
+  cmd->require_subcommand(1);
+  auto* info = cmd->add_subcommand("info", "Print a demonstration file's env, episodes, steps, success rate and mean return");
+  info->add_option("file", info_path, "Demonstration file")->required();
+  auto* record = cmd->add_subcommand("record", "Record episodes of the scripted expert (privileged state, the env's own actions)");
+  record->add_flag("--expert", o.expert, "Use the scripted expert (the only recorder here; people record with `rdsim teleop --record`)")
+      ->required();
+  auto* env = record->add_option("--env", o.env, "Env name (its default options, random targets)");
+  auto* config = record->add_option("--config", o.config_path, "Or take the \"env\" object of this training config");
+  env->excludes(config);
+  record->add_option("-n,--episodes", o.episodes, "Episodes to write")->check(CLI::Range(1, 1000000))->capture_default_str();
+  record->add_option("--out", o.out_path, "Demonstration file to write")->required();
+  record->add_option("--seed", o.seed, "Episode k starts from reset(seed + k)")->capture_default_str();
+  record->add_flag("--append", o.append, "Add to an existing file of the same env");
+  record->add_flag("--fixed-target", o.fixed_target, "--env: keep the default target (no random_target)");
+  record->add_flag("--continuous", o.continuous, "--env: Box(3) actions instead of Discrete(6)");
+  record->add_flag("--only-successes", o.only_successes, "Write successful episodes only");
+  record->add_flag("-q,--quiet", o.quiet, "No line per episode");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -83,6 +105,9 @@ int main(int argc, char** argv) {
   rdsim::RenderOptions render;
   add_render(app, render);
   app.add_subcommand("envs", "List the available environments");
+  std::string demos_info_path;
+  rdsim::DemosRecordOptions demos_record;
+  add_demos(app, demos_info_path, demos_record);
 
   CLI11_PARSE(app, argc, argv);
 
@@ -107,6 +132,10 @@ int main(int argc, char** argv) {
     }
     if (name == "envs") return rdsim::envs_command();
     if (name == "render") return rdsim::render_command(render);
+    if (name == "demos") {
+      if (sub->get_subcommands().front()->get_name() == "info") return rdsim::demos_info_command(demos_info_path);
+      return rdsim::demos_record_command(demos_record);
+    }
   } catch (const rdsim::Error& e) {
     std::fprintf(stderr, "rdsim: error: %s\n", e.what());
     return 1;

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/model_file.hpp"
 #include "rdsim/app/train_config.hpp"
@@ -15,6 +16,8 @@
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/demos/demo_file.hpp"
+#include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
@@ -92,6 +95,33 @@ TrainerState restore(const std::string& payload, Algorithm& algo, VecEnv& vec, c
   return s;
 }
 
+// The config's "demonstrations": the file read and checked against the env, then handed to the
+// algorithm (pre-training on a fresh run; pretrain.csv gets one row per epoch).
+void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const Spec& spec, bool resume,
+                               const std::filesystem::path& dir, bool quiet) {
+  const DemonstrationsConfig& dc = *config.algorithm.demonstrations;
+  const DemoFile demos = read_demo_file(dc.file);
+  check_demos_fit(demos, to_json(config.env), spec);
+  if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
+  Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);
+  const std::vector<Metrics> rows = algo.learn_from_demonstrations(demos, dc, rng, !resume);
+  if (rows.empty()) return;
+  std::vector<std::string> columns;
+  for (const auto& [name, value] : rows.front()) columns.push_back(name);
+  CsvWriter log((dir / "pretrain.csv").string(), columns);
+  for (const Metrics& row : rows) {
+    std::vector<std::string> cells;
+    for (const auto& [name, value] : row) cells.push_back(CsvWriter::cell(value));
+    log.write_row(cells);
+  }
+  if (!quiet) {
+    long long steps = 0;
+    for (const DemoEpisode& e : demos.episodes) steps += e.steps();
+    std::fprintf(stderr, "rdsim train: learnt from %zu demonstrated episodes (%lld steps) of %s: %zu epochs -> %s\n",
+                 demos.episodes.size(), steps, dc.file.c_str(), rows.size(), (dir / "pretrain.csv").string().c_str());
+  }
+}
+
 std::vector<std::string> episode_row(const EpisodeRecord& e) {
   return {CsvWriter::cell(e.episode), CsvWriter::cell(e.timesteps), CsvWriter::cell(e.episode_return),
           CsvWriter::cell(e.length),  CsvWriter::cell(e.success),   CsvWriter::cell(e.collision),
@@ -129,6 +159,7 @@ int train_command(const TrainOptions& o) {
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
   TrainerState state;
   if (resume) state = restore(checkpoint.payload, *algo, vec, checkpoint_path);
+  if (config.algorithm.demonstrations) learn_from_demonstrations(config, *algo, vec.spec(), resume, dir, o.quiet);
 
   const nlohmann::json resolved = to_json(config);
   write_file_atomic((dir / "config.json").string(), resolved.dump(2) + "\n");

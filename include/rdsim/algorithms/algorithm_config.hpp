@@ -2,12 +2,15 @@
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "rdsim/algorithms/a2c.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/bc.hpp"
+#include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/ppo.hpp"
@@ -19,14 +22,15 @@
 // AlgorithmParams and one row in algorithm_config.cpp's table.
 namespace rdsim {
 
-using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig>;
+using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig, BcConfig>;
 
 struct AlgorithmConfig {
   NetworkConfig network;
   AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
+  std::optional<DemonstrationsConfig> demonstrations;  // "demonstrations": learning from a demo file
   std::string source;      // the config file, for messages
 
-  std::string name() const;  // "ppo", "a2c", "dqn"
+  std::string name() const;  // "ppo", "a2c", "dqn", "bc"
 };
 
 // Every algorithm name, in registry order.
@@ -35,12 +39,13 @@ std::vector<std::string> algorithm_names();
 // The algorithm's default hyperparameters; rdsim::Error listing the names for an unknown one.
 AlgorithmParams default_algorithm_params(const std::string& name);
 
-// Reads "algorithm", "network" and the chosen algorithm's object from the top level of a
-// training config (`reader`, which keeps checking the other keys). The object of another
-// algorithm is an error: it would have no effect.
+// Reads "algorithm", "network", the chosen algorithm's object and "demonstrations" from the top
+// level of a training config (`reader`, which keeps checking the other keys). The object of another
+// algorithm is an error: it would have no effect; so are demonstrations keys the chosen algorithm
+// does not use, and bc without demonstrations.
 AlgorithmConfig read_algorithm_config(ConfigReader& reader);
 
-// Writes the same three keys, every value resolved, into `out` (a JSON object).
+// Writes the same keys, every value resolved, into `out` (a JSON object).
 void write_algorithm_config(const AlgorithmConfig& config, nlohmann::json& out);
 
 // Creates the algorithm for envs described by `spec`, with fresh weights drawn from

@@ -16,6 +16,9 @@ public:
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
+  // Pre-trains the actor (and with fit_critic the critic) on the demonstrations (behavior_cloning.hpp).
+  std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
+                                                 bool pretrain) override;
 
   ActorCritic& policy() { return *policy_; }
 

@@ -85,6 +85,7 @@ inline constexpr std::uint64_t minibatch_shuffle = 3;
 inline constexpr std::uint64_t replay_sampling = 4;   // off-policy replay buffers
 inline constexpr std::uint64_t exploration = 5;       // epsilon-greedy draws
 inline constexpr std::uint64_t evaluation = 6;        // `rdsim replay --stochastic`
+inline constexpr std::uint64_t demonstrations = 7;    // demonstration splits, pre-training minibatches
 inline constexpr std::uint64_t env_base = 1000;
 }  // namespace rng_stream
 
