@@ -91,6 +91,7 @@ ReachTerms inmoov_tomato_terms(const ReachTaskSpec& spec) {
   t.expert_approach = Eigen::Vector3f(-0.10f, 0.0f, -0.05f);
   t.main_view = inmoov_main_view();
   t.second_view = inmoov_second_view();
+  t.cameras = inmoov_eye_cameras();
   return t;
 }
 

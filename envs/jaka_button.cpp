@@ -56,6 +56,7 @@ ReachTerms jaka_button_terms() {
   t.press_body = JakaButton::button_index;
   t.main_view = reach_main_view();
   t.second_view = reach_second_view();
+  t.cameras = {jaka_wrist_camera()};
   return t;
 }
 

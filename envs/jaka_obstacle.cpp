@@ -40,6 +40,7 @@ ReachTerms jaka_obstacle_terms() {
   t.expert_approach = Eigen::Vector3f(0.0f, 0.0f, 0.06f);
   t.main_view = obstacle_main_view();
   t.second_view = reach_second_view();
+  t.cameras = {jaka_wrist_camera()};
   return t;
 }
 

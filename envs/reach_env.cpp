@@ -1,5 +1,7 @@
 #include "rdsim/envs/reach_env.hpp"
 
+#include <cmath>
+
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
@@ -59,6 +61,27 @@ void check_static_index(const ReachTaskSpec& s, int index, const std::string& en
                 std::to_string(s.statics.size()) + " static bodies");
 }
 
+RobotInfo robot_info_of(const ReachTask& task) {
+  RobotInfo info;
+  const Robot& robot = task.robot();
+  info.robot = robot.model().name;
+  info.effector_link = task.spec().ee_link;
+  info.workspace = task.spec().workspace;
+  for (int dof = 0; dof < robot.dof(); ++dof) {
+    const Joint& j = robot.model().joints[static_cast<size_t>(robot.dof_joint(dof))];
+    JointInfo ji;
+    ji.name = j.name;
+    ji.kind = j.type == JointType::Prismatic ? JointKind::Prismatic
+              : j.type == JointType::Continuous ? JointKind::Continuous
+                                                : JointKind::Revolute;
+    ji.lower = static_cast<float>(j.lower);
+    ji.upper = static_cast<float>(j.upper);
+    ji.max_velocity = static_cast<float>(j.velocity);
+    info.joints.push_back(ji);
+  }
+  return info;
+}
+
 }  // namespace
 
 ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config) : terms_(std::move(terms)) {
@@ -91,7 +114,17 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
     view.multi_view = false;
     viewer_ = std::make_unique<PixelView>(*task_, view, terms_.main_view, terms_.second_view);
   }
+  renderer_backend_ = config.renderer;
+  robot_info_ = robot_info_of(*task_);
+  // The task's first-person cameras, and the main view fixed in the world to watch the whole task.
+  terms_.cameras.push_back(world_camera("scene", terms_.main_view));
+  for (const CameraMount& m : terms_.cameras) {
+    if (!m.link.empty()) task_->robot_model().require_link(m.link);
+    robot_info_.cameras.push_back({m.name, m.link, m.fov_deg});
+  }
 }
+
+ReachEnv::~ReachEnv() = default;
 
 Observation ReachEnv::observe() const {
   Observation o;
@@ -138,8 +171,8 @@ void ReachEnv::select_target(int index) {
   task_->set_target(terms_.target_choices[static_cast<size_t>(index)]);
 }
 
-StepResult ReachEnv::step(const Action& action) {
-  const Eigen::Vector3f move = move_for_action(action, discrete_, task_->spec().step, spec_.env_name);
+template <class SetTargets>
+StepResult ReachEnv::control_step(SetTargets&& set_targets) {
   StepResult r;
   if (done_) {
     // Stepping a finished episode: nothing moves, no reward.
@@ -147,13 +180,51 @@ StepResult ReachEnv::step(const Action& action) {
     r.terminated = true;
     return r;
   }
-  task_->apply_move(move, rng_);
+  set_targets();
   task_->step_physics();
   ++steps_;
   r.observation = observe();
   judge(r);
   done_ = r.terminated || r.truncated;
   return r;
+}
+
+StepResult ReachEnv::step(const Action& action) {
+  const Eigen::Vector3f move = move_for_action(action, discrete_, task_->spec().step, spec_.env_name);
+  return control_step([&] { task_->apply_move(move, rng_); });
+}
+
+StepResult ReachEnv::move_effector(const Eigen::Vector3f& position) {
+  if (!position.allFinite()) throw Error(spec_.env_name + ": effector position must be finite numbers (m)");
+  return control_step([&] { task_->apply_effector_target(position); });
+}
+
+StepResult ReachEnv::set_joint_targets(const Eigen::VectorXf& targets) {
+  Robot& robot = task_->robot();
+  if (targets.size() != robot.dof())
+    throw Error(spec_.env_name + ": expected " + std::to_string(robot.dof()) + " joint targets (one per joint), got " +
+                std::to_string(targets.size()));
+  if (!targets.allFinite()) throw Error(spec_.env_name + ": joint targets must be finite numbers");
+  return control_step([&] { robot.set_position_targets(targets); });
+}
+
+RobotState ReachEnv::robot_state() {
+  const Robot& robot = task_->robot();
+  RobotState s;
+  s.joint_positions = robot.joint_positions();
+  s.joint_velocities = robot.joint_velocities();
+  s.joint_targets = robot.position_targets();
+  const Eigen::Isometry3f ee = robot.link_pose(task_->ee_link());
+  s.effector_position = ee.translation();
+  s.effector_orientation = Eigen::Quaternionf(ee.linear());
+  s.target = task_->target();
+  s.steps = steps_;
+  return s;
+}
+
+void ReachEnv::camera_image(int camera, int width, int height, Image& out) {
+  if (!cameras_) cameras_ = std::make_unique<RobotCameras>(*task_, terms_.cameras, renderer_backend_);
+  cameras_->render(*task_, camera, width, height, out);
 }
 
 // Reward, info and episode end of the step just taken (the rules in the header).

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/sim/ik.hpp"
 #include "rdsim/sim/urdf_loader.hpp"
 
 namespace rdsim {
@@ -166,6 +167,15 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
   dq /= over;
   for (int i = 0; i < chain_->dof(); ++i)
     robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(q[i] + dq[i]));
+}
+
+void ReachTask::apply_effector_target(const Eigen::Vector3f& goal) {
+  const Eigen::Vector3f clipped = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
+  JointVector q(chain_->dof());
+  for (int i = 0; i < chain_->dof(); ++i) q[i] = robot_->joint_position(chain_dofs_[static_cast<size_t>(i)]);
+  const IkResult ik = solve_ik(*chain_, (base_inverse_ * clipped).cast<double>(), q);
+  for (int i = 0; i < chain_->dof(); ++i)
+    robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(ik.q[i]));
 }
 
 void ReachTask::step_physics() {

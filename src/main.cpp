@@ -5,9 +5,12 @@
 
 #include "rdsim/app/bench_fps.hpp"
 #include "rdsim/app/demos.hpp"
+#include "rdsim/app/bench_remote.hpp"
 #include "rdsim/app/envs.hpp"
+#include "rdsim/app/keygen.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
+#include "rdsim/app/serve.hpp"
 #include "rdsim/app/train.hpp"
 #include "rdsim/core/error.hpp"
 
@@ -87,6 +90,38 @@ void add_demos(CLI::App& app, std::string& info_path, rdsim::DemosRecordOptions&
   record->add_flag("-q,--quiet", o.quiet, "No line per episode");
 }
 
+void add_serve(CLI::App& app, rdsim::ServeOptions& o) {
+  auto* cmd = app.add_subcommand("serve", "Host environments for remote clients (docs/protocol.md; "
+                                          "tools/rdsim_client.py, or \"remote\" in a config's env) until Ctrl-C");
+  cmd->add_option("--bind", o.bind, "Address to listen on (port * = any free port; printed on start)")->capture_default_str();
+  cmd->add_option("--keys", o.keys_dir,
+                  "Folder with server.key_secret and clients/*.key (rdsim keygen): CurveZMQ authentication and encryption");
+  cmd->add_flag("--insecure", o.insecure, "Plain text without --keys (allowed on loopback addresses only)");
+  cmd->add_option("--max-sessions", o.max_sessions, "Most envs served at once")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd->add_option("--idle-timeout", o.idle_timeout, "Seconds without requests after which a session is closed")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
+
+void add_keygen(CLI::App& app, rdsim::KeygenOptions& o) {
+  auto* cmd = app.add_subcommand("keygen", "Write a CurveZMQ key pair: DIR/NAME.key (public) and DIR/NAME.key_secret "
+                                           "(secret, mode 0600)");
+  cmd->add_option("name", o.name, "Key name (letters, digits, _ - .)")->required();
+  cmd->add_option("--dir", o.dir, "Folder to write the two files to")->capture_default_str();
+}
+
+void add_bench_remote(CLI::App& app, rdsim::BenchRemoteOptions& o) {
+  auto* cmd = app.add_subcommand("bench-remote", "Measure remote env steps/s and round-trip latency over loopback "
+                                                 "(CurveZMQ on) next to in-process steps/s, in one run");
+  cmd->add_option("--env", o.env, "Env to measure")->capture_default_str();
+  cmd->add_option("--steps", o.steps, "Env steps per measurement")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--clients", o.clients, "Clients of the concurrent row")->check(CLI::Range(1, 64))->capture_default_str();
+  cmd->add_option("--image-size", o.image_size, "Side of the raw-pixel row's images")->check(CLI::Range(8, 1024))->capture_default_str();
+  cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_flag("--insecure", o.insecure, "Plain text instead of CurveZMQ (to see what encryption costs)");
+  cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,6 +143,12 @@ int main(int argc, char** argv) {
   std::string demos_info_path;
   rdsim::DemosRecordOptions demos_record;
   add_demos(app, demos_info_path, demos_record);
+  rdsim::ServeOptions serve;
+  add_serve(app, serve);
+  rdsim::KeygenOptions keygen;
+  add_keygen(app, keygen);
+  rdsim::BenchRemoteOptions bench_remote;
+  add_bench_remote(app, bench_remote);
 
   CLI11_PARSE(app, argc, argv);
 
@@ -136,6 +177,9 @@ int main(int argc, char** argv) {
       if (sub->get_subcommands().front()->get_name() == "info") return rdsim::demos_info_command(demos_info_path);
       return rdsim::demos_record_command(demos_record);
     }
+    if (name == "serve") return rdsim::serve_command(serve);
+    if (name == "keygen") return rdsim::keygen_command(keygen);
+    if (name == "bench-remote") return rdsim::bench_remote_command(bench_remote);
   } catch (const rdsim::Error& e) {
     std::fprintf(stderr, "rdsim: error: %s\n", e.what());
     return 1;

@@ -4,12 +4,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "rdsim/app/bench_run.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/files.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/registry.hpp"
 
@@ -41,41 +40,8 @@ std::optional<double> paper_rate(const std::string& env, const std::string& mode
   return std::nullopt;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-Action random_action(const ActionSpace& space, Rng& rng) {
-  if (space.discrete) return Action::discrete(static_cast<int>(rng.below(space.n)));
-  Eigen::VectorXf v(space.low.size());
-  for (int i = 0; i < v.size(); ++i) v[i] = static_cast<float>(rng.uniform(space.low[i], space.high[i]));
-  return Action::continuous(std::move(v));
-}
-
-// One timed run: random actions, resets included (as an agent would see it).
-double env_run(Env& env, long long steps, std::uint64_t seed, long long& episodes) {
-  Rng rng = Rng::derive(seed, 1);
-  const ActionSpace& space = env.spec().action;
-  // Actions are drawn before the clock starts so the row measures the env alone.
-  std::vector<Action> actions;
-  actions.reserve(static_cast<size_t>(std::min<long long>(steps, 4096)));
-  for (size_t i = 0; i < actions.capacity(); ++i) actions.push_back(random_action(space, rng));
-  env.reset(seed);
-  const auto t0 = Clock::now();
-  for (long long i = 0; i < steps; ++i) {
-    StepResult r = env.step(actions[static_cast<size_t>(i) % actions.size()]);
-    if (r.terminated || r.truncated) {
-      env.reset();
-      ++episodes;
-    }
-  }
-  return static_cast<double>(steps) / seconds_since(t0);
 }
 
 std::optional<double> physics_run(Env& env, long long steps, std::uint64_t seed) {
@@ -183,14 +149,8 @@ int bench_fps_command(const BenchFpsOptions& o) {
     }
   }
   if (rows.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
-  // With JSON on stdout the human table goes to stderr, so the JSON stays machine-readable.
-  print_table(o.json_path == "-" ? stderr : stdout, rows, o);
-  if (o.json_path == "-") {
-    std::cout << to_json(rows, o).dump(2) << "\n";
-  } else if (!o.json_path.empty()) {
-    write_file_atomic(o.json_path, to_json(rows, o).dump(2) + "\n");
-    std::printf("wrote %s\n", o.json_path.c_str());
-  }
+  print_table(table_stream(o.json_path), rows, o);
+  write_bench_json(o.json_path, to_json(rows, o));
   return 0;
 }
 

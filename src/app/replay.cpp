@@ -6,10 +6,10 @@
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/app/env_source.hpp"
 #include "rdsim/app/model_file.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/registry.hpp"
 #include "rdsim/render/png.hpp"
 
 namespace rdsim {
@@ -56,7 +56,7 @@ int replay_command(const ReplayOptions& o) {
   const ModelFile file = read_model_file(o.model_path);
   TrainConfig config = parse_train_config(file.config, o.model_path + " (embedded config)", "replay");
   if (!o.record_dir.empty()) config.env.render_mode = RenderMode::RgbArray;
-  auto env = make_env(config.env);
+  auto env = open_env(config.env, config.remote);
   FrameRecorder recorder(o.record_dir, *env);
   auto algo = make_algorithm(config.algorithm, config.seed, env->spec());
   std::istringstream in(file.payload);

@@ -10,6 +10,7 @@
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/app/env_source.hpp"
 #include "rdsim/app/model_file.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/binary_io.hpp"
@@ -63,12 +64,6 @@ private:
   bool shown_ = false;
   double last_ = -1e9;
 };
-
-std::vector<std::unique_ptr<Env>> make_envs(const TrainConfig& config) {
-  std::vector<std::unique_ptr<Env>> envs;
-  for (int i = 0; i < config.num_envs; ++i) envs.push_back(make_env(config.env));
-  return envs;
-}
 
 std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const TrainerState& state) {
   std::ostringstream out;
@@ -155,7 +150,7 @@ int train_command(const TrainOptions& o) {
   std::filesystem::create_directories(dir, ec);
   if (ec) throw Error(config.log_dir + ": cannot create the run folder: " + ec.message());
 
-  VecEnv vec(make_envs(config), config.seed, config.stats_window);
+  VecEnv vec(open_envs(config), config.seed, config.stats_window);
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
   TrainerState state;
   if (resume) state = restore(checkpoint.payload, *algo, vec, checkpoint_path);

@@ -1,5 +1,7 @@
 #include "rdsim/core/config_reader.hpp"
 
+#include <climits>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -74,9 +76,13 @@ void ConfigReader::read(const std::string& key, long long& out, long long lo, lo
   if (!v) return;
   bool integral = v->is_number_integer();
   if (v->is_number_float()) {
-    double d = v->get<double>();
-    integral = d == static_cast<double>(static_cast<long long>(d));
+    // Casting a double outside long long's range is undefined behaviour: such a number is not
+    // an integer we can hold (and no range here reaches 9.2e18).
+    const double d = v->get<double>();
+    integral = d >= -9.2e18 && d <= 9.2e18 && d == std::trunc(d);
   }
+  // An unsigned value above long long's range would wrap to a negative number.
+  if (v->is_number_unsigned() && v->get<std::uint64_t>() > static_cast<std::uint64_t>(LLONG_MAX)) integral = false;
   if (!integral) fail(key, "expected an integer " + range_text(lo, hi) + ", got " + describe(*v));
   long long x = v->is_number_float() ? static_cast<long long>(v->get<double>()) : v->get<long long>();
   if (x < lo || x > hi) fail(key, "expected an integer " + range_text(lo, hi) + ", got " + describe(*v));
@@ -113,7 +119,8 @@ void ConfigReader::read(const std::string& key, std::vector<int>& out, int lo, i
   if (!v->is_array()) fail(key, "expected a list of integers " + range_text(lo, hi) + ", got " + describe(*v));
   std::vector<int> result;
   for (const auto& e : *v) {
-    if (!e.is_number_integer() || e.get<long long>() < lo || e.get<long long>() > hi) {
+    const bool too_big = e.is_number_unsigned() && e.get<std::uint64_t>() > static_cast<std::uint64_t>(LLONG_MAX);
+    if (!e.is_number_integer() || too_big || e.get<long long>() < lo || e.get<long long>() > hi) {
       fail(key, "expected a list of integers " + range_text(lo, hi) + ", got " + describe(*v));
     }
     result.push_back(e.get<int>());

@@ -7,8 +7,10 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/robot_cameras.hpp"
 #include "rdsim/render/camera.hpp"
 
 // The one Env implementation of every reaching task (jaka_button, jaka_obstacle, inmoov_tomato):
@@ -28,6 +30,9 @@
 //                 terminated, info.out_of_bounds, reward -(max_distance x steps left), so that leaving
 //                 never pays more than staying.
 //   truncation    at the spec's max_steps.
+// Every reaching env is also a RobotControl (core/robot_control.hpp): move_effector and
+// set_joint_targets are env steps judged by the same rules; camera_image draws the terms' cameras
+// and "scene", the main view fixed in the world.
 namespace rdsim {
 
 struct ReachTerms {
@@ -51,17 +56,25 @@ struct ReachTerms {
   // effector should arrive from), then the target.
   Eigen::Vector3f expert_approach = Eigen::Vector3f::Zero();
   OrbitView main_view, second_view;  // raw-pixel cameras (second: multi_view)
+  std::vector<CameraMount> cameras;  // first-person cameras (RobotControl::camera_image; "scene" is added)
 };
 
-class ReachEnv : public Env {
+class ReachEnv : public Env, public RobotControl {
 public:
   ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config);
+  ~ReachEnv() override;
 
   const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
   StepResult step(const Action& action) override;
   bool step_physics_only() override;
   bool render(Image& frame) override;
+
+  const RobotInfo& robot_info() const override { return robot_info_; }
+  RobotState robot_state() override;
+  StepResult move_effector(const Eigen::Vector3f& position) override;
+  StepResult set_joint_targets(const Eigen::VectorXf& targets) override;
+  void camera_image(int camera, int width, int height, Image& out) override;
 
   const ReachTask& task() const { return *task_; }
   ReachTask& task() { return *task_; }
@@ -75,6 +88,9 @@ public:
 
 private:
   Observation observe() const;
+  // One env step: `set_targets` sets the joint targets, then physics, observation and judge().
+  template <class SetTargets>
+  StepResult control_step(SetTargets&& set_targets);
   void judge(StepResult& r) const;
 
   Spec spec_;
@@ -82,6 +98,9 @@ private:
   std::unique_ptr<ReachTask> task_;
   std::unique_ptr<PixelView> pixels_;  // raw_pixels only
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
+  std::unique_ptr<RobotCameras> cameras_;  // made on the first camera_image
+  std::string renderer_backend_;
+  RobotInfo robot_info_;
   std::vector<Eigen::Vector3f> landmark_points_;
   std::vector<int> observed_links_;  // RobotModel link indices of terms_.observed_links
   Rng rng_;

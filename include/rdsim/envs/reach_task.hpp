@@ -91,6 +91,12 @@ public:
   // down as a whole when a joint would exceed its URDF speed limit over one control period (so the
   // move is slowed, never bent). Does not step physics.
   void apply_move(const Eigen::Vector3f& delta, Rng& rng);
+  // Joint targets that put the end effector at the absolute point `goal` (world frame, clipped
+  // into the workspace): damped least squares IK (sim/ik.hpp, up to 100 iterations, 0.1 mm) on the
+  // IK chain from the current joint angles, clamped to the limits. No move noise and no speed
+  // scaling: the joint drives' speed limits pace the motion over the following steps. Does not
+  // step physics. The caller checks that `goal` is finite.
+  void apply_effector_target(const Eigen::Vector3f& goal);
   // action_repeat physics steps, then refreshes the end-effector position.
   void step_physics();
 

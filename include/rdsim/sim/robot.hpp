@@ -75,6 +75,8 @@ public:
   void joint_positions(Eigen::Ref<Eigen::VectorXf> out) const;
   Eigen::VectorXf joint_positions() const;
   Eigen::VectorXf joint_velocities() const;
+  // The drive's current position targets (after clamping), one per dof.
+  Eigen::VectorXf position_targets() const;
 
   // Teleports the joints to `q` at rest (targets = q) and forgets cached contacts.
   void reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q);
