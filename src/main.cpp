@@ -11,6 +11,7 @@
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
 #include "rdsim/app/serve.hpp"
+#include "rdsim/app/teleop.hpp"
 #include "rdsim/app/train.hpp"
 #include "rdsim/core/error.hpp"
 
@@ -122,6 +123,28 @@ void add_bench_remote(CLI::App& app, rdsim::BenchRemoteOptions& o) {
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)");
 }
 
+void add_teleop(CLI::App& app, rdsim::TeleopOptions& o) {
+  auto* cmd = app.add_subcommand("teleop", "Drive an env's robot by hand in a window (keys: the env's actions; sliders: "
+                                           "effector target and joints) and record demonstrations");
+  auto* env = cmd->add_option("--env", o.env, "Env name (its default options, random targets)");
+  auto* config = cmd->add_option("--config", o.config_path, "Or the \"env\" object of this training config");
+  env->excludes(config);
+  cmd->add_option("--connect", o.connect, "Drive the env of an `rdsim serve` at tcp://HOST:PORT instead of one in this process");
+  cmd->add_option("--server-key", o.server_key, "--connect: the server's public key file (rdsim keygen NAME.key)");
+  cmd->add_option("--client-key", o.client_key, "--connect: this client's secret key file (NAME.key_secret)");
+  cmd->add_option("--record", o.record_path, "Demonstration file the recorded episodes are appended to (created when missing)");
+  cmd->add_option("--seed", o.seed, "Episode k starts from reset(seed + k)")->capture_default_str();
+  cmd->add_flag("--fixed-target", o.fixed_target, "--env: keep the default target (no random_target)");
+  cmd->add_flag("--continuous", o.continuous, "--env: Box(3) actions instead of Discrete(6)");
+  cmd->add_option("--screenshot", o.window.screenshot_path, "PNG file the P key writes")->capture_default_str();
+  cmd->add_option("--width", o.window.width, "Window width")->check(CLI::Range(640, 8192))->capture_default_str();
+  cmd->add_option("--height", o.window.height, "Window height")->check(CLI::Range(480, 8192))->capture_default_str();
+  cmd->add_option("--renderer", o.window.renderer, "Renderer of the 3D view: osmesa, egl or auto")
+      ->check(CLI::IsMember({"osmesa", "egl", "auto"}))
+      ->capture_default_str();
+  cmd->add_option("--frames", o.window.max_frames, "Close after this many frames (0: when closed)")->capture_default_str();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -149,6 +172,8 @@ int main(int argc, char** argv) {
   add_keygen(app, keygen);
   rdsim::BenchRemoteOptions bench_remote;
   add_bench_remote(app, bench_remote);
+  rdsim::TeleopOptions teleop;
+  add_teleop(app, teleop);
 
   CLI11_PARSE(app, argc, argv);
 
@@ -180,6 +205,7 @@ int main(int argc, char** argv) {
     if (name == "serve") return rdsim::serve_command(serve);
     if (name == "keygen") return rdsim::keygen_command(keygen);
     if (name == "bench-remote") return rdsim::bench_remote_command(bench_remote);
+    if (name == "teleop") return rdsim::teleop_command(teleop);
   } catch (const rdsim::Error& e) {
     std::fprintf(stderr, "rdsim: error: %s\n", e.what());
     return 1;

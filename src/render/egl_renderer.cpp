@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "backends.hpp"
-#include "gl_api.hpp"
+#include "rdsim/render/gl_api.hpp"
 #include "gl_scene_drawer.hpp"
 #include "rdsim/core/error.hpp"
 
