@@ -148,6 +148,8 @@ private:
   void draw_status();
   void draw_sliders();
   void write_screenshot();
+  // Cameras on the robot (an eye, the wrist); world-fixed ones ("scene") the 3D view replaces.
+  bool first_person(std::size_t camera) const { return !info_.cameras[camera].link.empty(); }
   template <class F>
   void guarded(F&& what);
 
@@ -265,7 +267,7 @@ void TeleopUi::render_pictures() {
   }
   if (state_changed_) {
     for (std::size_t i = 0; i < camera_images_.size(); ++i)
-      guarded([&] {
+      if (first_person(i)) guarded([&] {
         session_.control().camera_image(static_cast<int>(i), options_.camera_width, options_.camera_height, camera_images_[i]);
       });
   }
@@ -301,11 +303,16 @@ void TeleopUi::draw_view() {
 }
 
 void TeleopUi::draw_cameras() {
-  if (info_.cameras.empty()) return;
+  bool any = false;
+  for (std::size_t i = 0; i < info_.cameras.size(); ++i) any = any || first_person(i);
+  if (!any) return;
   ImGui::SetNextWindowPos(ImVec2(8, static_cast<float>(options_.view_height) + 52.0f), ImGuiCond_Always);
   ImGui::Begin("Robot cameras", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse);
+  bool first = true;
   for (std::size_t i = 0; i < info_.cameras.size(); ++i) {
-    if (i > 0) ImGui::SameLine();
+    if (!first_person(i)) continue;
+    if (!first) ImGui::SameLine();
+    first = false;
     ImGui::BeginGroup();
     ImGui::TextUnformatted(info_.cameras[i].name.c_str());
     const teleop::GlImage& image = window_.image(i + 1);
