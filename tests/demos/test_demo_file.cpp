@@ -3,7 +3,6 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "rdsim/core/checksum.hpp"
 #include "rdsim/core/error.hpp"
@@ -12,8 +11,8 @@
 #include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
+#include "../scratch_dir.hpp"
 
-namespace fs = std::filesystem;
 using Catch::Matchers::Contains;
 using nlohmann::json;
 using rdsim::Action;
@@ -24,19 +23,7 @@ using rdsim::StepResult;
 
 namespace {
 
-struct Scratch {
-  fs::path dir;
-  explicit Scratch(const std::string& tag) {
-    dir = fs::temp_directory_path() / ("rdsim_demos_" + tag + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
-};
+using Scratch = rdsim::test::ScratchDir;
 
 Spec vector_spec(bool discrete = true) {
   Spec s;
@@ -103,6 +90,13 @@ DemoEpisode episode(const Spec& s, int steps, bool success, std::uint64_t seed) 
 void write_demos(const std::string& path, const Spec& s, int episodes) {
   rdsim::DemoWriter w(path, env_json(s), s, false);
   for (int k = 0; k < episodes; ++k) w.append(episode(s, 3 + k, k % 2 == 0, 100 + static_cast<std::uint64_t>(k)));
+}
+
+// The bytes of a file of `episodes` episodes of `s`.
+std::string demo_bytes(const Spec& s, int episodes) {
+  Scratch dir("demo_bytes");
+  write_demos(dir / "d.demo", s, episodes);
+  return rdsim::read_file(dir / "d.demo");
 }
 
 void check_same(const DemoEpisode& a, const DemoEpisode& b) {
@@ -204,11 +198,7 @@ TEST_CASE("a crash while an episode is written loses that episode only", "[demos
 }
 
 TEST_CASE("a truncated demonstration file is one clear error, wherever it is cut", "[demos][bad-file]") {
-  Scratch dir("truncated");
-  const Spec s = vector_spec();
-  const std::string path = dir / "t.demo";
-  write_demos(path, s, 3);
-  const std::string bytes = rdsim::read_file(path);
+  const std::string bytes = demo_bytes(vector_spec(), 3);
   for (size_t keep = 0; keep < bytes.size(); keep += (keep < 64 ? 1 : 7)) {
     INFO("kept " << keep << " of " << bytes.size() << " bytes");
     const std::string cut = bytes.substr(0, keep);
@@ -223,11 +213,7 @@ TEST_CASE("a truncated demonstration file is one clear error, wherever it is cut
 }
 
 TEST_CASE("every flipped bit in a demonstration file is detected", "[demos][bad-file]") {
-  Scratch dir("flips");
-  const Spec s = vector_spec();
-  const std::string path = dir / "f.demo";
-  write_demos(path, s, 2);
-  const std::string bytes = rdsim::read_file(path);
+  const std::string bytes = demo_bytes(vector_spec(), 2);
   for (size_t i = 0; i < bytes.size(); ++i) {
     std::string damaged = bytes;
     damaged[i] = static_cast<char>(damaged[i] ^ (1 << (i % 8)));

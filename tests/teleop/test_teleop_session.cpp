@@ -2,7 +2,6 @@
 // the window draws.
 #include <catch2/catch.hpp>
 #include <filesystem>
-#include <unistd.h>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
@@ -10,25 +9,12 @@
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"
 #include "rdsim/teleop/teleop_session.hpp"
+#include "../scratch_dir.hpp"
 
-namespace fs = std::filesystem;
 using namespace rdsim;
 using Catch::Matchers::Contains;
 
 namespace {
-
-struct Scratch {
-  fs::path dir = fs::temp_directory_path() / ("rdsim_teleop_" + std::to_string(::getpid()));
-  Scratch() {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::string operator/(const std::string& name) const { return (dir / name).string(); }
-};
 
 EnvConfig button_config() {
   EnvConfig c = default_env_config("jaka_button");
@@ -55,7 +41,7 @@ TEST_CASE("keyboard moves are the env's own actions", "[teleop]") {
 }
 
 TEST_CASE("a teleop session records what the person did as a demonstration of the env's actions", "[teleop][demos]") {
-  Scratch dir;
+  test::ScratchDir dir("teleop_session");
   const EnvConfig config = button_config();
   auto env = make_env(config);
   const nlohmann::json env_json = to_json(config);
@@ -111,7 +97,7 @@ TEST_CASE("a teleop session records what the person did as a demonstration of th
 }
 
 TEST_CASE("an episode the env ends while recording is saved at once", "[teleop][demos]") {
-  Scratch dir;
+  test::ScratchDir dir("teleop_session");
   EnvConfig config = button_config();
   config.max_steps = 5;
   auto env = make_env(config);
