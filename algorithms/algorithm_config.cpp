@@ -30,7 +30,7 @@ std::string known_names() {
 // Whether `algorithm` uses the "demonstrations" key `key` (demonstrations.hpp says who uses what).
 bool uses_demonstrations_key(const std::string& algorithm, const std::string& key) {
   if (key == "demo_fraction" || key == "large_margin" || key == "margin" || key == "margin_weight") return algorithm == "dqn";
-  if (key == "fit_critic") return algorithm != "dqn" && algorithm != "bc";
+  if (key == "fit_critic" || key == "bc_weight" || key == "bc_weight_decay") return algorithm != "dqn" && algorithm != "bc";
   return true;
 }
 

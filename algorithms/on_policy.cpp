@@ -1,5 +1,7 @@
 #include "rdsim/algorithms/on_policy.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "rdsim/algorithms/advantage.hpp"
@@ -59,9 +61,34 @@ void OnPolicy::load(std::istream& in, bool training_state, const std::string& so
 
 std::vector<Metrics> OnPolicy::learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
                                                          Rng& rng, bool pretrain) {
-  if (!pretrain) return {};  // a resumed run: the checkpoint holds the pre-trained weights
-  const DemoSplit data = split_demonstrations(demos, spec_.observation, config.validation_fraction, settings_.gamma, rng);
-  return fit_to_demonstrations(*policy_, data, config, config.fit_critic, rng);
+  DemoSplit data = split_demonstrations(demos, spec_.observation, config.validation_fraction, settings_.gamma, rng);
+  demo_weight_ = config.bc_weight;
+  demo_decay_ = config.bc_weight_decay;
+  std::vector<Metrics> rows;
+  // A resumed run keeps only the demonstrations for the cloning term: its checkpoint holds the
+  // pre-trained weights.
+  if (pretrain) rows = fit_to_demonstrations(*policy_, data, config, config.fit_critic, rng);
+  if (demo_weight_ > 0.0) demo_steps_ = std::move(data.train);
+  return rows;
+}
+
+double OnPolicy::demonstration_weight() const {
+  return demo_weight_ * std::pow(demo_decay_, static_cast<double>(std::max<long long>(updates_ - 1, 0)));
+}
+
+double OnPolicy::add_demonstration_gradient(int batch) {
+  if (!demonstration_term()) return 0.0;
+  const float w = static_cast<float>(demonstration_weight());
+  Eigen::MatrixXf obs(demo_steps_.observations.rows(), batch), actions(demo_steps_.actions.rows(), batch);
+  for (int j = 0; j < batch; ++j) {
+    const auto i = static_cast<Eigen::Index>(shuffle_rng_.below(static_cast<std::uint64_t>(demo_steps_.size())));
+    obs.col(j) = demo_steps_.observations.col(i);
+    actions.col(j) = demo_steps_.actions.col(i);
+  }
+  const PolicyEval& ev = policy_->evaluate(obs, actions);
+  policy_->backward(Eigen::VectorXf::Constant(batch, -w / static_cast<float>(batch)), Eigen::VectorXf(),
+                    Eigen::VectorXf::Zero(batch));
+  return -ev.log_probs.cast<double>().mean();
 }
 
 }  // namespace rdsim

@@ -155,6 +155,35 @@ TEST_CASE("the PPO warm start clones the actor and fits the critic to the demons
   CHECK(algo->learn_from_demonstrations(f, demo_config(), rng, false).empty());
 }
 
+TEST_CASE("PPO and A2C keep a decaying cloning term during RL with demonstrations.bc_weight", "[demos][ppo]") {
+  const DemoFile f = expert_demos(true, 10);
+  PpoConfig ppo;
+  ppo.n_steps = 16;
+  ppo.batch_size = 16;
+  ppo.n_epochs = 1;
+  A2cConfig a2c;
+  a2c.n_steps = 8;
+  for (const AlgorithmParams& params : {AlgorithmParams(ppo), AlgorithmParams(a2c)}) {
+    auto algo = make_algorithm(config_for(params), 1, f.spec);
+    DemonstrationsConfig demos = demo_config(5);
+    demos.bc_weight = 0.5;
+    demos.bc_weight_decay = 0.5;
+    Rng rng(2);
+    algo->learn_from_demonstrations(f, demos, rng, true);
+    VecEnv envs(toy::make_envs(2), 3);
+    const Metrics first = algo->update(envs, {0, 1000}), second = algo->update(envs, {envs.timesteps(), 1000});
+    REQUIRE(first.back().first == "demo_bc_weight");
+    CHECK(first.back().second == Approx(0.5));
+    CHECK(second.back().second == Approx(0.25));
+    CHECK(first[first.size() - 2].first == "demo_bc_loss");
+    CHECK(first[first.size() - 2].second > 0.0);
+  }
+  // Without the term the columns are not there.
+  auto plain = make_algorithm(config_for(ppo), 1, f.spec);
+  VecEnv envs(toy::make_envs(2), 3);
+  CHECK(plain->update(envs, {0, 1000}).back().first == "minibatches");
+}
+
 TEST_CASE("DQfD's large-margin loss: zero once the demonstrated action leads by the margin", "[demos][dqn]") {
   Eigen::MatrixXf q(3, 2);
   q << 1.0f, 0.0f,  //

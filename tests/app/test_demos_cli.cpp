@@ -164,6 +164,10 @@ TEST_CASE("demonstrations in training configs: checked keys", "[demos][config]")
   c["algorithm"] = "ppo";
   c["demonstrations"] = {{"file", "x.demo"}, {"large_margin", true}};
   CHECK_THROWS_WITH(parse(c), Contains("demonstrations.large_margin: has no effect with \"algorithm\": \"ppo\""));
+  c["algorithm"] = "dqn";
+  c["demonstrations"] = {{"file", "x.demo"}, {"bc_weight", 0.5}};
+  CHECK_THROWS_WITH(parse(c), Contains("demonstrations.bc_weight: has no effect with \"algorithm\": \"dqn\""));
+  c["algorithm"] = "ppo";
   c["demonstrations"] = {{"bc_epochs", 3}};
   CHECK_THROWS_WITH(parse(c), Contains("demonstrations.file"));
   c["demonstrations"] = {{"file", "x.demo"}, {"bc_epochs", 3}};

@@ -10,7 +10,10 @@
 # Demonstration steps are not env steps of the run; the summary lists them apart.
 #
 #   tools/bench/demos.sh [ENV ...]            (default: jaka_obstacle inmoov_tomato)
-#   RDSIM_BIN=build/rdsim SEEDS="1 2 3" EPISODES=20 TARGET=0.90 OUT=/tmp/demos NICE=10 tools/bench/demos.sh
+#   RDSIM_BIN=build/rdsim SEEDS="1 2 3" EPISODES=20 TARGET=0.90 OUT=/tmp/demos NICE=10 VARIANTS="bc scratch warm" \
+#     tools/bench/demos.sh
+# (Two invocations with the same OUT and different VARIANTS, e.g. "scratch" and "bc warm", can run side by
+# side: they share summary.csv.)
 # Writes $OUT/summary.csv (env, variant, seed, steps_to_target, final_success, final_collisions,
 # replay_success, demo_steps, wall_s) and keeps every run folder (progress.csv, episodes.csv,
 # pretrain.csv) under $OUT/ENV/.
@@ -22,12 +25,13 @@ episodes=${EPISODES:-20}
 target=${TARGET:-0.90}
 niceness=${NICE:-10}
 out=${OUT:-$(mktemp -d /tmp/rdsim_demos.XXXXXX)}
+variants=${VARIANTS:-bc scratch warm}
 envs=("$@")
 [ ${#envs[@]} -gt 0 ] || envs=(jaka_obstacle inmoov_tomato)
 cd "$root"
 mkdir -p "$out"
 summary="$out/summary.csv"
-echo "env,variant,seed,steps_to_target,final_success,final_collisions,replay_success,demo_steps,wall_s" >"$summary"
+[ -f "$summary" ] || echo "env,variant,seed,steps_to_target,final_success,final_collisions,replay_success,demo_steps,wall_s" >"$summary"
 
 # "reached_at final_success final_collisions" from episodes.csv: the first timestep at which the success
 # rate over the last 100 episodes was >= target ("never" if not), and the success and collision rates of
@@ -60,18 +64,24 @@ run() {  # env variant seed config
 }
 
 echo "binary: $bin   output: $out   seeds: $seeds   demonstrations: $episodes expert episodes   target: $target"
+wants() { [[ " $variants " == *" $1 "* ]]; }
 for env in "${envs[@]}"; do
   mkdir -p "$out/$env"
-  demos="$out/$env/$env.demo"
-  rm -f "$demos"
-  "$bin" demos record --expert --config "configs/$env.json" -n "$episodes" --seed 1000 -q --out "$demos"
-  demo_steps=$("$bin" demos info "$demos" | awk '/^steps/ { print $2 }')
-  with_demos "configs/${env}_bc.json" "$demos" "$out/$env/bc.json"
-  with_demos "configs/${env}_warm.json" "$demos" "$out/$env/warm.json"
-  for seed in $seeds; do run "$env" bc "$seed" "$out/$env/bc.json"; done
+  demo_steps=0
+  if wants bc || wants warm; then
+    demos="$out/$env/$env.demo"
+    rm -f "$demos"
+    "$bin" demos record --expert --config "configs/$env.json" -n "$episodes" --seed 1000 -q --out "$demos"
+    demo_steps=$("$bin" demos info "$demos" | awk '/^steps/ { print $2 }')
+    with_demos "configs/${env}_bc.json" "$demos" "$out/$env/bc.json"
+    with_demos "configs/${env}_warm.json" "$demos" "$out/$env/warm.json"
+  fi
+  if wants bc; then
+    for seed in $seeds; do run "$env" bc "$seed" "$out/$env/bc.json"; done
+  fi
   for seed in $seeds; do
-    run "$env" scratch "$seed" "configs/$env.json"
-    run "$env" warm "$seed" "$out/$env/warm.json"
+    if wants scratch; then run "$env" scratch "$seed" "configs/$env.json"; fi
+    if wants warm; then run "$env" warm "$seed" "$out/$env/warm.json"; fi
   done
 done
 echo "summary: $summary"
