@@ -44,8 +44,9 @@ last100() {
 }
 
 # A copy of a config reading its demonstrations from `demos`.
+# (Written beside and renamed, so that side-by-side invocations never read a half-written file.)
 with_demos() {
-  sed "s|\"file\": \"[^\"]*\"|\"file\": \"$2\"|" "$1" >"$3"
+  sed "s|\"file\": \"[^\"]*\"|\"file\": \"$2\"|" "$1" >"$3.$$" && mv "$3.$$" "$3"
 }
 
 run() {  # env variant seed config
@@ -70,8 +71,9 @@ for env in "${envs[@]}"; do
   demo_steps=0
   if wants bc || wants warm; then
     demos="$out/$env/$env.demo"
-    rm -f "$demos"
-    "$bin" demos record --expert --config "configs/$env.json" -n "$episodes" --seed 1000 -q --out "$demos"
+    rm -f "$demos.$$"
+    "$bin" demos record --expert --config "configs/$env.json" -n "$episodes" --seed 1000 -q --out "$demos.$$"
+    mv "$demos.$$" "$demos"
     demo_steps=$("$bin" demos info "$demos" | awk '/^steps/ { print $2 }')
     with_demos "configs/${env}_bc.json" "$demos" "$out/$env/bc.json"
     with_demos "configs/${env}_warm.json" "$demos" "$out/$env/warm.json"
