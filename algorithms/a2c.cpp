@@ -14,23 +14,7 @@ namespace {
 
 class A2c final : public OnPolicy {
 public:
-  A2c(const A2cConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec)
-      : OnPolicy(network, seed, spec, {config.n_steps, config.gamma, config.gae_lambda}), cfg_(config) {
-    if (cfg_.optimizer == "adam") {
-      nn::AdamConfig adam;
-      adam.lr = static_cast<float>(cfg_.learning_rate);
-      adam.eps = static_cast<float>(cfg_.rms_eps);
-      optimizer_ = std::make_unique<nn::Adam>(policy_->params(), adam);
-    } else {
-      nn::RmsPropConfig rms;
-      rms.lr = static_cast<float>(cfg_.learning_rate);
-      rms.alpha = static_cast<float>(cfg_.rms_alpha);
-      rms.eps = static_cast<float>(cfg_.rms_eps);
-      rms.tf_style = cfg_.rms_tf_style;
-      optimizer_ = std::make_unique<nn::RmsProp>(policy_->params(), rms);
-    }
-  }
-
+  A2c(const A2cConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec);
   std::string name() const override { return "a2c"; }
 
 protected:
@@ -39,11 +23,7 @@ protected:
     optimizer_->set_learning_rate(lr);
     const int B = rollout_.size();
     Eigen::VectorXf adv = rollout_.advantages;
-    if (cfg_.normalize_advantage && B > 1) {
-      const float mean = adv.mean();
-      const float stddev = std::sqrt((adv.array() - mean).square().sum() / static_cast<float>(B - 1));
-      adv = (adv.array() - mean) / (stddev + 1e-8f);
-    }
+    if (cfg_.normalize_advantage) normalize_advantages(adv);
     const PolicyEval& ev = policy_->evaluate(rollout_.observations, rollout_.actions);
     const float inv_b = 1.0f / static_cast<float>(B);
     // loss = -mean(adv * log p) + vf_coef * mean((R - V)^2) - ent_coef * mean(H)
@@ -78,6 +58,18 @@ protected:
 private:
   A2cConfig cfg_;
 };
+
+A2c::A2c(const A2cConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec)
+    : OnPolicy(network, seed, spec, {config.n_steps, config.gamma, config.gae_lambda}), cfg_(config) {
+  // RMSprop as in the baselines' A2C; Adam (with rms_eps) on request.
+  if (cfg_.optimizer == "adam")
+    use_optimizer(nn::AdamConfig{.lr = static_cast<float>(cfg_.learning_rate), .eps = static_cast<float>(cfg_.rms_eps)});
+  else
+    use_optimizer(nn::RmsPropConfig{.lr = static_cast<float>(cfg_.learning_rate),
+                                    .alpha = static_cast<float>(cfg_.rms_alpha),
+                                    .eps = static_cast<float>(cfg_.rms_eps),
+                                    .tf_style = cfg_.rms_tf_style});
+}
 
 }  // namespace
 

@@ -18,13 +18,6 @@ void activate(const Eigen::MatrixXf& z, nn::Activation a, Eigen::MatrixXf& y) {
   nn::activate(y, a);
 }
 
-void append(nn::ParamList& list, nn::ParamList more, const std::string& prefix) {
-  for (auto& p : more) {
-    p.name = prefix + p.name;
-    list.push_back(std::move(p));
-  }
-}
-
 }  // namespace
 
 bool is_image_space(const ObservationSpace& space) {
@@ -58,36 +51,37 @@ nn::Cnn make_cnn(const nn::CnnShape& shape, float output_gain, Rng& rng, const s
 
 ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng)
     : discrete_(spec.action.discrete),
-      shared_(config.shared && !config.hidden_sizes.empty()),
-      cnn_(is_image_space(spec.observation)),
       obs_size_(observation_input_size(spec.observation)),
       action_dim_(spec.action.dim()),
       policy_outputs_(spec.action.discrete ? spec.action.n : spec.action.dim()),
       activation_(nn::activation_from_string(config.activation, "network.activation")) {
   if (obs_size_ <= 0) throw Error(spec.env_name + ": the env has an empty observation space");
   if (policy_outputs_ <= 0) throw Error(spec.env_name + ": the env has an empty action space");
-  if (config.input_scale != 1.0 && cnn_)
+  const bool pixels = is_image_space(spec.observation);
+  if (config.input_scale != 1.0 && pixels)
     throw Error("network.input_scale: only for vector observations (pixels are already scaled to [0, 1]); expected 1");
   if (!(config.input_scale > 0.0 && std::isfinite(config.input_scale)))
     throw Error("network.input_scale: expected a positive number, got " + std::to_string(config.input_scale));
   input_scale_ = static_cast<float>(config.input_scale);
   int head_input = obs_size_;
   std::vector<int> head_hidden = config.hidden_sizes;
-  if (cnn_) {
+  if (pixels) {
     // The CNN is the shared trunk; its last fc layer (ReLU) feeds two linear heads.
     nn::CnnShape shape = cnn_shape(config.cnn, spec.observation, 1, "network.cnn");
     if (shape.hidden_sizes.empty()) throw Error("network.cnn.fc: expected at least one dense layer");
     shape.output_size = shape.hidden_sizes.back();
     shape.hidden_sizes.pop_back();
-    cnn_trunk_ = make_cnn(shape, hidden_gain, rng, "network.cnn");
-    shared_ = true;
+    trunk_ = std::make_unique<nn::Cnn>(make_cnn(shape, hidden_gain, rng, "network.cnn"));
+    trunk_prefix_ = "cnn.";
     activation_ = nn::Activation::ReLU;
-    head_input = shape.output_size;
-    head_hidden.clear();
-  } else if (shared_) {
+  } else if (config.shared && !config.hidden_sizes.empty()) {
     std::vector<int> trunk_hidden(config.hidden_sizes.begin(), config.hidden_sizes.end() - 1);
-    trunk_ = nn::Mlp({obs_size_, trunk_hidden, config.hidden_sizes.back(), activation_}, hidden_gain, rng);
-    head_input = config.hidden_sizes.back();
+    trunk_ = std::make_unique<nn::Mlp>(nn::MlpShape{obs_size_, trunk_hidden, config.hidden_sizes.back(), activation_},
+                                       hidden_gain, rng);
+    trunk_prefix_ = "trunk.";
+  }
+  if (trunk_) {
+    head_input = trunk_->output_size();
     head_hidden.clear();
   }
   policy_ = nn::Mlp({head_input, head_hidden, policy_outputs_, activation_}, policy_gain, rng, hidden_gain);
@@ -102,8 +96,8 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
 
 const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& raw) {
   const Eigen::MatrixXf& obs = scaled_input(raw, input_scale_, infer_input_);
-  if (!shared_) return obs;
-  activate(cnn_ ? cnn_trunk_.infer(obs) : trunk_.infer(obs), activation_, infer_features_);
+  if (!trunk_) return obs;
+  activate(trunk_->infer(obs), activation_, infer_features_);
   return infer_features_;
 }
 
@@ -129,11 +123,11 @@ Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
 
 const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& raw, const Eigen::MatrixXf& actions) {
   const Eigen::MatrixXf& obs = scaled_input(raw, input_scale_, eval_input_);
-  if (shared_) {
-    trunk_pre_ = cnn_ ? cnn_trunk_.forward(obs) : trunk_.forward(obs);
+  if (trunk_) {
+    trunk_pre_ = trunk_->forward(obs);
     activate(trunk_pre_, activation_, features_);
   }
-  const Eigen::MatrixXf& f = shared_ ? features_ : obs;
+  const Eigen::MatrixXf& f = trunk_ ? features_ : obs;
   const Eigen::MatrixXf& head = policy_.forward(f);
   if (discrete_) {
     eval_discrete_ = actions.row(0).transpose().array().round().cast<int>();
@@ -163,26 +157,21 @@ void ActorCritic::backward(const Eigen::VectorXf& d_log_prob, const Eigen::Vecto
     log_std_.grad.col(0) += g.log_std;
     if (entropy_term) log_std_.grad.col(0) += eval_gaussian_->entropy_grad_log_std(d_entropy);
   }
-  Eigen::MatrixXf d_features = policy_.backward(d_head, shared_);
-  const Eigen::MatrixXf d_features_value = value_.backward(d_value.transpose(), shared_);
-  if (shared_) {
+  const bool shared = trunk_ != nullptr;
+  Eigen::MatrixXf d_features = policy_.backward(d_head, shared);
+  const Eigen::MatrixXf d_features_value = value_.backward(d_value.transpose(), shared);
+  if (shared) {
     d_features += d_features_value;
     nn::activation_backward(d_features, features_, activation_);
-    if (cnn_)
-      cnn_trunk_.backward(d_features, false);
-    else
-      trunk_.backward(d_features, false);
+    trunk_->backward(d_features, false);
   }
 }
 
 nn::ParamList ActorCritic::params() {
   nn::ParamList list;
-  if (cnn_)
-    append(list, cnn_trunk_.params(), "cnn.");
-  else if (shared_)
-    append(list, trunk_.params(), "trunk.");
-  append(list, policy_.params(), "policy.");
-  append(list, value_.params(), "value.");
+  if (trunk_) nn::append_params(list, trunk_->params(), trunk_prefix_);
+  nn::append_params(list, policy_.params(), "policy.");
+  nn::append_params(list, value_.params(), "value.");
   if (!discrete_) list.push_back(nn::param_of(log_std_, "log_std"));
   return list;
 }

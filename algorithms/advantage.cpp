@@ -1,5 +1,7 @@
 #include "rdsim/algorithms/advantage.hpp"
 
+#include <cmath>
+
 namespace rdsim {
 
 void compute_gae(RolloutBuffer& r, float gamma, float gae_lambda) {
@@ -42,6 +44,14 @@ double explained_variance(const Eigen::VectorXf& prediction, const Eigen::Vector
   const double var_y = (y - y.mean()).square().mean();
   if (var_y <= 0.0) return 0.0;
   return 1.0 - (d - d.mean()).square().mean() / var_y;
+}
+
+void normalize_advantages(Eigen::VectorXf& adv) {
+  const Eigen::Index n = adv.size();
+  if (n < 2) return;
+  const float mean = adv.mean();
+  const float stddev = std::sqrt((adv.array() - mean).square().sum() / static_cast<float>(n - 1));
+  adv = (adv.array() - mean) / (stddev + 1e-8f);
 }
 
 }  // namespace rdsim

@@ -123,62 +123,45 @@ int argmax(const Eigen::Ref<const Eigen::VectorXf>& q) {
   return static_cast<int>(best);
 }
 
-// The Q-network: an MLP on vector observations, a CNN (network.cnn) on pixel observations.
+// The Q-network: an MLP on vector observations (times network.input_scale), a CNN (network.cnn)
+// on pixel observations.
 class QNet {
 public:
   QNet() = default;
-  QNet(const NetworkConfig& network, const Spec& spec, int num_actions, Rng& init, const std::string& where)
-      : cnn_(is_image_space(spec.observation)) {
-    if (cnn_) {
+  QNet(const NetworkConfig& network, const Spec& spec, int num_actions, Rng& init, const std::string& where) {
+    if (is_image_space(spec.observation)) {
       const std::string at = where + ": network.cnn";
-      cnn_net_ = make_cnn(cnn_shape(network.cnn, spec.observation, num_actions, at), 1.0f, init, at);
+      net_ = std::make_unique<nn::Cnn>(make_cnn(cnn_shape(network.cnn, spec.observation, num_actions, at), 1.0f, init, at));
     } else {
       const nn::MlpShape shape{observation_input_size(spec.observation), network.hidden_sizes, num_actions,
                                nn::activation_from_string(network.activation, where + ": network.activation")};
-      mlp_ = nn::Mlp(shape, 1.0f, init);
+      net_ = std::make_unique<nn::Mlp>(shape, 1.0f, init);
       input_scale_ = static_cast<float>(network.input_scale);
     }
   }
+  QNet(const QNet& other) : net_(other.net_->clone()), input_scale_(other.input_scale_) {}
+  QNet& operator=(const QNet& other) {
+    if (this != &other) *this = QNet(other);
+    return *this;
+  }
+  QNet(QNet&&) = default;
+  QNet& operator=(QNet&&) = default;
 
-  const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) { return cnn_ ? cnn_net_.infer(x) : mlp_.infer(scaled(x)); }
-  const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) {
-    return cnn_ ? cnn_net_.forward(x) : mlp_.forward(scaled(x));
-  }
-  void backward(const Eigen::MatrixXf& grad) {
-    if (cnn_)
-      cnn_net_.backward(grad, false);
-    else
-      mlp_.backward(grad, false);
-  }
-  void zero_grad() {
-    if (cnn_)
-      cnn_net_.zero_grad();
-    else
-      mlp_.zero_grad();
-  }
-  nn::ParamList params() { return cnn_ ? cnn_net_.params() : mlp_.params(); }
-  void copy_values_from(const QNet& other) {
-    if (cnn_)
-      cnn_net_.copy_values_from(other.cnn_net_);
-    else
-      mlp_.copy_values_from(other.mlp_);
-  }
-  void blend_values_from(const QNet& other, float tau) {
-    if (cnn_)
-      cnn_net_.blend_values_from(other.cnn_net_, tau);
-    else
-      mlp_.blend_values_from(other.mlp_, tau);
-  }
+  const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) { return net_->infer(scaled(x)); }
+  const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) { return net_->forward(scaled(x)); }
+  void backward(const Eigen::MatrixXf& grad) { net_->backward(grad, false); }
+  void zero_grad() { net_->zero_grad(); }
+  nn::ParamList params() { return net_->params(); }
+  void copy_values_from(const QNet& other) { net_->copy_values_from(*other.net_); }
+  void blend_values_from(const QNet& other, float tau) { net_->blend_values_from(*other.net_, tau); }
 
 private:
   // network.input_scale (the config parser allows it with vector observations only).
   const Eigen::MatrixXf& scaled(const Eigen::MatrixXf& x) { return scaled_input(x, input_scale_, scaled_input_); }
 
-  bool cnn_ = false;
+  std::unique_ptr<nn::Network> net_;
   float input_scale_ = 1.0f;
   Eigen::MatrixXf scaled_input_;
-  nn::Mlp mlp_;
-  nn::Cnn cnn_net_;
 };
 
 class Dqn final : public Algorithm {

@@ -23,6 +23,14 @@ OnPolicy::OnPolicy(const NetworkConfig& network, std::uint64_t seed, const Spec&
   policy_ = std::make_unique<ActorCritic>(spec, network, init);
 }
 
+void OnPolicy::use_optimizer(const nn::AdamConfig& adam) {
+  optimizer_ = std::make_unique<nn::Adam>(policy_->params(), adam);
+}
+
+void OnPolicy::use_optimizer(const nn::RmsPropConfig& rms) {
+  optimizer_ = std::make_unique<nn::RmsProp>(policy_->params(), rms);
+}
+
 Metrics OnPolicy::update(VecEnv& envs, const TrainProgress& progress) {
   if (rollout_.envs != envs.size() || rollout_.steps != settings_.n_steps) {
     rollout_.resize(settings_.n_steps, envs.size(), policy_->observation_size(), policy_->action_dim());

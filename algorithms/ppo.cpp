@@ -19,10 +19,7 @@ class Ppo final : public OnPolicy {
 public:
   Ppo(const PpoConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec)
       : OnPolicy(network, seed, spec, {config.n_steps, config.gamma, config.gae_lambda}), cfg_(config) {
-    nn::AdamConfig adam;
-    adam.lr = static_cast<float>(cfg_.learning_rate);
-    adam.eps = static_cast<float>(cfg_.adam_eps);
-    optimizer_ = std::make_unique<nn::Adam>(policy_->params(), adam);
+    use_optimizer(nn::AdamConfig{.lr = static_cast<float>(cfg_.learning_rate), .eps = static_cast<float>(cfg_.adam_eps)});
   }
 
   std::string name() const override { return "ppo"; }
@@ -82,11 +79,7 @@ Metrics Ppo::train(double remaining) {
       const int B = std::min(cfg_.batch_size, n - begin);
       gather(order_, begin, B);
       Eigen::VectorXf adv = mb_.advantages;
-      if (cfg_.normalize_advantage && B > 1) {
-        const float mean = adv.mean();
-        const float stddev = std::sqrt((adv.array() - mean).square().sum() / static_cast<float>(B - 1));
-        adv = (adv.array() - mean) / (stddev + 1e-8f);
-      }
+      if (cfg_.normalize_advantage) normalize_advantages(adv);
       const PolicyEval& ev = policy_->evaluate(mb_.obs, mb_.actions);
       const Eigen::ArrayXf log_ratio = (ev.log_probs - mb_.old_log_probs).array();
       const Eigen::ArrayXf ratio = log_ratio.exp();

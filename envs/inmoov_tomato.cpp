@@ -11,12 +11,6 @@ namespace {
 
 constexpr float kDeg = static_cast<float>(M_PI / 180.0);
 
-Eigen::Isometry3f at(float x, float y, float z) {
-  Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
-  t.translation() << x, y, z;
-  return t;
-}
-
 // Every joint 0 except the right arm (see the header); one value per robot dof.
 Eigen::VectorXf home_pose(const RobotModel& model) {
   Eigen::VectorXf q = Eigen::VectorXf::Zero(model.movable_joint_count());
@@ -38,42 +32,38 @@ Eigen::VectorXf home_pose(const RobotModel& model) {
 }  // namespace
 
 EnvConfig inmoov_tomato_defaults() {
-  EnvConfig c;
-  c.name = "inmoov_tomato";
-  c.max_steps = 400;
-  c.action_step = 0.004;
-  c.success_threshold = 0.06;
-  c.max_distance = 0.6;
-  c.action_repeat = 1;
-  return c;
+  return EnvConfig{.name = "inmoov_tomato", .max_distance = 0.6, .max_steps = 400, .action_step = 0.004,
+                   .success_threshold = 0.06};
+}
+
+OrbitView inmoov_main_view() {
+  return OrbitView{.target = {0.4f, -0.25f, 1.15f}, .distance = 1.2f, .yaw_deg = 120.0f, .pitch_deg = -20.0f};
+}
+
+OrbitView inmoov_second_view() {
+  return OrbitView{.target = {0.35f, -0.3f, 1.15f}, .distance = 1.1f, .yaw_deg = 15.0f, .pitch_deg = -10.0f};
 }
 
 ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config) {
   const std::string assets = asset_root(config);
   ReachTaskSpec s;
+  s.name = "inmoov_tomato";
   s.robot_urdf = assets + "/inmoov/inmoov.urdf";
   s.ee_link = "r_hand_ee";
   // The right arm only: the torso joints on the path to the palm hold their home pose.
   s.ik_joints = {"r_omoplate", "r_shoulder_lift", "r_upper_arm_rotate", "r_elbow", "r_wrist_roll", "r_wrist_pitch"};
   s.home = home_pose(load_urdf(s.robot_urdf));
   s.home_noise = 0.02f;
-  s.statics = {{assets + "/objects/tomato_tree.urdf", at(0.65f, -0.20f, 0.0f)}};
+  s.statics = {{assets + "/objects/tomato_tree.urdf", Eigen::Isometry3f(Eigen::Translation3f(0.65f, -0.20f, 0.0f))}};
   s.target_body = -1;  // the tomatoes are part of the tree: the target is set per reset
   s.workspace = Eigen::AlignedBox3f(Eigen::Vector3f(0.10f, -0.70f, 0.80f), Eigen::Vector3f(0.70f, 0.15f, 1.65f));
-  s.move_noise = 1.0f / 30.0f;
-  s.workspace_margin = 0.03f;
   s.ik_iterations = 3;
-  s.world.time_step = 1.0 / 240.0;
-  s.world.solver_iterations = 10;
-  s.robot.drive = JointDrive::ComputedTorque;
-  s.robot.limit_constraints = false;
   apply_env_config(config, s);
   return s;
 }
 
 ReachTerms inmoov_tomato_terms(const ReachTaskSpec& spec) {
   ReachTerms t;
-  t.env_name = "inmoov_tomato";
   const StaticBodySpec& tree = spec.statics[InmoovTomato::tree_index];
   const RobotModel model = load_urdf(tree.urdf);
   const auto poses = model.link_poses_at_zero();

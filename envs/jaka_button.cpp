@@ -3,61 +3,50 @@
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
-namespace {
-
-Eigen::Isometry3f at(float x, float y, float z) {
-  Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
-  t.translation() << x, y, z;
-  return t;
-}
-
-}  // namespace
 
 EnvConfig jaka_button_defaults() {
-  EnvConfig c;
-  c.name = "jaka_button";
-  c.max_steps = 200;  // the paper used 1000 and had no success end
-  c.action_step = 0.015;
-  c.success_threshold = 0.025;
-  c.max_distance = 0.7;
-  c.action_repeat = 1;
-  return c;
+  // max_steps: the paper used 1000 and had no success end.
+  return EnvConfig{.name = "jaka_button", .max_distance = 0.7, .max_steps = 200, .action_step = 0.015,
+                   .success_threshold = 0.025};
+}
+
+// The paper's main camera (yaw 155, pitch -36, fov 60) re-aimed: the paper's target
+// (0.316, -0.2, -0.1) and distance 1.6 m put the robot in a corner of the image.
+OrbitView reach_main_view() {
+  return OrbitView{.target = {0.32f, 0.05f, 0.15f}, .distance = 1.0f, .yaw_deg = 155.0f, .pitch_deg = -36.0f};
+}
+
+// The paper's second camera (yaw 32, pitch -13, fov 60; target (0.316, 0.316, -0.105), 1.05 m) re-aimed.
+OrbitView reach_second_view() {
+  return OrbitView{.target = {0.45f, 0.1f, 0.1f}, .distance = 1.1f, .yaw_deg = 32.0f, .pitch_deg = -13.0f};
 }
 
 ReachTaskSpec jaka_button_spec(const EnvConfig& config) {
   const std::string assets = asset_root(config);
   ReachTaskSpec s;
-  s.robot_urdf = assets + "/jaka/jaka_zu7.urdf";
-  s.ee_link = "flange_link";
-  s.home.resize(6);
-  s.home << -0.26f, 1.44f, -1.85f, 1.98f, 1.5708f, 0.0f;
-  s.home_noise = 0.02f;
-  s.statics = {{assets + "/objects/table.urdf", at(0.35f, 0.0f, 0.0f)},
-               {assets + "/objects/button.urdf", at(0.5f, 0.0f, 0.0f)}};
+  s.name = "jaka_button";
+  s.statics = {{assets + "/objects/table.urdf", Eigen::Isometry3f(Eigen::Translation3f(0.35f, 0.0f, 0.0f))},
+               {assets + "/objects/button.urdf", Eigen::Isometry3f(Eigen::Translation3f(0.5f, 0.0f, 0.0f))}};
   s.target_body = JakaButton::button_index;
   s.target_offset = Eigen::Vector3f(0.0f, 0.0f, 0.03f);  // the top of the button
   s.nominal_target = Eigen::Vector3f(0.5f, 0.0f, 0.03f);
   s.target_half_range = Eigen::Vector3f(0.15f, 0.3f, 0.0f);
   s.workspace = Eigen::AlignedBox3f(Eigen::Vector3f(0.15f, -0.5f, 0.02f), Eigen::Vector3f(0.85f, 0.5f, 0.55f));
-  s.move_noise = 1.0f / 30.0f;
-  s.workspace_margin = 0.03f;
+  s.robot_urdf = assets + "/jaka/jaka_zu7.urdf";
+  s.ee_link = "flange_link";
   s.ik_iterations = 1;
-  s.world.time_step = 1.0 / 240.0;
-  s.world.solver_iterations = 10;
-  s.robot.drive = JointDrive::ComputedTorque;
-  s.robot.limit_constraints = false;
+  s.home.resize(6);
+  s.home << -0.26f, 1.44f, -1.85f, 1.98f, 1.5708f, 0.0f;
+  s.home_noise = 0.02f;
   apply_env_config(config, s);
   return s;
 }
 
 ReachTerms jaka_button_terms() {
-  ReachTerms t;
-  t.env_name = "jaka_button";
-  t.press_body = JakaButton::button_index;
-  t.main_view = reach_main_view();
-  t.second_view = reach_second_view();
-  t.cameras = {jaka_wrist_camera()};
-  return t;
+  return ReachTerms{.press_body = JakaButton::button_index,
+                    .main_view = reach_main_view(),
+                    .second_view = reach_second_view(),
+                    .cameras = {jaka_wrist_camera()}};
 }
 
 std::unique_ptr<Env> make_jaka_button(const EnvConfig& config) { return std::make_unique<JakaButton>(config); }

@@ -13,8 +13,16 @@ EnvConfig jaka_obstacle_defaults() {
   return c;
 }
 
+OrbitView obstacle_main_view() {
+  OrbitView v = reach_main_view();
+  v.distance = 1.1f;
+  v.pitch_deg = -60.0f;
+  return v;
+}
+
 ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
   ReachTaskSpec s = jaka_button_spec(config);
+  s.name = "jaka_obstacle";
   s.home << 0.66f, 1.50f, -2.32f, 2.39f, 1.5708f, 0.0f;
   Eigen::Isometry3f column = Eigen::Isometry3f::Identity();
   column.translation() << 0.35f, 0.15f, 0.0f;
@@ -27,7 +35,6 @@ ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
 
 ReachTerms jaka_obstacle_terms() {
   ReachTerms t;
-  t.env_name = "jaka_obstacle";
   t.press_body = JakaObstacle::button_index;
   t.forbidden_body = JakaObstacle::column_index;
   t.collision_reward = JakaObstacle::collision_reward;

@@ -14,45 +14,6 @@ void check_size(const char* key, int value) {
 
 }  // namespace
 
-OrbitView reach_main_view() {
-  OrbitView v = paper_main_view();
-  v.target = {0.32f, 0.05f, 0.15f};
-  v.distance = 1.0f;
-  return v;
-}
-
-OrbitView reach_second_view() {
-  OrbitView v = paper_second_view();
-  v.target = {0.45f, 0.1f, 0.1f};
-  v.distance = 1.1f;
-  return v;
-}
-
-OrbitView obstacle_main_view() {
-  OrbitView v = reach_main_view();
-  v.distance = 1.1f;
-  v.pitch_deg = -60.0f;
-  return v;
-}
-
-OrbitView inmoov_main_view() {
-  OrbitView v;
-  v.target = {0.4f, -0.25f, 1.15f};
-  v.distance = 1.2f;
-  v.yaw_deg = 120.0f;
-  v.pitch_deg = -20.0f;
-  return v;
-}
-
-OrbitView inmoov_second_view() {
-  OrbitView v;
-  v.target = {0.35f, -0.3f, 1.15f};
-  v.distance = 1.1f;
-  v.yaw_deg = 15.0f;
-  v.pitch_deg = -10.0f;
-  return v;
-}
-
 PixelView::PixelView(const ReachTask& task, const EnvConfig& config, const OrbitView& main_view,
                      const OrbitView& second_view) {
   check_size("image_width", config.image_width);

@@ -1,7 +1,5 @@
 #include "rdsim/envs/reach_env.hpp"
 
-#include <cmath>
-
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
@@ -55,9 +53,9 @@ ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Ei
   return space;
 }
 
-void check_static_index(const ReachTaskSpec& s, int index, const std::string& env_name, const char* what) {
+void check_static_index(const ReachTaskSpec& s, int index, const char* what) {
   if (index < -1 || index >= static_cast<int>(s.statics.size()))
-    throw Error(env_name + ": " + what + " " + std::to_string(index) + " is not one of its " +
+    throw Error(s.name + ": " + what + " " + std::to_string(index) + " is not one of its " +
                 std::to_string(s.statics.size()) + " static bodies");
 }
 
@@ -85,21 +83,20 @@ RobotInfo robot_info_of(const ReachTask& task) {
 }  // namespace
 
 ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config) : terms_(std::move(terms)) {
-  check_static_index(task, terms_.press_body, terms_.env_name, "press body");
-  check_static_index(task, terms_.forbidden_body, terms_.env_name, "forbidden body");
+  check_static_index(task, terms_.press_body, "press body");
+  check_static_index(task, terms_.forbidden_body, "forbidden body");
   for (int landmark : terms_.landmarks) {
-    check_static_index(task, landmark, terms_.env_name, "landmark");
+    check_static_index(task, landmark, "landmark");
     landmark_points_.push_back(task.statics[static_cast<size_t>(landmark)].pose.translation());
   }
   task_ = std::make_unique<ReachTask>(std::move(task));
   for (const std::string& link : terms_.observed_links) observed_links_.push_back(task_->robot_model().require_link(link));
-  discrete_ = config.is_discrete;
   random_target_ = config.random_target;
   if (!terms_.target_choices.empty()) select_target(terms_.default_choice);
 
   const ReachTaskSpec& s = task_->spec();
-  spec_.env_name = terms_.env_name;
-  spec_.action = reach_action_space(discrete_);
+  spec_.env_name = s.name;
+  spec_.action = task_->action_space();
   spec_.max_episode_steps = s.max_steps;
   spec_.control_dt = s.world.time_step * s.action_repeat;
   spec_.observation = ground_truth_space(s, landmark_points_, task_->robot_model(), observed_links_);
@@ -166,7 +163,7 @@ Observation ReachEnv::reset(std::optional<std::uint64_t> seed) {
 void ReachEnv::select_target(int index) {
   const int n = static_cast<int>(terms_.target_choices.size());
   if (index < 0 || index >= n)
-    throw Error(terms_.env_name + ": no target " + std::to_string(index) + " (it has " + std::to_string(n) + ")");
+    throw Error(task_->spec().name + ": no target " + std::to_string(index) + " (it has " + std::to_string(n) + ")");
   target_index_ = index;
   task_->set_target(terms_.target_choices[static_cast<size_t>(index)]);
 }
@@ -190,7 +187,7 @@ StepResult ReachEnv::control_step(SetTargets&& set_targets) {
 }
 
 StepResult ReachEnv::step(const Action& action) {
-  const Eigen::Vector3f move = move_for_action(action, discrete_, task_->spec().step, spec_.env_name);
+  const Eigen::Vector3f move = task_->move_for(action);  // a bad action is an error even after the end
   return control_step([&] { task_->apply_move(move, rng_); });
 }
 

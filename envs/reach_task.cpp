@@ -1,6 +1,5 @@
 #include "rdsim/envs/reach_task.hpp"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 
@@ -44,6 +43,7 @@ RobotModel ik_model(const RobotModel& robot_model, const Robot& robot, const Rea
 }  // namespace
 
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
+  spec.discrete = config.is_discrete;
   spec.step = static_cast<float>(config.action_step);
   spec.success_threshold = static_cast<float>(config.success_threshold);
   spec.max_distance = static_cast<float>(config.max_distance);
@@ -51,10 +51,10 @@ void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
   spec.action_repeat = config.action_repeat;
 }
 
-ActionSpace reach_action_space(bool discrete) {
+ActionSpace ReachTask::action_space() const {
   ActionSpace a;
-  a.discrete = discrete;
-  if (discrete) {
+  a.discrete = spec_.discrete;
+  if (spec_.discrete) {
     a.n = 6;
   } else {
     a.low = Eigen::VectorXf::Constant(3, -1.0f);
@@ -63,21 +63,21 @@ ActionSpace reach_action_space(bool discrete) {
   return a;
 }
 
-Eigen::Vector3f move_for_action(const Action& action, bool discrete, float step, const std::string& env_name) {
+Eigen::Vector3f ReachTask::move_for(const Action& action) const {
   Eigen::Vector3f d = Eigen::Vector3f::Zero();
-  if (discrete) {
+  if (spec_.discrete) {
     if (action.index < 0 || action.index > 5)
-      throw Error(env_name + ": discrete action must be 0..5 (-x, +x, -y, +y, -z, +z), got " +
+      throw Error(spec_.name + ": discrete action must be 0..5 (-x, +x, -y, +y, -z, +z), got " +
                   std::to_string(action.index));
-    d[action.index / 2] = action.index % 2 ? step : -step;
+    d[action.index / 2] = action.index % 2 ? spec_.step : -spec_.step;
     return d;
   }
   if (action.values.size() != 3)
-    throw Error(env_name + ": continuous action must have 3 values (dx, dy, dz), got " +
+    throw Error(spec_.name + ": continuous action must have 3 values (dx, dy, dz), got " +
                 std::to_string(action.values.size()));
   for (int i = 0; i < 3; ++i) {
     const float v = action.values[i];
-    d[i] = step * (std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f);
+    d[i] = spec_.step * (std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f);
   }
   return d;
 }
@@ -154,10 +154,7 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
   for (int it = 0; it < spec_.ik_iterations; ++it) {
     ChainJacobian jacobian;
     const Eigen::Vector3d error = goal_root - chain_->forward(solution, jacobian).translation();
-    const auto jp = jacobian.topRows<3>();
-    Eigen::Matrix3d a = jp * jp.transpose();
-    a.diagonal().array() += kIkDamping * kIkDamping;
-    solution = chain_->clamp(solution + jp.transpose() * a.llt().solve(error));
+    solution = chain_->clamp(solution + damped_least_squares_step(jacobian.topRows<3>(), error, kIkDamping));
   }
   // Joints the drive would have to clamp at their speed limit would bend the move; slowing the whole
   // joint step instead keeps the end effector on the requested line.

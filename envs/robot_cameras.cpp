@@ -47,12 +47,6 @@ RobotCameras::RobotCameras(const ReachTask& task, std::vector<CameraMount> mount
 
 RobotCameras::~RobotCameras() = default;
 
-std::vector<CameraInfo> RobotCameras::info() const {
-  std::vector<CameraInfo> out;
-  for (const CameraMount& m : mounts_) out.push_back({m.name, m.link, m.fov_deg});
-  return out;
-}
-
 void RobotCameras::render(const ReachTask& task, int index, int width, int height, Image& out) {
   if (index < 0 || index >= size())
     throw Error("camera " + std::to_string(index) + ": no such camera (this robot has " + std::to_string(size()) + ")");

@@ -6,6 +6,7 @@
 #include "rdsim/app/bench_fps.hpp"
 #include "rdsim/app/demos.hpp"
 #include "rdsim/app/bench_remote.hpp"
+#include "rdsim/app/config_reference.hpp"
 #include "rdsim/app/envs.hpp"
 #include "rdsim/app/keygen.hpp"
 #include "rdsim/app/render.hpp"
@@ -166,6 +167,9 @@ int main(int argc, char** argv) {
   std::string demos_info_path;
   rdsim::DemosRecordOptions demos_record;
   add_demos(app, demos_info_path, demos_record);
+  app.add_subcommand("config-reference",
+                     "Print every config key with its type, default (per env), range and meaning "
+                     "(markdown; docs/config.md is its output)");
   rdsim::ServeOptions serve;
   add_serve(app, serve);
   rdsim::KeygenOptions keygen;
@@ -197,6 +201,7 @@ int main(int argc, char** argv) {
       return rdsim::bench_fps_command(bench);
     }
     if (name == "envs") return rdsim::envs_command();
+    if (name == "config-reference") return rdsim::config_reference_command();
     if (name == "render") return rdsim::render_command(render);
     if (name == "demos") {
       if (sub->get_subcommands().front()->get_name() == "info") return rdsim::demos_info_command(demos_info_path);

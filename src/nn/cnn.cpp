@@ -18,7 +18,6 @@ CnnShape cnn_preset(const std::string& name, const ImageShape& input, int output
   throw Error(where + ": expected one of \"nature\", \"small\", got \"" + name + "\"");
 }
 
-
 Cnn::Cnn(const CnnShape& shape, float output_gain, Rng& rng, float hidden_gain) : shape_(shape) {
   if (shape.output_size <= 0) throw Error("nn::Cnn: the output size must be positive");
   if (shape.input.height <= 0 || shape.input.width <= 0 || shape.input.channels <= 0)
@@ -85,56 +84,11 @@ void Cnn::set_max_patch_floats(long long floats) {
   infer_ws_.max_patch_floats = floats;
 }
 
-void Cnn::zero_grad() {
-  for (Conv2d& conv : convs_) {
-    conv.weight.zero_grad();
-    conv.bias.zero_grad();
-  }
-  head_.zero_grad();
-}
-
 ParamList Cnn::params() {
   ParamList list;
-  for (size_t i = 0; i < convs_.size(); ++i) {
-    const std::string prefix = "conv" + std::to_string(i);
-    list.push_back(param_of(convs_[i].weight, prefix + ".weight"));
-    list.push_back(param_of(convs_[i].bias, prefix + ".bias"));
-  }
-  for (Param& p : head_.params()) {
-    p.name = "head." + p.name;
-    list.push_back(std::move(p));
-  }
+  append_layer_params(list, convs_, "conv");
+  append_params(list, head_.params(), "head.");
   return list;
-}
-
-namespace {
-
-void check_same_convs(const Cnn& a, const Cnn& b) {
-  bool same = a.shape().input == b.shape().input && a.convs().size() == b.convs().size();
-  for (size_t i = 0; same && i < a.convs().size(); ++i) same = a.convs()[i].spec == b.convs()[i].spec;
-  if (!same) throw Error("nn::Cnn: cannot copy values between networks of different shapes");
-}
-
-}  // namespace
-
-void Cnn::copy_values_from(const Cnn& other) {
-  check_same_convs(*this, other);
-  head_.copy_values_from(other.head_);  // checks the head shapes before anything is written
-  for (size_t i = 0; i < convs_.size(); ++i) {
-    convs_[i].weight.value = other.convs_[i].weight.value;
-    convs_[i].bias.value = other.convs_[i].bias.value;
-  }
-}
-
-void Cnn::blend_values_from(const Cnn& other, float tau) {
-  check_same_convs(*this, other);
-  head_.blend_values_from(other.head_, tau);
-  for (size_t i = 0; i < convs_.size(); ++i) {
-    Conv2d& mine = convs_[i];
-    const Conv2d& theirs = other.convs_[i];
-    mine.weight.value = tau * theirs.weight.value + (1.0f - tau) * mine.weight.value;
-    mine.bias.value = tau * theirs.bias.value + (1.0f - tau) * mine.bias.value;
-  }
 }
 
 }  // namespace rdsim::nn

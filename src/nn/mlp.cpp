@@ -79,51 +79,10 @@ Eigen::MatrixXf Mlp::backward(const Eigen::MatrixXf& grad_output, bool need_inpu
   return grad;
 }
 
-void Mlp::zero_grad() {
-  for (Dense& layer : layers_) {
-    layer.weight.zero_grad();
-    layer.bias.zero_grad();
-  }
-}
-
 ParamList Mlp::params() {
   ParamList list;
-  for (size_t i = 0; i < layers_.size(); ++i) {
-    const std::string prefix = "layer" + std::to_string(i);
-    list.push_back(param_of(layers_[i].weight, prefix + ".weight"));
-    list.push_back(param_of(layers_[i].bias, prefix + ".bias"));
-  }
+  append_layer_params(list, layers_, "layer");
   return list;
-}
-
-namespace {
-
-void check_same_shape(const Mlp& a, const Mlp& b) {
-  bool same = a.layers().size() == b.layers().size();
-  for (size_t i = 0; same && i < a.layers().size(); ++i)
-    same = a.layers()[i].weight.value.rows() == b.layers()[i].weight.value.rows() &&
-           a.layers()[i].weight.value.cols() == b.layers()[i].weight.value.cols();
-  if (!same) throw Error("nn::Mlp: cannot copy values between networks of different shapes");
-}
-
-}  // namespace
-
-void Mlp::copy_values_from(const Mlp& other) {
-  check_same_shape(*this, other);
-  for (size_t i = 0; i < layers_.size(); ++i) {
-    layers_[i].weight.value = other.layers_[i].weight.value;
-    layers_[i].bias.value = other.layers_[i].bias.value;
-  }
-}
-
-void Mlp::blend_values_from(const Mlp& other, float tau) {
-  check_same_shape(*this, other);
-  for (size_t i = 0; i < layers_.size(); ++i) {
-    Dense& mine = layers_[i];
-    const Dense& theirs = other.layers_[i];
-    mine.weight.value = tau * theirs.weight.value + (1.0f - tau) * mine.weight.value;
-    mine.bias.value = tau * theirs.bias.value + (1.0f - tau) * mine.bias.value;
-  }
 }
 
 }  // namespace rdsim::nn

@@ -11,6 +11,13 @@ Param param_of(Tensor& tensor, std::string name) {
   return Param{&tensor.value, &tensor.grad, std::move(name)};
 }
 
+void append_params(ParamList& list, ParamList part, const std::string& prefix) {
+  for (Param& p : part) {
+    p.name = prefix + p.name;
+    list.push_back(std::move(p));
+  }
+}
+
 void zero_grad(const ParamList& params) {
   for (const Param& p : params) p.grad->setZero();
 }

@@ -30,24 +30,6 @@ Camera make_orbit_camera(const OrbitView& view, int width, int height) {
   return camera;
 }
 
-OrbitView paper_main_view() {
-  OrbitView v;
-  v.target = {0.316f, -0.2f, -0.1f};
-  v.distance = 1.6f;
-  v.yaw_deg = 155.0f;
-  v.pitch_deg = -36.0f;
-  return v;
-}
-
-OrbitView paper_second_view() {
-  OrbitView v;
-  v.target = {0.316f, 0.316f, -0.105f};
-  v.distance = 1.05f;
-  v.yaw_deg = 32.0f;
-  v.pitch_deg = -13.0f;
-  return v;
-}
-
 void check_camera(const Camera& camera) {
   auto fail = [](const std::string& what) { throw Error("camera: " + what); };
   if (camera.width <= 0 || camera.height <= 0)

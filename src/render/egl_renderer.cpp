@@ -11,14 +11,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "backends.hpp"
-#include "rdsim/render/gl_api.hpp"
-#include "gl_scene_drawer.hpp"
+#include "gl_renderer.hpp"
+#include "rdsim/core/assert.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim::render {
@@ -151,7 +149,7 @@ struct FboApi {
 template <typename Fn>
 void load_fbo(Fn& slot, const std::string& name) {
   slot = reinterpret_cast<Fn>(egl_proc(name.c_str()));
-  if (!slot) throw std::runtime_error("egl renderer: GL function " + name + " not available");
+  if (!slot) throw Error("GL function " + name + " not available");
 }
 
 FboApi load_fbo_api(const GlApi& gl) {
@@ -160,8 +158,7 @@ FboApi load_fbo_api(const GlApi& gl) {
   std::string suffix;
   if (!(version && std::atoi(version) >= 3) && !has_extension(extensions, "GL_ARB_framebuffer_object")) {
     if (!has_extension(extensions, "GL_EXT_framebuffer_object"))
-      throw std::runtime_error(std::string("egl renderer: the GL context (") + (version ? version : "?") +
-                               ") has no framebuffer objects");
+      throw Error(std::string("the GL context (") + (version ? version : "?") + ") has no framebuffer objects");
     suffix = "EXT";
   }
   FboApi f;
@@ -190,85 +187,58 @@ void create_framebuffer(const GlApi& gl, const FboApi& f, int width, int height)
   f.framebuffer_renderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, buffers[1]);
   const GLenum status = f.check_framebuffer_status(GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE || gl.glGetError() != GL_NO_ERROR)
-    throw std::runtime_error("egl renderer: framebuffer object incomplete (status " +
-                             std::to_string(status) + ")");
+    throw Error("framebuffer object incomplete (status " + std::to_string(status) + ")");
 }
 
-class EglRenderer final : public Renderer {
+class EglRenderer final : public GlRenderer {
 public:
-  EglRenderer(const EglDisplayChoice& d, int width, int height)
-      : width_(width), height_(height), display_(d.display) {
+  // rdsim::Error saying what failed when this device cannot give the drawer a context.
+  EglRenderer(const EglDisplayChoice& d, int width, int height) : GlRenderer(width, height), display_(d.display) {
     // The bound API is per thread: set it again in case another thread picked the display.
-    if (!eglBindAPI(EGL_OPENGL_API)) throw Error("egl renderer: no usable EGL device (eglBindAPI failed)");
+    if (!eglBindAPI(EGL_OPENGL_API)) throw Error("eglBindAPI failed");
     context_ = eglCreateContext(display_, d.config, EGL_NO_CONTEXT, nullptr);
-    if (context_ == EGL_NO_CONTEXT)
-      throw Error("egl renderer: no usable EGL device (eglCreateContext failed)");
-    try {
-      if (!d.surfaceless) {
-        const EGLint attribs[] = {EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE};
-        surface_ = eglCreatePbufferSurface(display_, d.config, attribs);
-        if (surface_ == EGL_NO_SURFACE)
-          throw Error("egl renderer: no usable EGL device (eglCreatePbufferSurface failed)");
+    if (context_ == EGL_NO_CONTEXT) throw Error("eglCreateContext failed");
+    if (!d.surfaceless) {
+      const EGLint attribs[] = {EGL_WIDTH, 1, EGL_HEIGHT, 1, EGL_NONE};
+      surface_ = eglCreatePbufferSurface(display_, d.config, attribs);
+      if (surface_ == EGL_NO_SURFACE) {
+        release();
+        throw Error("eglCreatePbufferSurface failed");
       }
-      make_current();
-      gl_ = load_gl_api(egl_proc);
-      const char* renderer = reinterpret_cast<const char*>(gl_.glGetString(GL_RENDERER));
-      device_ = renderer ? renderer : "unknown";
-      create_framebuffer(gl_, load_fbo_api(gl_), width_, height_);
-      drawer_.emplace(gl_, width_, height_);
-    } catch (...) {
-      release();
-      throw;
     }
+    // Our framebuffer object stays bound in our context: every frame is drawn into it.
+    start(egl_proc, [this] { create_framebuffer(gl(), load_fbo_api(gl()), width_, height_); });
   }
-
   ~EglRenderer() override { release(); }
 
-  EglRenderer(const EglRenderer&) = delete;
-  EglRenderer& operator=(const EglRenderer&) = delete;
-
-  void render(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) override {
-    if (camera.width != width_ || camera.height != height_)
-      throw Error("renderer: camera is " + std::to_string(camera.width) + "x" +
-                  std::to_string(camera.height) + " but the renderer was made for " +
-                  std::to_string(width_) + "x" + std::to_string(height_));
-    check_camera(camera);
-    make_current();
-    drawer_->draw(scene, camera, rgb_out);  // our framebuffer object stays bound in our context
-  }
-
-  int width() const override { return width_; }
-  int height() const override { return height_; }
   std::string backend() const override { return "egl"; }
-  std::string device() const override { return device_; }
 
 private:
-  // Another Renderer in this thread may have made its own context current since our last frame.
   // EGL only knows about EGL contexts: an OSMesa renderer binds its context in Mesa's GL dispatch
   // (libglapi), which Mesa's EGL driver shares, behind GLVND's back, so eglGetCurrentContext()
   // still names ours. What OSMesa reports as current right after our bind tells us whether that
   // happened since (on a non-Mesa driver it stays unchanged unless OSMesa really binds).
-  void make_current() {
+  void make_current() override {
     const bool ours = eglGetCurrentContext() == context_;
     if (ours && OSMesaGetCurrentContext() == osmesa_view_) return;
     // EGL ignores a bind of the context it already thinks is current: release it first.
     if (ours) eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (!eglMakeCurrent(display_, surface_, surface_, context_)) {
       const EGLint error = eglGetError();
-      // Unlike OSMesa, an EGL context stays bound to the thread that last drew with it.
-      if (error == EGL_BAD_ACCESS)
-        throw std::runtime_error("egl renderer: its context is current in another thread (an egl "
-                                 "Renderer must keep drawing from the thread it last drew from)");
-      throw std::runtime_error("egl renderer: eglMakeCurrent failed (error 0x" + hex(error) + ")");
+      // Unlike OSMesa, an EGL context stays bound to the thread that last drew with it: drawing
+      // from another thread breaks the Renderer's contract (renderer.hpp), a bug in the caller.
+      RDSIM_ASSERT(error != EGL_BAD_ACCESS, "egl renderer: its context is current in another thread (an egl "
+                                            "Renderer must keep drawing from the thread it last drew from)");
+      throw Error("egl renderer: eglMakeCurrent failed (error 0x" + hex(error) + ")");
     }
     osmesa_view_ = OSMesaGetCurrentContext();
   }
 
-  void release() {
+  void release() override {
     if (eglGetCurrentContext() == context_)
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (surface_ != EGL_NO_SURFACE) eglDestroySurface(display_, surface_);
-    eglDestroyContext(display_, context_);
+    if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
   }
 
   static std::string hex(EGLint v) {
@@ -277,14 +247,10 @@ private:
     return buf;
   }
 
-  int width_, height_;
   EGLDisplay display_;
   EGLContext context_ = EGL_NO_CONTEXT;
   EGLSurface surface_ = EGL_NO_SURFACE;  // a 1x1 pbuffer only without surfaceless contexts
   OSMesaContext osmesa_view_ = nullptr;  // OSMesaGetCurrentContext() just after our last bind
-  GlApi gl_;
-  std::string device_;
-  std::optional<GlSceneDrawer> drawer_;
 };
 
 }  // namespace
@@ -294,9 +260,7 @@ std::unique_ptr<Renderer> make_egl_renderer(int width, int height) {
   if (d.display == EGL_NO_DISPLAY) throw Error("egl renderer: no usable EGL device (" + d.failure + ")");
   try {
     return std::make_unique<EglRenderer>(d, width, height);
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {  // a context without what the drawer needs
+  } catch (const Error& e) {  // no context, or one without what the drawer needs
     throw Error(std::string("egl renderer: no usable EGL device (") + e.what() + ")");
   }
 }

@@ -1,7 +1,8 @@
 #include "rdsim/render/gl_api.hpp"
 
-#include <stdexcept>
 #include <string>
+
+#include "rdsim/core/error.hpp"
 
 namespace rdsim::render {
 namespace {
@@ -9,7 +10,7 @@ namespace {
 template <typename Fn>
 void load(Fn& slot, GlGetProc get_proc, const char* name) {
   slot = reinterpret_cast<Fn>(get_proc(name));
-  if (!slot) throw std::runtime_error(std::string("renderer: GL function ") + name + " not available");
+  if (!slot) throw Error(std::string("renderer: GL function ") + name + " not available");
 }
 
 }  // namespace

@@ -2,7 +2,8 @@
 
 #include <algorithm>
 #include <cstddef>
-#include <stdexcept>
+
+#include "rdsim/core/error.hpp"
 
 namespace rdsim::render {
 namespace {
@@ -51,7 +52,7 @@ GlSceneDrawer::GlSceneDrawer(const GlApi& gl, int width, int height)
   gl_.glLoadMatrixf(identity.data());
   gl_.glMatrixMode(GL_PROJECTION);
   gl_.glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  if (gl_.glGetError() != GL_NO_ERROR) throw std::runtime_error("renderer: GL setup failed");
+  if (gl_.glGetError() != GL_NO_ERROR) throw Error("renderer: GL setup failed");
 }
 
 void GlSceneDrawer::add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view,

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <Eigen/Cholesky>
 
 #include "rdsim/core/rng.hpp"
 
@@ -70,10 +69,7 @@ IkResult solve(const KinematicChain& chain, const Eigen::Isometry3d& target, con
     typename T::Jacobian free = j;
     JointVector dq;
     for (int pass = 0; pass < 3; ++pass) {
-      Eigen::Matrix<double, M, M> a = free * free.transpose();
-      a.diagonal().array() += damping * damping;
-      const typename T::Error y = a.llt().solve(e);
-      dq = free.transpose() * y;
+      dq = damped_least_squares_step(free, e, damping);
       bool blocked = false;
       for (int i = 0; i < dq.size(); ++i) {
         const bool at_lower = r.q[i] <= chain.lower()[i] && dq[i] < 0.0;

@@ -1,23 +1,14 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "../error_of.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/error.hpp"
 
 using rdsim::ConfigReader;
 using Catch::Matchers::Contains;
-
-namespace {
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const rdsim::Error& e) {
-    return e.what();
-  }
-  return "";
-}
-}  // namespace
+using rdsim::test::error_of;
 
 TEST_CASE("config reader fills typed fields and keeps defaults for absent keys", "[config]") {
   auto j = nlohmann::json::parse(R"({"a": 3, "b": 0.5, "c": true, "s": "x", "v": [1, 2]})");

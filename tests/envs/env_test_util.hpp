@@ -7,7 +7,7 @@
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/registry.hpp"
 
-// Helpers shared by the reaching-env tests.
+// Helpers shared by the env tests.
 namespace rdsim::test {
 
 inline EnvConfig env_config(const std::string& name, bool random_target = false) {
@@ -15,6 +15,9 @@ inline EnvConfig env_config(const std::string& name, bool random_target = false)
   c.random_target = random_target;
   return c;
 }
+
+// The first three values of a reaching env's ground-truth observation: target - end effector.
+inline Eigen::Vector3f to_target(const Observation& o) { return o.values.head<3>(); }
 
 // Discrete(6) move along the largest component of `to_target` (-x, +x, -y, +y, -z, +z).
 inline Action greedy_action(const Eigen::Vector3f& to_target) {

@@ -2,22 +2,15 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "../error_of.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using Catch::Matchers::Contains;
+using rdsim::test::error_of;
 using rdsim::ConfigReader;
 
 namespace {
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const rdsim::Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 rdsim::EnvConfig read(const char* text) {
   const auto json = nlohmann::json::parse(text);

@@ -5,70 +5,30 @@
 #include <string>
 #include <vector>
 
+#include "env_test_util.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/inmoov_tomato.hpp"
 #include "rdsim/envs/registry.hpp"
 
+// Spaces, bounds, determinism and truncation: tests/envs/test_env_contract.cpp.
 using rdsim::Action;
 using rdsim::EnvConfig;
 using rdsim::InmoovTomato;
 
 namespace {
 
-EnvConfig inmoov_config() {
-  EnvConfig c = rdsim::default_env_config("inmoov_tomato");
-  return c;
-}
+EnvConfig inmoov_config() { return rdsim::test::env_config("inmoov_tomato"); }
 
 // The discrete move that shrinks the largest component of tomato - palm (observation[0..2]).
-Action greedy(const rdsim::Observation& o) {
-  int axis = 0;
-  o.values.head<3>().cwiseAbs().maxCoeff(&axis);
-  return Action::discrete(2 * axis + (o.values[axis] > 0.0f ? 1 : 0));
-}
-
-struct Trace {
-  std::vector<float> values;  // observations and rewards, in order
-  int resets = 0;
-};
-
-// 200 steps of seeded random discrete actions, resetting (next seed) whenever an episode ends.
-Trace run_random(std::uint64_t seed) {
-  EnvConfig c = inmoov_config();
-  c.random_target = true;
-  auto env = rdsim::make_env(c);
-  rdsim::Rng actions(seed + 1000);
-  Trace t;
-  auto o = env->reset(seed);
-  t.values.insert(t.values.end(), o.values.data(), o.values.data() + o.values.size());
-  for (int i = 0; i < 200; ++i) {
-    const auto r = env->step(Action::discrete(static_cast<int>(actions.below(6))));
-    t.values.insert(t.values.end(), r.observation.values.data(), r.observation.values.data() + r.observation.values.size());
-    t.values.push_back(r.reward);
-    if (r.terminated || r.truncated) {
-      o = env->reset(seed + static_cast<std::uint64_t>(++t.resets));
-      t.values.insert(t.values.end(), o.values.data(), o.values.data() + o.values.size());
-    }
-  }
-  return t;
-}
+Action greedy(const rdsim::Observation& o) { return rdsim::test::greedy_action(rdsim::test::to_target(o)); }
 
 }  // namespace
 
-TEST_CASE("inmoov_tomato: spec, registry and rejected options", "[envs][inmoov]") {
-  auto env = rdsim::make_env(inmoov_config());
-  const auto& spec = env->spec();
-  CHECK(spec.env_name == "inmoov_tomato");
-  CHECK(spec.action.discrete);
-  CHECK(spec.action.n == 6);
-  CHECK(spec.observation.shape == std::vector<int>{6});
-  CHECK(spec.max_episode_steps == 400);
-  CHECK(spec.control_dt == Approx(1.0 / 240.0));
-
+TEST_CASE("inmoov_tomato: six tomatoes, raw pixels, a bad target index", "[envs][inmoov]") {
   EnvConfig pixels = inmoov_config();
   pixels.observation = rdsim::ObservationMode::RawPixels;
-  // Raw pixels (added by "pixels"): see tests/envs/test_pixels.cpp.
+  // Raw pixels in detail: tests/envs/test_pixels.cpp.
   CHECK(rdsim::make_env(pixels)->spec().observation.shape == std::vector<int>{64, 64, 3});
 
   InmoovTomato tomato(inmoov_config());
@@ -76,16 +36,6 @@ TEST_CASE("inmoov_tomato: spec, registry and rejected options", "[envs][inmoov]"
   CHECK(tomato.task().robot().dof() > 50);
   tomato.reset(1);
   CHECK_THROWS_AS(tomato.select_target(6), rdsim::Error);
-  CHECK_THROWS_AS(tomato.step(Action::discrete(6)), rdsim::Error);
-}
-
-TEST_CASE("inmoov_tomato: the same seed gives bit-identical 200-step trajectories", "[envs][inmoov]") {
-  const Trace a = run_random(7);
-  const Trace b = run_random(7);
-  REQUIRE(a.values.size() == b.values.size());
-  CHECK(a.values == b.values);  // exact float equality, element by element
-  const Trace c = run_random(8);
-  CHECK(c.values != a.values);
 }
 
 TEST_CASE("inmoov_tomato: reward is minus the palm-tomato distance; other joints hold", "[envs][inmoov]") {
@@ -113,23 +63,6 @@ TEST_CASE("inmoov_tomato: reward is minus the palm-tomato distance; other joints
     INFO("dof " << d << " " << task.robot_model().joints[static_cast<size_t>(task.robot().dof_joint(d))].name);
     CHECK(std::abs(q[d] - home[d]) < 0.05f);
   }
-}
-
-TEST_CASE("inmoov_tomato: episodes are truncated at max_steps", "[envs][inmoov]") {
-  EnvConfig c = inmoov_config();
-  c.max_steps = 20;
-  auto env = rdsim::make_env(c);
-  env->reset(11);
-  rdsim::StepResult r;
-  for (int i = 0; i < 20; ++i) {
-    REQUIRE_FALSE(r.truncated);
-    r = env->step(Action::discrete(i % 2));  // back and forth along x: stays in bounds, far from success
-    REQUIRE_FALSE(r.terminated);
-  }
-  CHECK(r.truncated);
-  const auto after = env->step(Action::discrete(0));
-  CHECK(after.reward == 0.0f);
-  CHECK(after.terminated);
 }
 
 TEST_CASE("inmoov_tomato: a greedy policy brings the palm to every tomato", "[envs][inmoov]") {

@@ -5,14 +5,11 @@
 #include "rdsim/envs/jaka_button.hpp"
 #include "rdsim/envs/registry.hpp"
 
+// Spaces, bounds, determinism and truncation: tests/envs/test_env_contract.cpp.
 using namespace rdsim;
-using rdsim::test::env_config;
-using rdsim::test::greedy_action;
-using rdsim::test::run_episode;
+using namespace rdsim::test;
 
 namespace {
-
-Eigen::Vector3f to_target(const Observation& o) { return o.values.head<3>(); }
 
 // The target point read back from the physics world: top of the button body.
 Eigen::Vector3f button_top(const JakaButton& env) {
@@ -21,41 +18,6 @@ Eigen::Vector3f button_top(const JakaButton& env) {
 }
 
 }  // namespace
-
-TEST_CASE("jaka_button: spec and registry", "[jaka_button]") {
-  auto env = make_env(env_config("jaka_button"));
-  const Spec& s = env->spec();
-  CHECK(s.env_name == "jaka_button");
-  CHECK(s.action.discrete);
-  CHECK(s.action.n == 6);
-  CHECK(s.observation.shape == std::vector<int>{6});
-  CHECK(s.max_episode_steps == 200);
-  CHECK(s.control_dt == Approx(1.0 / 240.0));
-  // The observation stays within the declared bounds over a random episode.
-  const Observation o = env->reset(3);
-  CHECK((o.values.array() >= s.observation.low.array()).all());
-  CHECK((o.values.array() <= s.observation.high.array()).all());
-}
-
-TEST_CASE("jaka_button: same seed gives bit-identical episodes, other seeds differ", "[jaka_button]") {
-  auto trace = [](std::uint64_t seed) {
-    auto env = make_env(env_config("jaka_button", true));
-    Rng actions(99);
-    std::vector<float> out;
-    Observation o = env->reset(seed);
-    out.insert(out.end(), o.values.data(), o.values.data() + o.values.size());
-    for (int k = 0; k < 200; ++k) {
-      StepResult r = env->step(Action::discrete(static_cast<int>(actions.below(6))));
-      out.insert(out.end(), r.observation.values.data(), r.observation.values.data() + r.observation.values.size());
-      out.push_back(r.reward);
-      if (r.terminated || r.truncated) r.observation = env->reset();
-    }
-    return out;
-  };
-  const std::vector<float> a = trace(7);
-  CHECK(a == trace(7));
-  CHECK(a != trace(8));
-}
 
 TEST_CASE("jaka_button: reward is minus the flange-button distance", "[jaka_button]") {
   JakaButton env(env_config("jaka_button", true));
@@ -70,19 +32,6 @@ TEST_CASE("jaka_button: reward is minus the flange-button distance", "[jaka_butt
     CHECK(r.info.distance == Approx(d).margin(1e-6));
     CHECK((to_target(r.observation) - (button_top(env) - flange)).norm() < 1e-6f);
     if (r.terminated || r.truncated) env.reset();
-  }
-}
-
-TEST_CASE("jaka_button: truncated exactly at the step limit", "[jaka_button]") {
-  EnvConfig c = env_config("jaka_button");
-  c.max_steps = 40;
-  auto env = make_env(c);
-  env->reset(1);
-  for (int k = 1; k <= 40; ++k) {
-    // Up and down above the home pose: never near the button, never out of the workspace.
-    const StepResult r = env->step(Action::discrete(k % 2 ? 5 : 4));
-    REQUIRE_FALSE(r.terminated);
-    CHECK(r.truncated == (k == 40));
   }
 }
 

@@ -19,7 +19,7 @@ TEST_CASE("render frames per second, ~20-item workspace", "[.bench]") {
   std::printf("scene items: %zu\n", scene.items.size());
   for (int side : {64, 84, 128, 224}) {
     auto r = make_renderer("osmesa", side, side);
-    const Camera cam = make_orbit_camera(paper_main_view(), side, side);
+    const Camera cam = make_orbit_camera(test::paper_main_view(), side, side);
     std::vector<std::uint8_t> img(static_cast<size_t>(side * side * 3));
     for (int i = 0; i < 20; ++i) r->render(scene, cam, img.data());  // warm-up: shader compiles
     const int frames = side <= 84 ? 4000 : 1000;
@@ -50,8 +50,8 @@ TEST_CASE("demo image of the paper's two views", "[.demo]") {
   auto r = make_renderer("osmesa", w, h);
   // Main view on the left, second view on the right, one PNG.
   std::vector<std::uint8_t> left(static_cast<size_t>(w * h * 3)), right(left.size());
-  r->render(scene, make_orbit_camera(paper_main_view(), w, h), left.data());
-  r->render(scene, make_orbit_camera(paper_second_view(), w, h), right.data());
+  r->render(scene, make_orbit_camera(test::paper_main_view(), w, h), left.data());
+  r->render(scene, make_orbit_camera(test::paper_second_view(), w, h), right.data());
   std::vector<std::uint8_t> both(left.size() * 2);
   const size_t row = static_cast<size_t>(w) * 3;
   for (int y = 0; y < h; ++y) {

@@ -8,6 +8,16 @@
 
 namespace rdsim::test {
 
+// The two cameras of RobotDrlSim's Jaka scenes, as the paper gives them (PyBullet yaw/pitch
+// orbits, fov 60): the main camera over the workspace and the second, lower one. The envs'
+// cameras are these re-aimed at rdsim's layout (envs/jaka_button.cpp).
+inline OrbitView paper_main_view() {
+  return OrbitView{.target = {0.316f, -0.2f, -0.1f}, .distance = 1.6f, .yaw_deg = 155.0f, .pitch_deg = -36.0f};
+}
+inline OrbitView paper_second_view() {
+  return OrbitView{.target = {0.316f, 0.316f, -0.105f}, .distance = 1.05f, .yaw_deg = 32.0f, .pitch_deg = -13.0f};
+}
+
 struct Pixel {
   int col = 0, row = 0;  // row 0 = top
 };

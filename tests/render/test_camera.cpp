@@ -3,6 +3,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/render/camera.hpp"
+#include "render_test_util.hpp"
 
 using Catch::Matchers::Contains;
 using rdsim::Camera;
@@ -18,7 +19,7 @@ Eigen::Vector3f expected_offset(float d, float yaw_deg, float pitch_deg) {
 }  // namespace
 
 TEST_CASE("orbit camera places the eye like PyBullet's yaw/pitch camera", "[render][camera]") {
-  for (const rdsim::OrbitView& v : {rdsim::paper_main_view(), rdsim::paper_second_view()}) {
+  for (const rdsim::OrbitView& v : {rdsim::test::paper_main_view(), rdsim::test::paper_second_view()}) {
     const Camera c = rdsim::make_orbit_camera(v, 64, 48);
     CHECK((c.eye - c.target).norm() == Approx(v.distance).epsilon(1e-5));
     const Eigen::Vector3f want = expected_offset(v.distance, v.yaw_deg, v.pitch_deg);

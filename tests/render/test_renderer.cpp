@@ -119,7 +119,7 @@ TEST_CASE("moving an item moves its pixels the way the camera sees it", "[render
 
 TEST_CASE("rendering is deterministic, across frames and across renderers", "[render]") {
   const Scene s = workspace_scene();
-  const Camera cam = make_orbit_camera(paper_main_view(), 64, 64);
+  const Camera cam = make_orbit_camera(test::paper_main_view(), 64, 64);
   auto a = make_renderer("osmesa", 64, 64);
   const auto first = draw(*a, s, cam);
   CHECK(draw(*a, s, cam) == first);

@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <memory>
+#include <string>
 
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/core/env.hpp"
@@ -69,20 +70,18 @@ public:
   int action_dim() const { return action_dim_; }
   bool discrete() const { return discrete_; }
 
-  bool uses_cnn() const { return cnn_; }
-
 private:
   const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
 
   bool discrete_;
-  bool shared_;
-  bool cnn_;  // pixels: cnn_trunk_ replaces trunk_
   int obs_size_;
   int action_dim_;
   int policy_outputs_;
   nn::Activation activation_;
-  nn::Mlp trunk_;   // shared only: obs -> last hidden layer (pre-activation)
-  nn::Cnn cnn_trunk_;  // pixels only: image -> last fc layer (pre-activation)
+  // The shared trunk (null when actor and critic are separate MLPs): obs -> features before the
+  // activation; an MLP's last hidden layer, or for pixels a CNN's last fc layer.
+  std::unique_ptr<nn::Network> trunk_;
+  std::string trunk_prefix_;  // its parameters' names: "trunk." (MLP) or "cnn." (model files use them)
   nn::Mlp policy_;  // -> logits or Gaussian mean
   nn::Mlp value_;   // -> V
   nn::Tensor log_std_;

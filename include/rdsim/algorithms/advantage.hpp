@@ -18,4 +18,8 @@ namespace rdsim {
 // one, negative when worse than a constant; 0 when the target does not vary.
 double explained_variance(const Eigen::VectorXf& prediction, const Eigen::VectorXf& target);
 
+// Advantages standardised over a batch: (a - mean) / (sample standard deviation + 1e-8); a batch
+// of fewer than 2 is left as it is.
+void normalize_advantages(Eigen::VectorXf& advantages);
+
 }  // namespace rdsim

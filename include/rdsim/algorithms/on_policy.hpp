@@ -31,6 +31,10 @@ protected:
   };
   OnPolicy(const NetworkConfig& network, std::uint64_t seed, const Spec& spec, RolloutSettings settings);
 
+  // Creates optimizer_ over the policy's parameters (the derived constructor picks the rule).
+  void use_optimizer(const nn::AdamConfig& adam);
+  void use_optimizer(const nn::RmsPropConfig& rms);
+
   // Learns from the filled rollout_ (advantages and returns computed). `remaining` goes from 1
   // at the start of training to 0 at the end (schedules).
   virtual Metrics train(double remaining) = 0;
@@ -47,7 +51,7 @@ protected:
   Spec spec_;
   RolloutSettings settings_;
   std::unique_ptr<ActorCritic> policy_;
-  std::unique_ptr<nn::Optimizer> optimizer_;  // created by the derived class
+  std::unique_ptr<nn::Optimizer> optimizer_;  // use_optimizer() in the derived constructor
   Rng sample_rng_;
   Rng shuffle_rng_;
   RolloutBuffer rollout_;

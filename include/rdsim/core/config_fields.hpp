@@ -148,7 +148,7 @@ struct FieldDoc {
   std::string key;          // dotted path below the struct ("cnn.preset")
   std::string type;         // "integer", "number", "boolean", "string", "list of integers", ...
   std::string default_value;  // JSON text
-  std::string range;        // "1 … 1000000", "\"tanh\" | \"relu\"", "" when any value goes
+  std::string range;        // "1 … 1000000", "`\"tanh\"` | `\"relu\"`" (markdown code), "" when any value goes
   std::string doc;
 };
 
@@ -199,7 +199,7 @@ private:
   }
   static std::string alternatives(const std::vector<std::string>& choices) {
     std::string s;
-    for (const auto& c : choices) s += (s.empty() ? "" : " \\| ") + ("`\"" + c + "\"`");
+    for (const auto& c : choices) s += (s.empty() ? "" : " | ") + ("`\"" + c + "\"`");
     return s;
   }
 

@@ -86,6 +86,10 @@ public:
   // Starts an episode. A seed re-seeds the env's generator; without one the stream continues,
   // so a sequence of resets after one seeded reset is reproducible too.
   virtual Observation reset(std::optional<std::uint64_t> seed = std::nullopt) = 0;
+  // One control step. An action outside the action space (a Discrete index out of range, a Box
+  // action of the wrong size) is an rdsim::Error, whether or not the episode has ended. Stepping
+  // an episode that has ended (terminated or truncated), before reset(), is harmless: nothing
+  // moves, and the result is the last observation with reward 0 and terminated = true.
   virtual StepResult step(const Action& action) = 0;
 
   // Advances only the physics world by what one env step simulates, with no control,

@@ -20,7 +20,7 @@ struct EnvConfig {
   bool multi_view = false;
   bool random_target = false;
   double max_distance = 0.7;        // m
-  std::string urdf_root;            // empty = the repo's assets/ (asset_root)
+  std::string urdf_root{};          // empty = the repo's assets/ (asset_root)
   int max_steps = 200;
   double action_step = 0.015;       // m
   double success_threshold = 0.025; // m

@@ -5,6 +5,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/reach_env.hpp"
+#include "rdsim/render/camera.hpp"
 
 // inmoov_tomato — RobotDrlSim section 4.3: the InMoov humanoid (assets/inmoov/inmoov.urdf, 54
 // joints) moves its right palm to a tomato of a tomato tree standing in front of it. Built on
@@ -49,11 +50,18 @@
 //                    success 1.00 over 200 episodes with Discrete and with Box actions
 //                    (`rdsim demos record --expert --env inmoov_tomato -n 200 --seed 3000 [--continuous]`).
 //   raw_pixels       UInt8 image_height x image_width x 3 (x 6 with multi_view) from
-//                    inmoov_main_view() / inmoov_second_view() (pixel_view.hpp): tree, tomatoes, right arm.
+//                    inmoov_main_view() / inmoov_second_view() below: tree, tomatoes, right arm.
 namespace rdsim {
 
 EnvConfig inmoov_tomato_defaults();
 ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config);
+
+// The cameras (robot at the origin facing +x, tree at (0.65, -0.2), tomatoes at z 1.0..1.4):
+// main from the front-left, target (0.4, -0.25, 1.15), 1.2 m, yaw 120, pitch -20 (tree, tomatoes
+// and the right arm); second from the robot's right, target (0.35, -0.3, 1.15), 1.1 m, yaw 15,
+// pitch -10 (palm and tomatoes side by side). fov 60 like the paper's.
+OrbitView inmoov_main_view();
+OrbitView inmoov_second_view();
 
 // What makes inmoov_tomato a task on top of ReachEnv: the targets are the tree's tomatoes
 // (target_choices, read from the tree's URDF: links tomato_0, tomato_1, ...).

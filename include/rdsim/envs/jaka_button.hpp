@@ -4,6 +4,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/reach_env.hpp"
+#include "rdsim/render/camera.hpp"
 
 // jaka_button — RobotDrlSim section 4.1: a JAKA Zu 7 arm moves its flange to a push button on a table.
 //
@@ -23,7 +24,7 @@
 //                    pointing down; + U(-0.02, 0.02) rad per joint at each reset (seeded).
 //   actions          Discrete(6) (is_discrete): -x, +x, -y, +y, -z, +z flange moves of action_step
 //                    (default 0.015 m); continuous: Box(3) of dx, dy, dz in [-1, 1] times action_step.
-//                    Each move gets Gaussian noise sigma = action_step / 30 per axis (as the original),
+//                    Each move gets Gaussian noise sigma = action_step / 30 per axis (rdsim adds it),
 //                    the goal is clipped into the workspace box and turned into joint targets by one
 //                    damped-least-squares IK step (damping 0.02 m) from the current joint angles; when
 //                    a joint would exceed its speed limit (180 deg/s) within the step, the whole joint
@@ -35,7 +36,7 @@
 //                    the episode: terminated, info.out_of_bounds, reward -(max_distance x steps left).
 //   observation      ground truth, 6 floats: target - flange (3), flange position (3); bounds in the Spec.
 //                    raw_pixels: UInt8 image_height x image_width x 3 (x 6 with multi_view) from the
-//                    paper's cameras re-aimed at this layout (pixel_view.hpp reach_main_view / reach_second_view).
+//                    paper's cameras re-aimed at this layout (reach_main_view / reach_second_view below).
 //   reward           -|flange - target| (m) every step.
 //   success          |flange - target| < success_threshold (default 0.025 m) or the flange touching
 //                    the button: terminated, info.success.
@@ -44,6 +45,14 @@ namespace rdsim {
 
 // The env options above with jaka_button's values (registry: default_env_config("jaka_button")).
 EnvConfig jaka_button_defaults();
+
+// The paper's two cameras (same yaw, pitch, fov) re-aimed at this layout, where the robot base is
+// the world origin on the table top (z = 0) and targets lie around x 0.35..0.65: the paper's
+// targets/distances (main: (0.316, -0.2, -0.1), 1.6 m) put the robot in a corner of the image and
+// made the button 2-3 pixels wide at 64x64. Main: target (0.32, 0.05, 0.15), 1.0 m, yaw 155, pitch -36.
+// Second (multi_view): target (0.45, 0.1, 0.1), 1.1 m, yaw 32, pitch -13. jaka_obstacle uses them too.
+OrbitView reach_main_view();
+OrbitView reach_second_view();
 
 // The jaka_button scene and numbers above, with `config`'s task numbers.
 ReachTaskSpec jaka_button_spec(const EnvConfig& config);

@@ -3,8 +3,8 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
-#include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_env.hpp"
+#include "rdsim/render/camera.hpp"
 
 // jaka_obstacle — RobotDrlSim section 4.2: jaka_button's scene and numbers (see jaka_button.hpp) with
 // an obstacle column the arm must go around.
@@ -31,8 +31,8 @@
 //                    (seed 3), collisions over the last 1,500 training episodes: 1.7 % without the
 //                    extras, 0.7 % with them.
 //                    raw_pixels: UInt8 image_height x image_width x 3 (x 6 with multi_view), cameras
-//                    pixel_view.hpp obstacle_main_view (steeper than jaka_button's, so the column does not
-//                    hide the flange) and reach_second_view.
+//                    obstacle_main_view below (steeper than jaka_button's, so the column does not
+//                    hide the flange) and jaka_button's reach_second_view.
 //   reward           -|flange - button| per step; touching the column with ANY robot link: reward -200,
 //                    terminated, info.collision.
 //   truncation       max_steps, default 300 (the way round is about twice as long as jaka_button's).
@@ -44,6 +44,11 @@
 namespace rdsim {
 
 EnvConfig jaka_obstacle_defaults();  // jaka_button's, with max_steps 300 and max_distance 0.9 m
+
+// jaka_button's reach_main_view() looking down steeper (pitch -60, 1.1 m), because from -36 deg
+// the column hides the flange at its home pose beside it; button, column and flange all visible.
+OrbitView obstacle_main_view();
+
 ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config);
 
 // What makes jaka_obstacle a task on top of ReachEnv: the button is pressed, the column is

@@ -36,27 +36,26 @@
 namespace rdsim {
 
 struct ReachTerms {
-  std::string env_name;
   int press_body = -1;      // index into ReachTaskSpec::statics (-1: none), e.g. the button
   int forbidden_body = -1;  // index into ReachTaskSpec::statics (-1: none), e.g. the column
   float collision_reward = 0.0f;
-  std::vector<int> landmarks;  // statics whose base position the observation measures the end effector from
+  std::vector<int> landmarks{};  // statics whose base position the observation measures the end effector from
   // Robot links whose frame origin the observation also measures from each landmark: where the
   // end effector alone does not tell where the rest of the arm is (a wrist offset to one side), and
   // the forbidden body is touched by any link.
-  std::vector<std::string> observed_links;
+  std::vector<std::string> observed_links{};
   // When not empty the target is one of these points (world frame): `default_choice`, or one drawn
   // uniformly at each reset with random_target. Otherwise ReachTaskSpec's nominal point / box decides.
-  std::vector<Eigen::Vector3f> target_choices;
+  std::vector<Eigen::Vector3f> target_choices{};
   int default_choice = 0;
   // The scripted expert's way to the target (reach_expert.hpp): world points it passes in order
   // before heading straight for the target; empty = straight there.
-  std::vector<Eigen::Vector3f> expert_route;
+  std::vector<Eigen::Vector3f> expert_route{};
   // Then, when not zero, the point target + expert_approach (a pre-grasp point: the side the end
   // effector should arrive from), then the target.
   Eigen::Vector3f expert_approach = Eigen::Vector3f::Zero();
-  OrbitView main_view, second_view;  // raw-pixel cameras (second: multi_view)
-  std::vector<CameraMount> cameras;  // first-person cameras (RobotControl::camera_image; "scene" is added)
+  OrbitView main_view{}, second_view{};  // raw-pixel cameras (second: multi_view)
+  std::vector<CameraMount> cameras{};  // first-person cameras (RobotControl::camera_image; "scene" is added)
 };
 
 class ReachEnv : public Env, public RobotControl {
@@ -104,7 +103,6 @@ private:
   std::vector<Eigen::Vector3f> landmark_points_;
   std::vector<int> observed_links_;  // RobotModel link indices of terms_.observed_links
   Rng rng_;
-  bool discrete_ = true;
   bool random_target_ = false;
   int target_index_ = -1;
   int steps_ = 0;

@@ -29,6 +29,7 @@ struct StaticBodySpec {
 };
 
 struct ReachTaskSpec {
+  std::string name;        // the env's registry name, for Spec::env_name and messages
   std::string robot_urdf;  // path of the robot's URDF file
   Eigen::Isometry3f base_pose = Eigen::Isometry3f::Identity();
   std::string ee_link;          // end-effector link (the IK chain runs from the root link to it)
@@ -51,27 +52,26 @@ struct ReachTaskSpec {
   Eigen::AlignedBox3f workspace;  // move targets are clipped into it; the ee leaving it ends an episode
 
   // Task numbers, from the env's EnvConfig (apply_env_config):
+  bool discrete = true;           // actions: Discrete(6) moves, else a continuous Box(3)
   float step = 0.0f;              // m per discrete move / largest continuous move
   float move_noise = 1.0f / 30.0f;  // Gaussian noise on each move component, sigma = move_noise * step
   float success_threshold = 0.0f;    // m
   float max_distance = 0.0f;         // m from the target: farther ends the episode
-  float workspace_margin = 0.02f;    // m the ee may lag outside `workspace` before it counts as out
+  float workspace_margin = 0.03f;    // m the ee may lag outside `workspace` before it counts as out
   int max_steps = 0;
   int action_repeat = 1;             // physics steps per env step
   int ik_iterations = 1;             // damped least squares steps per move (one FK + Jacobian each), from the current joints
 
-  WorldSettings world;
-  RobotOptions robot;
+  // The physics of every reaching task: 1/240 s per physics step, 10 solver iterations (they only
+  // resolve contacts: the ComputedTorque drive adds no solver rows, and without limit constraint
+  // rows the joint limits hold through the targets, which set_position_targets clamps).
+  WorldSettings world{.time_step = 1.0 / 240.0, .solver_iterations = 10};
+  RobotOptions robot{.drive = JointDrive::ComputedTorque, .limit_constraints = false};
 };
 
-// Copies the task numbers of `config` (action_step, success_threshold, max_distance, max_steps,
-// action_repeat; checked by read_env_config / make_env) into `spec`.
+// Copies the task numbers of `config` (is_discrete, action_step, success_threshold, max_distance,
+// max_steps, action_repeat; checked by read_env_config / make_env) into `spec`.
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec);
-
-// Discrete(6) = -x, +x, -y, +y, -z, +z; continuous Box(3) in [-1, 1] scaled by `step`.
-// rdsim::Error (naming `env_name`) for an index outside 0..5 or a box action of the wrong size.
-Eigen::Vector3f move_for_action(const Action& action, bool discrete, float step, const std::string& env_name);
-ActionSpace reach_action_space(bool discrete);
 
 class ReachTask {
 public:
@@ -85,9 +85,18 @@ public:
   // Puts the target at `point` (moving the target body, if any) and forgets its contacts.
   void set_target(const Eigen::Vector3f& point);
 
+  // The actions of every reaching task: Discrete(6) = -x, +x, -y, +y, -z, +z end-effector moves of
+  // spec().step; continuous (spec().discrete false) Box(3) of dx, dy, dz in [-1, 1] times spec().step.
+  ActionSpace action_space() const;
+  // The end-effector move (m, world frame) an action asks for; non-finite box values count as 0,
+  // others are clipped to [-1, 1]. rdsim::Error naming the env for an index outside 0..5 or a box
+  // action of the wrong size.
+  Eigen::Vector3f move_for(const Action& action) const;
+
   // Joint targets for "end effector + delta" (delta plus Gaussian move noise from `rng`, clipped into
-  // the workspace), by ik_iterations damped least squares steps (damping 0.02 m) from the current
-  // joint angles, clamped to the joint limits; the joint step is scaled
+  // the workspace), by ik_iterations damped least squares steps (sim/ik.hpp
+  // damped_least_squares_step, damping 0.02 m) from the current joint angles, clamped to the joint
+  // limits; the joint step is scaled
   // down as a whole when a joint would exceed its URDF speed limit over one control period (so the
   // move is slowed, never bent). Does not step physics.
   void apply_move(const Eigen::Vector3f& delta, Rng& rng);

@@ -44,8 +44,6 @@ public:
   RobotCameras(const ReachTask& task, std::vector<CameraMount> mounts, std::string renderer_backend);
   ~RobotCameras();
 
-  // Name, link and fov of every mount, in order.
-  std::vector<CameraInfo> info() const;
   int size() const { return static_cast<int>(mounts_.size()); }
 
   // Draws camera `index` at width x height into `out` (RGB, row 0 at the top). The renderer is made

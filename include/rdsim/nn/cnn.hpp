@@ -1,16 +1,18 @@
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "rdsim/core/rng.hpp"
 #include "rdsim/nn/conv.hpp"
 #include "rdsim/nn/mlp.hpp"
+#include "rdsim/nn/network.hpp"
 #include "rdsim/nn/param.hpp"
 
 // Convolutional networks for pixel observations: conv layers (each followed by the activation),
-// flatten, then an nn::Mlp head (hidden dense layers + linear output). Same methods and batch
-// convention as nn::Mlp, so the RL algorithms can hold either.
+// flatten, then an nn::Mlp head (hidden dense layers + linear output). An nn::Network like
+// nn::Mlp, so the RL algorithms hold either without asking which.
 //
 // Input: (height * width * channels) x batch, ONE COLUMN PER SAMPLE, each column an image in the
 // env's layout (HWC, row-major, channels fastest) with the uint8 values already converted to
@@ -36,7 +38,7 @@ CnnShape small_cnn(const ImageShape& input, int output_size);
 CnnShape cnn_preset(const std::string& name, const ImageShape& input, int output_size,
                     const std::string& where);
 
-class Cnn {
+class Cnn final : public Network {
 public:
   Cnn() = default;
   // Conv and hidden dense layers: orthogonal init with `hidden_gain`; output layer with
@@ -46,46 +48,28 @@ public:
   // feature count: the output is then the linear (pre-activation) feature layer.
   Cnn(const CnnShape& shape, float output_gain, Rng& rng, float hidden_gain = 1.41421356f);
 
-  // Training forward pass on (input_size x batch); caches what backward() needs.
-  // The returned reference stays valid until the next forward().
-  const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x);
-
-  // Back-propagates dLoss/dOutput (output_size x batch) of the LAST forward() batch.
-  // ACCUMULATES (+=) into the parameter gradients. Returns dLoss/dInput (input_size x batch),
-  // or an empty matrix when !need_input_grad (which skips the first layer's input gradient).
-  Eigen::MatrixXf backward(const Eigen::MatrixXf& grad_output, bool need_input_grad = true);
-
-  // Inference with its own buffers (training cache untouched, no allocation after the first
-  // call of a given batch size). The returned reference stays valid until the next infer().
-  const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x);
-
-  // Allocating, const inference.
-  Eigen::MatrixXf evaluate(const Eigen::MatrixXf& x) const;
-
   // Memory/speed knob of the conv layers (see ConvWorkspace::max_patch_floats), for training
   // and inference alike. Results do not depend on it beyond float rounding.
   void set_max_patch_floats(long long floats);
 
-  void zero_grad();
-  // "conv<i>.weight", "conv<i>.bias" for each conv layer, then the head's parameters prefixed
-  // "head." ("head.layer0.weight", ...). This order is the serialisation order.
-  ParamList params();
+  // nn::Network. params(): "conv<i>.weight", "conv<i>.bias" for each conv layer, then the head's
+  // parameters prefixed "head." ("head.layer0.weight", ...).
+  const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) override;
+  const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) override;
+  Eigen::MatrixXf evaluate(const Eigen::MatrixXf& x) const override;
+  Eigen::MatrixXf backward(const Eigen::MatrixXf& grad_output, bool need_input_grad = true) override;
+  ParamList params() override;
+  int input_size() const override { return shape_.input.size(); }
+  int output_size() const override { return shape_.output_size; }
+  std::unique_ptr<Network> clone() const override { return std::make_unique<Cnn>(*this); }
 
   const CnnShape& shape() const { return shape_; }
-  int input_size() const { return shape_.input.size(); }
-  int output_size() const { return shape_.output_size; }
   // Number of features entering the dense head (last conv output, flattened HWC).
   int feature_size() const { return head_.input_size(); }
   const std::vector<Conv2d>& convs() const { return convs_; }
   std::vector<Conv2d>& convs() { return convs_; }
   const Mlp& head() const { return head_; }
   Mlp& head() { return head_; }
-
-  // Copies parameter values (not gradients or caches) of a network of the same shape, e.g. a
-  // DQN target network. rdsim::Error when shapes differ.
-  void copy_values_from(const Cnn& other);
-  // value = tau * other + (1 - tau) * value (Polyak averaging).
-  void blend_values_from(const Cnn& other, float tau);
 
 private:
   // acts[i] = activated output of conv i.

@@ -32,6 +32,20 @@ using ParamList = std::vector<Param>;
 // A Param viewing `tensor`.
 Param param_of(Tensor& tensor, std::string name);
 
+// Appends the `weight` and `bias` Tensors of each layer, named "<prefix><i>.weight" and
+// "<prefix><i>.bias" (a network's own layers: "layer0.weight", "conv1.bias", ...).
+template <class Layer>
+void append_layer_params(ParamList& list, std::vector<Layer>& layers, const std::string& prefix) {
+  for (size_t i = 0; i < layers.size(); ++i) {
+    const std::string name = prefix + std::to_string(i);
+    list.push_back(param_of(layers[i].weight, name + ".weight"));
+    list.push_back(param_of(layers[i].bias, name + ".bias"));
+  }
+}
+
+// Appends a part's parameters with `prefix` before each name ("head.", "policy.").
+void append_params(ParamList& list, ParamList part, const std::string& prefix);
+
 // Sets every gradient in the list to zero.
 void zero_grad(const ParamList& params);
 

@@ -17,7 +17,8 @@ struct Camera {
 };
 
 // PyBullet-style orbit parameters (computeViewMatrixFromYawPitchRoll with upAxisIndex = 2 and
-// computeProjectionMatrixFOV), because the paper gives its cameras this way.
+// computeProjectionMatrixFOV), because the paper gives its cameras this way. Each task keeps its
+// cameras in its own file (envs/jaka_button.cpp reach_main_view, ...).
 struct OrbitView {
   Eigen::Vector3f target{0.0f, 0.0f, 0.0f};
   float distance = 1.0f;  // metres from target to eye
@@ -30,11 +31,6 @@ struct OrbitView {
 };
 
 Camera make_orbit_camera(const OrbitView& view, int width, int height);
-
-// The two views of the paper: the main camera over the Jaka workspace and the second,
-// lower view used for multi-view raw-pixel observations.
-OrbitView paper_main_view();
-OrbitView paper_second_view();
 
 // rdsim::Error naming the bad field when the camera cannot be drawn (non-positive size, fov
 // outside (0, 180), znear <= 0 or zfar <= znear, eye on the target, up along the view line).

@@ -27,7 +27,7 @@ struct GlApi {
 using GlProc = void (*)();
 using GlGetProc = GlProc (*)(const char* name);
 
-// Fills every entry from get_proc; std::runtime_error naming the first missing function.
+// Fills every entry from get_proc; rdsim::Error naming the first missing function.
 GlApi load_gl_api(GlGetProc get_proc);
 
 }  // namespace rdsim::render

@@ -1,4 +1,6 @@
 #pragma once
+#include <Eigen/Cholesky>
+
 #include "rdsim/sim/kinematics.hpp"
 
 // Inverse kinematics by damped least squares (Levenberg-Marquardt: the damping grows when a
@@ -27,6 +29,22 @@ struct IkResult {
   int iterations = 0;  // over all attempts
   bool converged = false;
 };
+
+// One damped-least-squares step: the joint change dq = J^T (J J^T + damping^2 I)^-1 e that best
+// reduces the task error `e` (M values: 3 for a position, 6 for a pose) under the task Jacobian `j`
+// (M x dof), with `damping` (m) keeping the step bounded near singular poses. Both solve_ik and
+// the reaching envs' per-step moves (envs/reach_task.cpp) take their steps through this function.
+// A template over the Jacobian's Eigen type, so a caller's block (ChainJacobian::topRows<3>())
+// is used as it is, without a copy.
+template <class Jacobian, class TaskError>
+JointVector damped_least_squares_step(const Eigen::MatrixBase<Jacobian>& j, const Eigen::MatrixBase<TaskError>& e,
+                                      double damping) {
+  constexpr int M = TaskError::RowsAtCompileTime;
+  static_assert(M == Jacobian::RowsAtCompileTime, "one Jacobian row per task error value");
+  Eigen::Matrix<double, M, M> a = j * j.transpose();
+  a.diagonal().array() += damping * damping;
+  return j.transpose() * a.llt().solve(e);
+}
 
 // Tip position at `target` (root frame), starting from `start`.
 IkResult solve_ik(const KinematicChain& chain, const Eigen::Vector3d& target, const JointVector& start,
