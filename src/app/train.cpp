@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <unistd.h>
@@ -10,10 +11,13 @@
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/app/checkpoint.hpp"
 #include "rdsim/app/env_source.hpp"
+#include "rdsim/app/interrupt.hpp"
+#include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
+#include "rdsim/app/run_folder.hpp"
 #include "rdsim/app/train_config.hpp"
-#include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
@@ -29,13 +33,6 @@ const std::vector<std::string> progress_head = {"timesteps", "updates", "episode
                                                 "max_return", "mean_length", "success_rate"};
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
 const std::vector<std::string> progress_tail = {"steps_per_s", "wall_time"};
-
-// Where a resumed run picks up the log files and the checkpoint schedule.
-struct TrainerState {
-  long long progress_rows = 0;
-  long long episode_rows = 0;
-  long long updates = 0;
-};
 
 // One line on a terminal (rewritten in place), plain periodic lines otherwise.
 class ProgressDisplay {
@@ -64,31 +61,6 @@ private:
   bool shown_ = false;
   double last_ = -1e9;
 };
-
-std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const TrainerState& state) {
-  std::ostringstream out;
-  algo.save(out, true);  // first, so `rdsim replay checkpoint.bin` reads the weights like a model's
-  write_u64(out, static_cast<std::uint64_t>(state.progress_rows));
-  write_u64(out, static_cast<std::uint64_t>(state.episode_rows));
-  write_u64(out, static_cast<std::uint64_t>(state.updates));
-  vec.save(out);
-  return out.str();
-}
-
-TrainerState restore(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source) {
-  std::istringstream in(payload);
-  algo.load(in, true, source);
-  TrainerState s;
-  s.progress_rows = static_cast<long long>(read_u64(in, source));
-  s.episode_rows = static_cast<long long>(read_u64(in, source));
-  s.updates = static_cast<long long>(read_u64(in, source));
-  if (!vec.load(in, source)) {
-    std::fprintf(stderr, "rdsim: note: these envs cannot save their state; the resumed run starts fresh "
-                         "episodes and will not match an uninterrupted run exactly\n");
-  }
-  if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": file is damaged (unexpected trailing data)");
-  return s;
-}
 
 // The config's "demonstrations": the file read and checked against the env, then handed to the
 // algorithm (pre-training on a fresh run; pretrain.csv gets one row per epoch).
@@ -123,48 +95,74 @@ std::vector<std::string> episode_row(const EpisodeRecord& e) {
           CsvWriter::cell(e.out_of_bounds), CsvWriter::cell(e.wall_time)};
 }
 
+// The run's config and folder: a new run reads its config file (with the command line's
+// overrides) and takes a folder that holds no other run; a resumed one takes its folder first,
+// then reads the config its checkpoint embeds. Either way the memory the config implies is
+// checked before anything large exists.
+struct RunStart {
+  TrainConfig config;
+  std::unique_ptr<RunFolder> folder;
+  ModelFile checkpoint;  // resume only
+};
+
+RunStart start_run(const TrainOptions& o) {
+  RunStart run;
+  const MemoryLimit limit = memory_limit(o.max_memory_gb);
+  if (o.resume_dir.empty()) {
+    run.config = read_train_config(o.config_path, o.overrides);
+    check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, run.config.source);
+    run.folder = std::make_unique<RunFolder>(run.config.log_dir, o.overwrite ? RunFolder::Mode::Overwrite : RunFolder::Mode::New);
+    return run;
+  }
+  for (const ConfigOverride& v : o.overrides) {
+    if (v.key == "seed") throw Error("train: --seed cannot change a resumed run (it continues the checkpoint's seed)");
+    if (v.key == "log_dir") throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
+  }
+  if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
+  run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
+  const std::string path = run.folder->file("checkpoint.bin");
+  run.checkpoint = read_model_file(path);
+  if (run.checkpoint.kind != ModelKind::Checkpoint) throw Error(path + ": is a model, not a checkpoint");
+  nlohmann::json embedded = run.checkpoint.config;
+  apply_overrides(embedded, o.overrides, path + " (embedded config)");
+  run.config = parse_train_config(embedded, path + " (embedded config)", "resumed");
+  run.config.log_dir = o.resume_dir;
+  check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, path);
+  return run;
+}
+
 }  // namespace
 
 int train_command(const TrainOptions& o) {
+  InterruptGuard interrupts;  // before anything slow: a Ctrl-C during setup still saves or quits cleanly
+  RunStart run = start_run(o);
+  TrainConfig& config = run.config;  // open_envs records a remote env's resolved values in it
+  const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
-  TrainConfig config;
-  ModelFile checkpoint;
-  std::string checkpoint_path;
-  if (resume) {
-    if (o.seed) throw Error("train: --seed cannot change a resumed run (it continues the checkpoint's seed)");
-    if (!o.log_dir.empty()) throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
-    checkpoint_path = (std::filesystem::path(o.resume_dir) / "checkpoint.bin").string();
-    checkpoint = read_model_file(checkpoint_path);
-    if (checkpoint.kind != ModelKind::Checkpoint) throw Error(checkpoint_path + ": is a model, not a checkpoint");
-    config = parse_train_config(checkpoint.config, checkpoint_path + " (embedded config)", "resumed");
-    config.log_dir = o.resume_dir;
-  } else {
-    config = read_train_config(o.config_path);
-    if (o.seed) config.seed = *o.seed;
-    if (!o.log_dir.empty()) config.log_dir = o.log_dir;
-  }
-  if (o.timesteps) config.total_timesteps = *o.timesteps;
-
-  const std::filesystem::path dir(config.log_dir);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw Error(config.log_dir + ": cannot create the run folder: " + ec.message());
+  const std::string checkpoint_path = folder.file("checkpoint.bin");
 
   VecEnv vec(open_envs(config), config.seed, config.stats_window);
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
   TrainerState state;
-  if (resume) state = restore(checkpoint.payload, *algo, vec, checkpoint_path);
-  if (config.algorithm.demonstrations) learn_from_demonstrations(config, *algo, vec.spec(), resume, dir, o.quiet);
+  if (resume) {
+    check_model_spec(run.checkpoint, vec.spec(), checkpoint_path);
+    state = restore_checkpoint(run.checkpoint.payload, *algo, vec, checkpoint_path);
+    run.checkpoint.payload.clear();
+    check_log_rows(folder.file("progress.csv"), state.progress_rows, checkpoint_path);
+    check_log_rows(folder.file("episodes.csv"), state.episode_rows, checkpoint_path);
+  }
+  if (config.algorithm.demonstrations) learn_from_demonstrations(config, *algo, vec.spec(), resume, folder.path(), o.quiet);
 
   const nlohmann::json resolved = to_json(config);
-  write_file_atomic((dir / "config.json").string(), resolved.dump(2) + "\n");
-  CsvWriter episodes((dir / "episodes.csv").string(), episode_columns, resume ? state.episode_rows : -1);
+  write_file_atomic(folder.file("config.json"), resolved.dump(2) + "\n");
+  CsvWriter episodes(folder.file("episodes.csv"), episode_columns, resume ? state.episode_rows : -1);
   std::unique_ptr<CsvWriter> progress;  // its columns are known after the first update
 
-  auto save = [&](const std::string& file, ModelKind kind) {
+  auto save_file = [&](const std::string& file, ModelKind kind) {
     ModelFile f;
     f.kind = kind;
     f.config = resolved;
+    f.spec = describe_spec(vec.spec());
     if (kind == ModelKind::Model) {
       std::ostringstream out;
       algo->save(out, false);
@@ -174,12 +172,19 @@ int train_command(const TrainOptions& o) {
       state.episode_rows = episodes.rows();
       f.payload = checkpoint_payload(*algo, vec, state);
     }
-    write_model_file((dir / file).string(), f);
+    write_model_file(folder.file(file), f);
   };
+  CheckpointSchedule schedule(config.checkpoint_interval, config.checkpoint_seconds, vec.timesteps());
+  // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
+  auto save = [&] {
+    schedule.start();
+    save_file("checkpoint.bin", ModelKind::Checkpoint);
+    save_file("model.bin", ModelKind::Model);
+    schedule.done(vec.timesteps());
+  };
+  if (!resume) save();  // from the start, `--resume` always finds something to continue
 
   const long long total = config.total_timesteps;
-  const long long interval = config.checkpoint_interval;
-  long long next_checkpoint = interval > 0 ? (vec.timesteps() / interval + 1) * interval : 0;
   ProgressDisplay display(o.quiet);
   const long long start_steps = vec.timesteps();
   const double start_wall = vec.wall_time();
@@ -187,7 +192,8 @@ int train_command(const TrainOptions& o) {
   double last_wall = start_wall;
   double overall_sps = 0.0;
 
-  while (vec.timesteps() < total) {
+  while (vec.timesteps() < total && !interrupts.requested()) {
+    vec.drop_caches();  // every update starts from what a checkpoint restores (core/env_state.hpp)
     const Metrics metrics = algo->update(vec, {vec.timesteps(), total});
     ++state.updates;
     for (const auto& e : vec.episodes().take_finished()) episodes.write_row(episode_row(e));
@@ -200,7 +206,7 @@ int train_command(const TrainOptions& o) {
       std::vector<std::string> columns = progress_head;
       for (const auto& [name, value] : metrics) columns.push_back(name);
       columns.insert(columns.end(), progress_tail.begin(), progress_tail.end());
-      progress = std::make_unique<CsvWriter>((dir / "progress.csv").string(), columns, resume ? state.progress_rows : -1);
+      progress = std::make_unique<CsvWriter>(folder.file("progress.csv"), columns, resume ? state.progress_rows : -1);
     }
     const EpisodeStats s = vec.episodes().stats();
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -219,22 +225,24 @@ int train_command(const TrainOptions& o) {
 
     overall_sps = wall > start_wall ? static_cast<double>(vec.timesteps() - start_steps) / (wall - start_wall) : 0.0;
     display.show(vec.timesteps(), total, s, overall_sps, wall);
-    if (interval > 0 && vec.timesteps() >= next_checkpoint) {
-      save("checkpoint.bin", ModelKind::Checkpoint);
-      next_checkpoint = (vec.timesteps() / interval + 1) * interval;
-    }
+    if (vec.timesteps() < total && schedule.due(vec.timesteps()) && !interrupts.requested()) save();
   }
-  save("model.bin", ModelKind::Model);
-  save("checkpoint.bin", ModelKind::Checkpoint);
+  save();
 
   const EpisodeStats s = vec.episodes().stats();
   display.show(vec.timesteps(), total, s, overall_sps, vec.wall_time(), true);
   display.finish();
+  if (interrupts.requested()) {
+    std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
+                 vec.timesteps(), total, checkpoint_path.c_str(), folder.file("model.bin").c_str(),
+                 folder.path().string().c_str());
+    return interrupts.exit_code();
+  }
   if (!o.quiet) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
                 config.algorithm.name().c_str(), config.env.name.c_str(), vec.timesteps(), vec.episodes().episodes(),
-                s.count, s.mean_return, vec.wall_time(), (dir / "model.bin").string().c_str());
+                s.count, s.mean_return, vec.wall_time(), folder.file("model.bin").c_str());
   }
   return 0;
 }

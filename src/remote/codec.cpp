@@ -222,7 +222,7 @@ StepResult get_step_result(const Message& m, const Spec& spec) {
   return r;
 }
 
-void put_robot_state(Message& m, const RobotState& s) {
+void put_robot_state(Message& m, const RobotSnapshot& s) {
   m.header["steps"] = s.steps;
   put_floats(m, "joint_positions", s.joint_positions);
   put_floats(m, "joint_velocities", s.joint_velocities);
@@ -232,9 +232,9 @@ void put_robot_state(Message& m, const RobotState& s) {
   put_floats(m, "target", s.target);
 }
 
-RobotState get_robot_state(const Message& m, int joints) {
+RobotSnapshot get_robot_state(const Message& m, int joints) {
   const auto n = static_cast<std::size_t>(joints);
-  RobotState s;
+  RobotSnapshot s;
   s.steps = static_cast<int>(get_integer(m.header, "steps", 0, std::numeric_limits<int>::max()));
   s.joint_positions = floats(m, "joint_positions", n);
   s.joint_velocities = floats(m, "joint_velocities", n);

@@ -68,7 +68,7 @@ StepResult RemoteRobotEnv::control_reply(remote::Message request) {
   return remote::get_step_result(call(std::move(request)), spec());
 }
 
-RobotState RemoteRobotEnv::robot_state() {
+RobotSnapshot RemoteRobotEnv::robot_state() {
   return remote::get_robot_state(call(request("state")), static_cast<int>(info_.joints.size()));
 }
 

@@ -73,7 +73,7 @@ Message Session::step_reply(const Request& q, const StepResult& r, bool with_sta
   Message m = reply_to(q.id, q.kind);
   put_step_result(m, env_->spec(), r);
   if (with_state) {
-    const RobotState s = control_->robot_state();
+    const RobotSnapshot s = control_->robot_state();
     m.arrays.push_back(ArrayFrame::float32("joint_positions", s.joint_positions.data(),
                                            {static_cast<int>(s.joint_positions.size())}));
     m.arrays.push_back(ArrayFrame::float32("effector_position", s.effector_position.data(), {3}));

@@ -81,7 +81,7 @@ TEST_CASE("robot control: move_effector brings the flange to an absolute point b
     if (r.terminated || r.truncated) break;
     if ((c.robot_state().effector_position - goal).norm() < 0.002f) break;
   }
-  const RobotState s = c.robot_state();
+  const RobotSnapshot s = c.robot_state();
   CHECK((s.effector_position - goal).norm() < 0.002f);
   CHECK(s.steps == calls + 1);  // each call is one env step
   // Judged like a step: reward = -distance to the button.
@@ -106,7 +106,7 @@ TEST_CASE("robot control: a point outside the workspace is clipped into it; reac
   CHECK(r.terminated);
   CHECK(r.info.success);
   // After the episode ended, control calls move nothing (like Env::step) until reset.
-  const RobotState before = c.robot_state();
+  const RobotSnapshot before = c.robot_state();
   r = c.move_effector(Eigen::Vector3f(0.3f, 0.3f, 0.4f));
   CHECK(r.terminated);
   CHECK(r.reward == 0.0f);
@@ -127,7 +127,7 @@ TEST_CASE("robot control: joint targets are clamped to the limits and move the j
   Eigen::VectorXf q = c.robot_state().joint_targets;
   q[pitch] = 5.0f;  // beyond its upper limit (0.785 rad); 2 rad/s: 0.4 s to get there
   for (int i = 0; i < 150; ++i) c.set_joint_targets(q);
-  const RobotState s = c.robot_state();
+  const RobotSnapshot s = c.robot_state();
   CHECK(s.joint_targets[pitch] == Approx(info.joints[static_cast<size_t>(pitch)].upper));
   CHECK(s.joint_positions[pitch] == Approx(info.joints[static_cast<size_t>(pitch)].upper).margin(0.02));
   CHECK(s.steps == 150);
@@ -187,7 +187,7 @@ TEST_CASE("robot control: the same calls from the same seed give bit-identical s
     for (int i = 0; i < 30; ++i) {
       const StepResult r = i % 3 ? c.move_effector(Eigen::Vector3f(0.5f, -0.1f, 0.2f)) : env->step(Action::discrete(i % 6));
       trace.push_back(r.reward);
-      const RobotState s = c.robot_state();
+      const RobotSnapshot s = c.robot_state();
       trace.insert(trace.end(), s.joint_positions.data(), s.joint_positions.data() + s.joint_positions.size());
     }
     return trace;

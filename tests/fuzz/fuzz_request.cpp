@@ -1,8 +1,7 @@
 // libFuzzer target: the server's request parser (remote/request.hpp), the first code that reads
 // a network message. Input bytes are split into frames at each "\xff\xfe" pair (so the fuzzer
-// explores part counts too). Built only with clang (-fsanitize=fuzzer,address,undefined):
-//   CXX=clang++ cmake -S . -B build-fuzz -DRDSIM_FUZZ=ON && cmake --build build-fuzz --target fuzz_request
-//   build-fuzz/fuzz_request -max_total_time=60 tests/fuzz/corpus
+// explores part counts too). Built like the other targets (tests/fuzz/CMakeLists.txt): a corpus
+// replay in every ctest run, a libFuzzer binary with RDSIM_FUZZ (tools/fuzz.sh).
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

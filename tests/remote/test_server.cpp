@@ -173,7 +173,7 @@ TEST_CASE("server: an authorised CurveZMQ client gets the local env's results bi
     const Eigen::Vector3f goal(0.4f, 0.1f, 0.2f);
     REQUIRE(rc->move_effector(goal).reward == lc->move_effector(goal).reward);
   }
-  const RobotState rs = rc->robot_state(), ls = lc->robot_state();
+  const RobotSnapshot rs = rc->robot_state(), ls = lc->robot_state();
   CHECK(rs.joint_positions == ls.joint_positions);
   CHECK(rs.effector_orientation.coeffs() == ls.effector_orientation.coeffs());
   CHECK(rc->robot_info().joints.size() == 6);

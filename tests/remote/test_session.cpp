@@ -159,7 +159,7 @@ TEST_CASE("session: position, joints, state and cameras drive the robot", "[remo
   CHECK(std::abs(ee[0] - 0.45f) < 0.003f);
   CHECK(std::abs(ee[1] + 0.10f) < 0.003f);
   CHECK(m.find("joint_positions")->count() == 6);
-  const RobotState state = get_robot_state(s.handle(request(R"({"id": 4, "request": "state"})")), 6);
+  const RobotSnapshot state = get_robot_state(s.handle(request(R"({"id": 4, "request": "state"})")), 6);
   CHECK(state.steps == 80);
   CHECK(state.effector_position == Eigen::Map<const Eigen::Vector3f>(ee.data()));
   m = s.handle(request(R"({"id": 5, "request": "cameras", "width": 40, "height": 30})"));

@@ -14,7 +14,7 @@
 //
 // Frames and units: world frame (z up), metres, radians (metres for prismatic joints), seconds.
 // Joints are the robot's movable joints in "dof" order (the URDF's tree order), the same order
-// in RobotInfo::joints, RobotState and set_joint_targets.
+// in RobotInfo::joints, RobotSnapshot and set_joint_targets.
 //
 // Control calls are env steps: move_effector and set_joint_targets set the drive's joint
 // targets, advance the world by one control period (Spec::control_dt: action_repeat physics
@@ -55,7 +55,7 @@ struct RobotInfo {
 };
 
 // A snapshot of the robot, as of the last step or reset.
-struct RobotState {
+struct RobotSnapshot {
   Eigen::VectorXf joint_positions;   // one per RobotInfo::joints
   Eigen::VectorXf joint_velocities;  // rad/s or m/s
   Eigen::VectorXf joint_targets;     // the drive's position targets
@@ -71,7 +71,7 @@ public:
 
   virtual const RobotInfo& robot_info() const = 0;
   // Non-const: a remote implementation asks over the network.
-  virtual RobotState robot_state() = 0;
+  virtual RobotSnapshot robot_state() = 0;
 
   // The original RobotDrlSim `position` command: the effector to the absolute point `position`
   // (clipped into RobotInfo::workspace), by inverse kinematics on the env's IK joints solved from

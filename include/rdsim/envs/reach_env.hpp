@@ -6,6 +6,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
+#include "rdsim/core/env_state.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/pixel_view.hpp"
@@ -58,7 +59,7 @@ struct ReachTerms {
   std::vector<CameraMount> cameras{};  // first-person cameras (RobotControl::camera_image; "scene" is added)
 };
 
-class ReachEnv : public Env, public RobotControl {
+class ReachEnv : public Env, public EnvState, public RobotControl {
 public:
   ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config);
   ~ReachEnv() override;
@@ -69,8 +70,14 @@ public:
   bool step_physics_only() override;
   bool render(Image& frame) override;
 
+  // EnvState: the task's physics state, the episode's step counter, target choice and random
+  // stream; Bullet's contact caches are dropped instead (see core/env_state.hpp).
+  std::string save_state() const override;
+  void load_state(const std::string& bytes, const std::string& source) override;
+  void drop_caches() override { task_->drop_caches(); }
+
   const RobotInfo& robot_info() const override { return robot_info_; }
-  RobotState robot_state() override;
+  RobotSnapshot robot_state() override;
   StepResult move_effector(const Eigen::Vector3f& position) override;
   StepResult set_joint_targets(const Eigen::VectorXf& targets) override;
   void camera_image(int camera, int width, int height, Image& out) override;

@@ -32,8 +32,8 @@ StepResult get_step_result(const Message& m, const Spec& spec);
 
 // "steps" + joint_positions/velocities/targets, effector_position, effector_orientation
 // (x, y, z, w), target arrays; `joints` is the expected joint count.
-void put_robot_state(Message& m, const RobotState& s);
-RobotState get_robot_state(const Message& m, int joints);
+void put_robot_state(Message& m, const RobotSnapshot& s);
+RobotSnapshot get_robot_state(const Message& m, int joints);
 
 // One uint8 [height, width, 3] array per image, named after its camera.
 void put_image(Message& m, const std::string& camera, const Image& image);

@@ -53,7 +53,7 @@ private:
 class RemoteRobotEnv final : public RemoteEnv, public RobotControl {
 public:
   const RobotInfo& robot_info() const override { return info_; }
-  RobotState robot_state() override;
+  RobotSnapshot robot_state() override;
   StepResult move_effector(const Eigen::Vector3f& position) override;
   StepResult set_joint_targets(const Eigen::VectorXf& targets) override;
   // Sizes above remote::max_camera_side (1024) are refused by the server.
