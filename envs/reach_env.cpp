@@ -1,5 +1,6 @@
 #include "rdsim/envs/reach_env.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 #include "rdsim/core/binary_io.hpp"
@@ -21,14 +22,30 @@ float link_reach(const RobotModel& model, int link) {
   return static_cast<float>(reach);
 }
 
-// Float32 bounds of the ground-truth observation: target - ee, ee - landmark..., ee,
-// link - landmark... (links anywhere within their reach of the robot's base).
-ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Eigen::Vector3f>& landmarks,
-                                   const RobotModel& robot, const std::vector<int>& links) {
-  const Eigen::Vector3f lo = s.workspace.min() - Eigen::Vector3f::Constant(s.workspace_margin);
-  const Eigen::Vector3f hi = s.workspace.max() + Eigen::Vector3f::Constant(s.workspace_margin);
+// Where the end effector can be: the workspace box plus margin with workspace_bounds, else anywhere
+// within its reach of the robot's base.
+Eigen::AlignedBox3f ee_box(const ReachTaskSpec& s, const RobotModel& robot, int ee_link) {
+  if (!s.workspace_bounds) {
+    const Eigen::Vector3f base = s.base_pose.translation();
+    const Eigen::Vector3f r = Eigen::Vector3f::Constant(link_reach(robot, ee_link));
+    return Eigen::AlignedBox3f(base - r, base + r);
+  }
+  return Eigen::AlignedBox3f(s.workspace.min() - Eigen::Vector3f::Constant(s.workspace_margin),
+                             s.workspace.max() + Eigen::Vector3f::Constant(s.workspace_margin));
+}
+
+// Float32 bounds of the ground-truth observation (the layouts in reach_env.hpp): full = target - ee,
+// ee - landmark..., ee, link - landmark... (links anywhere within their reach of the robot's base);
+// relative = ee - target, ee - landmark.... A landmark may move by up to `slack` from its point.
+ObservationSpace ground_truth_space(const ReachTaskSpec& s, const Eigen::AlignedBox3f& ee,
+                                   const std::vector<Eigen::Vector3f>& landmarks,
+                                   const std::vector<Eigen::Vector3f>& slack, const RobotModel& robot,
+                                   const std::vector<int>& links, ObservationLayout layout) {
+  const bool full = layout == ObservationLayout::Full;
+  const Eigen::Vector3f lo = ee.min(), hi = ee.max();
   const Eigen::Vector3f reach = (hi - lo).cwiseMax(Eigen::Vector3f::Constant(s.max_distance));
-  const int n = 3 * (2 + static_cast<int>(landmarks.size()) * (1 + static_cast<int>(links.size())));
+  const int per_landmark = full ? 1 + static_cast<int>(links.size()) : 1;
+  const int n = 3 * ((full ? 2 : 1) + static_cast<int>(landmarks.size()) * per_landmark);
   ObservationSpace space;
   space.type = ObsType::Float32;
   space.shape = {n};
@@ -38,9 +55,10 @@ ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Ei
   space.high.head<3>() = reach;
   for (size_t k = 0; k < landmarks.size(); ++k) {
     const Eigen::Index at = 3 * static_cast<Eigen::Index>(k + 1);
-    space.low.segment<3>(at) = lo - landmarks[k];
-    space.high.segment<3>(at) = hi - landmarks[k];
+    space.low.segment<3>(at) = lo - landmarks[k] - slack[k];
+    space.high.segment<3>(at) = hi - landmarks[k] + slack[k];
   }
+  if (!full) return space;
   Eigen::Index at = 3 * static_cast<Eigen::Index>(landmarks.size() + 1);
   space.low.segment<3>(at) = lo;
   space.high.segment<3>(at) = hi;
@@ -48,9 +66,9 @@ ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Ei
   const Eigen::Vector3f base = s.base_pose.translation();
   for (int link : links) {
     const Eigen::Vector3f r = Eigen::Vector3f::Constant(link_reach(robot, link));
-    for (const Eigen::Vector3f& landmark : landmarks) {
-      space.low.segment<3>(at) = base - r - landmark;
-      space.high.segment<3>(at) = base + r - landmark;
+    for (size_t k = 0; k < landmarks.size(); ++k) {
+      space.low.segment<3>(at) = base - r - landmarks[k] - slack[k];
+      space.high.segment<3>(at) = base + r - landmarks[k] + slack[k];
       at += 3;
     }
   }
@@ -89,13 +107,19 @@ RobotInfo robot_info_of(const ReachTask& task) {
 ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config) : terms_(std::move(terms)) {
   check_static_index(task, terms_.press_body, "press body");
   check_static_index(task, terms_.forbidden_body, "forbidden body");
+  check_static_index(task, terms_.walking_body, "walking body");
+  std::vector<Eigen::Vector3f> slack;  // how far each landmark can move from its point
   for (int landmark : terms_.landmarks) {
     check_static_index(task, landmark, "landmark");
     landmark_points_.push_back(task.statics[static_cast<size_t>(landmark)].pose.translation());
+    const float walk = landmark == terms_.walking_body ? terms_.walk_range : 0.0f;
+    slack.emplace_back(walk, walk, 0.0f);
   }
   task_ = std::make_unique<ReachTask>(std::move(task));
   for (const std::string& link : terms_.observed_links) observed_links_.push_back(task_->robot_model().require_link(link));
   random_target_ = config.random_target;
+  layout_ = config.observation_layout;
+  end_on_success_ = config.end_on_success;
   if (!terms_.target_choices.empty()) select_target(terms_.default_choice);
 
   const ReachTaskSpec& s = task_->spec();
@@ -103,7 +127,8 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   spec_.action = task_->action_space();
   spec_.max_episode_steps = s.max_steps;
   spec_.control_dt = s.world.time_step * s.action_repeat;
-  spec_.observation = ground_truth_space(s, landmark_points_, task_->robot_model(), observed_links_);
+  spec_.observation = ground_truth_space(s, ee_box(s, task_->robot_model(), task_->ee_link()), landmark_points_,
+                                         slack, task_->robot_model(), observed_links_, layout_);
   if (config.observation == ObservationMode::RawPixels) {
     pixels_ = std::make_unique<PixelView>(*task_, config, terms_.main_view, terms_.second_view);
     spec_.observation = pixels_->space();
@@ -135,6 +160,12 @@ Observation ReachEnv::observe() const {
   }
   const Eigen::Vector3f& ee = task_->ee_position();
   o.values.resize(spec_.observation.size());
+  if (layout_ == ObservationLayout::Relative) {
+    o.values.head<3>() = ee - task_->target();
+    for (size_t k = 0; k < landmark_points_.size(); ++k)
+      o.values.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
+    return o;
+  }
   o.values.head<3>() = task_->target() - ee;
   for (size_t k = 0; k < landmark_points_.size(); ++k)
     o.values.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
@@ -153,6 +184,10 @@ Observation ReachEnv::observe() const {
 
 Observation ReachEnv::reset(std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
+  if (terms_.walking_body >= 0) {
+    walk_offset_.setZero();
+    place_walking_body();
+  }
   const bool choices = !terms_.target_choices.empty();
   task_->reset(rng_, random_target_ && !choices);
   if (choices) {
@@ -181,6 +216,7 @@ StepResult ReachEnv::control_step(SetTargets&& set_targets) {
     r.terminated = true;
     return r;
   }
+  walk();
   set_targets();
   task_->step_physics();
   ++steps_;
@@ -228,22 +264,48 @@ void ReachEnv::camera_image(int camera, int width, int height, Image& out) {
   cameras_->render(*task_, camera, width, height, out);
 }
 
+void ReachEnv::walk() {
+  if (terms_.walking_body < 0) return;
+  for (int i = 0; i < 2; ++i) {
+    const float move = static_cast<float>(rng_.uniform(-1.0, 1.0)) * terms_.walk_step;
+    walk_offset_[i] = std::clamp(walk_offset_[i] + move, -terms_.walk_range, terms_.walk_range);
+  }
+  place_walking_body();
+}
+
+void ReachEnv::place_walking_body() {
+  const int index = terms_.walking_body;
+  Eigen::Isometry3f pose = task_->spec().statics[static_cast<size_t>(index)].pose;
+  pose.translation().head<2>() += walk_offset_;
+  task_->world().set_static_pose(task_->static_body(index), pose);
+  for (size_t k = 0; k < terms_.landmarks.size(); ++k)
+    if (terms_.landmarks[k] == index) landmark_points_[k] = pose.translation();
+}
+
 // Reward, info and episode end of the step just taken (the rules in the header).
 void ReachEnv::judge(StepResult& r) const {
   const ReachTaskSpec& s = task_->spec();
   const float d = task_->distance();
-  r.reward = -d;
   r.info.distance = d;
   r.info.collision = terms_.forbidden_body >= 0 && task_->robot_touches(terms_.forbidden_body);
   const bool pressed = terms_.press_body >= 0 &&
                        task_->world().touching({task_->robot().body(), task_->ee_link()},
                                                {task_->static_body(terms_.press_body), -1});
-  r.info.success = !r.info.collision && (task_->reached() || pressed);
-  r.info.out_of_bounds = !r.info.success && !r.info.collision && task_->out_of_bounds();
-  if (r.info.collision) r.reward = terms_.collision_reward;
+  const bool at_goal = !r.info.collision && (task_->reached() || pressed);
+  const bool last = steps_ >= s.max_steps;
+  r.info.success = at_goal && (end_on_success_ || last);
+  r.info.out_of_bounds = !at_goal && !r.info.collision && task_->out_of_bounds();
+  const bool negative_distance = terms_.reward == RewardRule::NegativeDistance;
+  if (negative_distance) {
+    r.reward = r.info.collision ? terms_.collision_reward : -d;
+  } else {
+    r.reward = 1.0f / std::max(d, 0.01f) - 2.0f * static_cast<float>(steps_) / static_cast<float>(s.max_steps);
+    if (r.info.collision) r.reward -= 10.0f;
+    if (d < 0.1f) r.reward += 10.0f;
+  }
   if (r.info.out_of_bounds) r.reward -= s.max_distance * static_cast<float>(s.max_steps - steps_);
-  r.terminated = r.info.success || r.info.collision || r.info.out_of_bounds;
-  r.truncated = !r.terminated && steps_ >= s.max_steps;
+  r.terminated = (end_on_success_ && r.info.success) || (r.info.collision && negative_distance) || r.info.out_of_bounds;
+  r.truncated = !r.terminated && last;
 }
 
 namespace {

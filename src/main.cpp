@@ -15,8 +15,10 @@
 #include "rdsim/app/demos.hpp"
 #include "rdsim/app/bench_remote.hpp"
 #include "rdsim/app/config_reference.hpp"
+#include "rdsim/app/dashboard.hpp"
 #include "rdsim/app/envs.hpp"
 #include "rdsim/app/keygen.hpp"
+#include "rdsim/app/plot.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
 #include "rdsim/app/serve.hpp"
@@ -58,6 +60,35 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::st
                   "Memory limit in GB for the run's estimated needs (default: 80% of the machine's memory)")
       ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
+  cmd->add_option("--dashboard", o.dashboard,
+                  "Serve the live dashboard of this run at HOST:PORT while training (e.g. 127.0.0.1:8097)");
+}
+
+void add_plot(CLI::App& app, rdsim::PlotOptions& o) {
+  auto* cmd = app.add_subcommand("plot", "Draw the learning curves of runs (mean and band over each "
+                                         "algorithm's runs) from their progress.csv, as PNG or SVG");
+  cmd->add_option("runs", o.runs, "Run folders, or folders holding run folders")->required();
+  cmd->add_option("-o,--out", o.out, "Figure to write: FILE.png or FILE.svg")->required();
+  cmd->add_option("--metric", o.metric, "success, return, length, kl, or any progress.csv column")->capture_default_str();
+  cmd->add_option("--x", o.x, "x axis: a progress.csv column (timesteps, updates, episodes, wall_time)")->capture_default_str();
+  cmd->add_option("--band", o.band, "std: mean ± 1 standard deviation over runs; minmax: their range")
+      ->check(CLI::IsMember({"std", "minmax"}))
+      ->capture_default_str();
+  cmd->add_option("--title", o.title, "Title (default: env and metric)");
+  cmd->add_option("--width", o.width, "Width in pixels")->check(CLI::Range(200, 8000))->capture_default_str();
+  cmd->add_option("--height", o.height, "Height in pixels")->check(CLI::Range(150, 8000))->capture_default_str();
+}
+
+void add_dashboard(CLI::App& app, rdsim::DashboardCommandOptions& o) {
+  auto* cmd = app.add_subcommand("dashboard", "Serve a live web page plotting the runs under the folders "
+                                              "(progress.csv), updated as they train");
+  cmd->add_option("runs", o.roots, "Folders holding run folders, or run folders (default: runs)");
+  cmd->add_option("--bind", o.bind, "HOST:PORT to listen on (loopback unless you name another address)")
+      ->capture_default_str();
+  cmd->add_option("--poll-ms", o.poll_ms, "How often the page asks for new rows (ms)")
+      ->check(CLI::Range(50, 60000))
+      ->capture_default_str();
+  cmd->add_option("--for", o.serve_s, "Stop after this many seconds (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
 }
 
 void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double& max_memory) {
@@ -72,6 +103,15 @@ void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double
                   "size: env.render_width x render_height of the model's config)");
   cmd->add_option("--max-memory", max_memory, "Memory limit in GB (default: 80% of the machine's memory)")
       ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
+  cmd->add_option("--video", o.video_path,
+                  "Write a video of the episodes, captioned with episode, step, return and success: "
+                  "FILE.mp4 (H.264, when built with FFmpeg) or FILE.gif (robot envs)");
+  cmd->add_option("--fps", o.video_fps, "Video frames per second")->check(CLI::Range(1, 240))->capture_default_str();
+  cmd->add_option("--every", o.frame_every, "Keep every k-th step's frame (--record, --video)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--width", o.frame_width, "Frame width (default: the config's env.render_width)")->check(CLI::Range(8, 4096));
+  cmd->add_option("--height", o.frame_height, "Frame height (default: env.render_height)")->check(CLI::Range(8, 4096));
 }
 
 void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
@@ -85,6 +125,9 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::Range(1LL, 1'000'000'000LL))->capture_default_str();
+  cmd->add_flag("--paper", o.paper,
+                "Like-for-like Table 3: each robot env's paper preset (configs/paper/, the original's per-step "
+                "work) next to its defaults, ground truth and 224x224 pixels");
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)")
       ->expected(0, 1)
       ->default_str("-");
@@ -257,6 +300,10 @@ int main(int argc, char** argv) {
   add_bench_remote(app, bench_remote);
   rdsim::TeleopOptions teleop;
   add_teleop(app, teleop);
+  rdsim::DashboardCommandOptions dashboard;
+  add_dashboard(app, dashboard);
+  rdsim::PlotOptions plot;
+  add_plot(app, plot);
 
   try {
     check_command(app, argc, argv);
@@ -289,6 +336,8 @@ int main(int argc, char** argv) {
     }
     if (name == "envs") return rdsim::envs_command();
     if (name == "config-reference") return rdsim::config_reference_command();
+    if (name == "dashboard") return rdsim::dashboard_command(dashboard);
+    if (name == "plot") return rdsim::plot_command(plot);
     if (name == "render") {
       if (sub->count("--seed")) render.seed = render_seed.value("--seed");
       return rdsim::render_command(render);

@@ -6,21 +6,24 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <unistd.h>
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/checkpoint.hpp"
+#include "rdsim/app/dashboard.hpp"
 #include "rdsim/app/env_source.hpp"
 #include "rdsim/app/interrupt.hpp"
 #include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
+#include "rdsim/app/progress_display.hpp"
 #include "rdsim/app/run_folder.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/run_files.hpp"
+#include "rdsim/dashboard/dashboard_server.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -33,34 +36,6 @@ const std::vector<std::string> progress_head = {"timesteps", "updates", "episode
                                                 "max_return", "mean_length", "success_rate"};
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
 const std::vector<std::string> progress_tail = {"steps_per_s", "wall_time"};
-
-// One line on a terminal (rewritten in place), plain periodic lines otherwise.
-class ProgressDisplay {
-public:
-  explicit ProgressDisplay(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO) == 1) {}
-
-  void show(long long t, long long total, const EpisodeStats& s, double sps, double wall, bool force = false) {
-    if (quiet_) return;
-    if (!force && wall - last_ < (tty_ ? 0.1 : 10.0)) return;
-    last_ = wall;
-    const double eta = sps > 0 ? static_cast<double>(total - t) / sps : 0.0;
-    char ret[64] = "-";
-    if (s.count > 0) std::snprintf(ret, sizeof ret, "%.1f", s.mean_return);
-    std::fprintf(stderr, "%s%lld/%lld steps (%3.0f%%)  return %s  success %.2f  %.0f steps/s  ETA %.0fs%s",
-                 tty_ ? "\r" : "", t, total, 100.0 * static_cast<double>(t) / static_cast<double>(total), ret,
-                 s.success_rate, sps, eta < 0 ? 0.0 : eta, tty_ ? "\x1b[K" : "\n");
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  void finish() {
-    if (!quiet_ && tty_ && shown_) std::fputc('\n', stderr);
-  }
-
-private:
-  bool quiet_, tty_;
-  bool shown_ = false;
-  double last_ = -1e9;
-};
 
 // The config's "demonstrations": the file read and checked against the env, then handed to the
 // algorithm (pre-training on a fresh run; pretrain.csv gets one row per epoch).
@@ -75,7 +50,7 @@ void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const
   if (rows.empty()) return;
   std::vector<std::string> columns;
   for (const auto& [name, value] : rows.front()) columns.push_back(name);
-  CsvWriter log((dir / "pretrain.csv").string(), columns);
+  CsvWriter log((dir / pretrain_csv_name).string(), columns);
   for (const Metrics& row : rows) {
     std::vector<std::string> cells;
     for (const auto& [name, value] : row) cells.push_back(CsvWriter::cell(value));
@@ -85,7 +60,7 @@ void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const
     long long steps = 0;
     for (const DemoEpisode& e : demos.episodes) steps += e.steps();
     std::fprintf(stderr, "rdsim train: learnt from %zu demonstrated episodes (%lld steps) of %s: %zu epochs -> %s\n",
-                 demos.episodes.size(), steps, dc.file.c_str(), rows.size(), (dir / "pretrain.csv").string().c_str());
+                 demos.episodes.size(), steps, dc.file.c_str(), rows.size(), (dir / pretrain_csv_name).string().c_str());
   }
 }
 
@@ -120,7 +95,7 @@ RunStart start_run(const TrainOptions& o) {
   }
   if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
   run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
-  const std::string path = run.folder->file("checkpoint.bin");
+  const std::string path = run.folder->file(checkpoint_file_name);
   run.checkpoint = read_model_file(path);
   if (run.checkpoint.kind != ModelKind::Checkpoint) throw Error(path + ": is a model, not a checkpoint");
   nlohmann::json embedded = run.checkpoint.config;
@@ -139,7 +114,7 @@ int train_command(const TrainOptions& o) {
   TrainConfig& config = run.config;  // open_envs records a remote env's resolved values in it
   const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
-  const std::string checkpoint_path = folder.file("checkpoint.bin");
+  const std::string checkpoint_path = folder.file(checkpoint_file_name);
 
   VecEnv vec(open_envs(config), config.seed, config.stats_window);
   auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
@@ -148,14 +123,15 @@ int train_command(const TrainOptions& o) {
     check_model_spec(run.checkpoint, vec.spec(), checkpoint_path);
     state = restore_checkpoint(run.checkpoint.payload, *algo, vec, checkpoint_path);
     run.checkpoint.payload.clear();
-    check_log_rows(folder.file("progress.csv"), state.progress_rows, checkpoint_path);
-    check_log_rows(folder.file("episodes.csv"), state.episode_rows, checkpoint_path);
+    check_log_rows(folder.file(progress_csv_name), state.progress_rows, checkpoint_path);
+    check_log_rows(folder.file(episodes_csv_name), state.episode_rows, checkpoint_path);
   }
   if (config.algorithm.demonstrations) learn_from_demonstrations(config, *algo, vec.spec(), resume, folder.path(), o.quiet);
 
   const nlohmann::json resolved = to_json(config);
-  write_file_atomic(folder.file("config.json"), resolved.dump(2) + "\n");
-  CsvWriter episodes(folder.file("episodes.csv"), episode_columns, resume ? state.episode_rows : -1);
+  write_file_atomic(folder.file(run_config_name), resolved.dump(2) + "\n");
+  const auto dashboard = start_run_dashboard(o.dashboard, folder.path().string(), o.quiet);  // reads the run's files only
+  CsvWriter episodes(folder.file(episodes_csv_name), episode_columns, resume ? state.episode_rows : -1);
   std::unique_ptr<CsvWriter> progress;  // its columns are known after the first update
 
   auto save_file = [&](const std::string& file, ModelKind kind) {
@@ -178,8 +154,8 @@ int train_command(const TrainOptions& o) {
   // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
   auto save = [&] {
     schedule.start();
-    save_file("checkpoint.bin", ModelKind::Checkpoint);
-    save_file("model.bin", ModelKind::Model);
+    save_file(checkpoint_file_name, ModelKind::Checkpoint);
+    save_file(model_file_name, ModelKind::Model);
     schedule.done(vec.timesteps());
   };
   if (!resume) save();  // from the start, `--resume` always finds something to continue
@@ -206,7 +182,7 @@ int train_command(const TrainOptions& o) {
       std::vector<std::string> columns = progress_head;
       for (const auto& [name, value] : metrics) columns.push_back(name);
       columns.insert(columns.end(), progress_tail.begin(), progress_tail.end());
-      progress = std::make_unique<CsvWriter>(folder.file("progress.csv"), columns, resume ? state.progress_rows : -1);
+      progress = std::make_unique<CsvWriter>(folder.file(progress_csv_name), columns, resume ? state.progress_rows : -1);
     }
     const EpisodeStats s = vec.episodes().stats();
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -234,7 +210,7 @@ int train_command(const TrainOptions& o) {
   display.finish();
   if (interrupts.requested()) {
     std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
-                 vec.timesteps(), total, checkpoint_path.c_str(), folder.file("model.bin").c_str(),
+                 vec.timesteps(), total, checkpoint_path.c_str(), folder.file(model_file_name).c_str(),
                  folder.path().string().c_str());
     return interrupts.exit_code();
   }
@@ -242,7 +218,7 @@ int train_command(const TrainOptions& o) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
                 config.algorithm.name().c_str(), config.env.name.c_str(), vec.timesteps(), vec.episodes().episodes(),
-                s.count, s.mean_return, vec.wall_time(), folder.file("model.bin").c_str());
+                s.count, s.mean_return, vec.wall_time(), folder.file(model_file_name).c_str());
   }
   return 0;
 }

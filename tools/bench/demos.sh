@@ -53,7 +53,7 @@ run() {  # env variant seed config
   local env=$1 variant=$2 seed=$3 config=$4 dir="$out/$1/$2_seed$3"
   local start wall reached final collisions replay
   start=$(date +%s%N)
-  nice -n "$niceness" "$bin" train --quiet --config "$config" --seed "$seed" --log-dir "$dir"
+  nice -n "$niceness" "$bin" train --quiet --overwrite --config "$config" --seed "$seed" --log-dir "$dir"
   wall=$(awk -v a="$start" -v b="$(date +%s%N)" 'BEGIN { printf "%.1f", (b - a) / 1e9 }')
   read -r reached final collisions < <(last100 "$dir/episodes.csv")
   replay=$(nice -n "$niceness" "$bin" replay "$dir/model.bin" -n 100 --seed 5000 | tail -n 1 | sed 's/.*success rate \([0-9.]*\).*/\1/')

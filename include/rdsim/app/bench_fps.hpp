@@ -14,6 +14,10 @@ struct BenchFpsOptions {
   int runs = 5;                         // the median of this many runs is reported
   long long steps = 20000;              // env steps per run
   std::string json_path;                // "-" for stdout; empty: no JSON
+  // The like-for-like Table 3: for each reaching env, ground truth and 224x224 pixels, its paper
+  // preset (configs/paper/<env>.json, <env>_pixels.json: the original's per-step work) next to
+  // its defaults at the same image size. --env and --mode filter; --image-size does not apply.
+  bool paper = false;
 };
 int bench_fps_command(const BenchFpsOptions& options);
 

@@ -20,6 +20,7 @@ struct TrainOptions {
   bool overwrite = false;                   // a new run may replace another run's files in its folder
   std::optional<double> max_memory_gb;      // the memory limit (app/memory_check.hpp)
   bool quiet = false;                       // no progress line
+  std::string dashboard;                    // serve the live dashboard at HOST:PORT while training
 };
 int train_command(const TrainOptions& options);
 

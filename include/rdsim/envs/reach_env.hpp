@@ -18,19 +18,25 @@
 // ReachTask does the physics and IK moves; ReachTerms says what differs between tasks. A task file
 // only builds its ReachTaskSpec and ReachTerms.
 //
-// Episode rules, shared by all reaching tasks:
-//   observation   ground truth: target - end effector (3), end effector - landmark (3 per landmark),
-//                 end-effector position (3), then observed link - landmark (3 per observed link per
-//                 landmark; none unless a task asks); raw_pixels: the task's cameras (PixelView).
-//   reward        -|end effector - target| every step.
-//   collision     any robot link touching the forbidden body: reward = collision_reward, terminated,
-//                 info.collision.
+// Episode rules, shared by all reaching tasks (the env options named are EnvConfig's):
+//   observation   ground truth, observation_layout full: target - end effector (3), end effector -
+//                 landmark (3 per landmark), end-effector position (3), then observed link - landmark
+//                 (3 per observed link per landmark; none unless a task asks); relative: end effector
+//                 - target (3), end effector - landmark (3 per landmark). raw_pixels: the task's
+//                 cameras (PixelView).
+//   reward        negative_distance: -|end effector - target| every step; inverse_distance: see
+//                 ReachTerms::reward.
+//   collision     any robot link touching the forbidden body: info.collision; negative_distance:
+//                 reward = collision_reward and terminated.
 //   success       |end effector - target| < success threshold, or the end effector touching the press
-//                 body: terminated, info.success.
-//   out of bounds leaving the workspace box (plus margin) or farther than max_distance from the target:
-//                 terminated, info.out_of_bounds, reward -(max_distance x steps left), so that leaving
-//                 never pays more than staying.
+//                 body: terminated, info.success (end_on_success); without end_on_success the episode
+//                 goes on and info.success says on its last step whether this holds then.
+//   out of bounds (workspace_bounds) leaving the workspace box (plus margin) or farther than
+//                 max_distance from the target: terminated, info.out_of_bounds, reward
+//                 -(max_distance x steps left), so that leaving never pays more than staying.
 //   truncation    at the spec's max_steps.
+//   walking body  (ReachTerms::walking_body) before each step's move it moves by U(-walk_step,
+//                 walk_step) in x and y, staying within walk_range of its place; back there at reset.
 // Every reaching env is also a RobotControl (core/robot_control.hpp): move_effector and
 // set_joint_targets are env steps judged by the same rules; camera_image draws the terms' cameras
 // and "scene", the main view fixed in the world.
@@ -57,6 +63,13 @@ struct ReachTerms {
   Eigen::Vector3f expert_approach = Eigen::Vector3f::Zero();
   OrbitView main_view{}, second_view{};  // raw-pixel cameras (second: multi_view)
   std::vector<CameraMount> cameras{};  // first-person cameras (RobotControl::camera_image; "scene" is added)
+  // negative_distance: the rules above. inverse_distance (RobotDrlSim's obstacle env): reward
+  // 1/max(d, 1 cm) - 2 t / max_steps per step (d = |end effector - target| in m, t = steps taken),
+  // -10 on each step touching the forbidden body (the episode goes on), +10 on each step with d < 0.1 m.
+  RewardRule reward = RewardRule::NegativeDistance;
+  int walking_body = -1;      // index into ReachTaskSpec::statics of a body that random-walks (-1: none)
+  float walk_step = 0.003f;   // m, largest move per step and axis
+  float walk_range = 0.05f;   // m from its place, per axis
 };
 
 class ReachEnv : public Env, public EnvState, public RobotControl {
@@ -98,6 +111,8 @@ private:
   template <class SetTargets>
   StepResult control_step(SetTargets&& set_targets);
   void judge(StepResult& r) const;
+  void walk();               // one random-walk step of the walking body
+  void place_walking_body();  // puts it at its place + walk_offset_
 
   Spec spec_;
   ReachTerms terms_;
@@ -110,6 +125,9 @@ private:
   std::vector<Eigen::Vector3f> landmark_points_;
   std::vector<int> observed_links_;  // RobotModel link indices of terms_.observed_links
   Rng rng_;
+  ObservationLayout layout_ = ObservationLayout::Full;
+  bool end_on_success_ = true;
+  Eigen::Vector2f walk_offset_ = Eigen::Vector2f::Zero();  // walking body from its place (x, y)
   bool random_target_ = false;
   int target_index_ = -1;
   int steps_ = 0;
