@@ -253,7 +253,10 @@ void check_command(const CLI::App& app, int argc, char** argv) {
     list += (list.empty() ? "" : ", ") + n;
   }
   for (const auto& n : names)
-    if (n.rfind(word, 0) == 0) closest = n;
+    if (n.rfind(word, 0) == 0) {
+      closest = n;  // the first such command ("bench" -> "bench-fps", not "bench-remote")
+      break;
+    }
   throw rdsim::Error("unknown command \"" + rdsim::one_line(word, 40) + "\"" +
                      (edit_distance(word, closest) <= 3 || closest.rfind(word, 0) == 0 ? " (did you mean \"" + closest + "\"?)"
                                                                          : std::string()) +

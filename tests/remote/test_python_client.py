@@ -108,7 +108,7 @@ class PythonClientTest(unittest.TestCase):
             self.assertEqual(list(only), ["right_eye"])
 
     def test_errors_are_replies_with_the_config_messages(self):
-        with self.assertRaisesRegex(RdsimError, r"hello: env\.max_steps: expected an integer in \[1, 100000000\], got 0"):
+        with self.assertRaisesRegex(RdsimError, r"hello: env\.max_steps: expected an integer in \[1, 1e8\], got 0"):
             self.env({"name": "jaka_button", "max_steps": 0})
         with self.assertRaisesRegex(RdsimError, r"unknown environment \"pong\""):
             self.env({"name": "pong"})

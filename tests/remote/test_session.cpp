@@ -51,7 +51,7 @@ TEST_CASE("session: a hello's env config is read by the training-config code, wi
     local = e.what();
   }
   CHECK(hello_error(bad.dump()) == local);
-  CHECK_THAT(local, Contains("hello: env.max_steps: expected an integer in [1, 100000000], got 0"));
+  CHECK_THAT(local, Contains("hello: env.max_steps: expected an integer in [1, 1e8], got 0"));
   CHECK_THAT(hello_error(R"({"name": "pong"})"), Contains("hello: env.name: unknown environment \"pong\""));
   CHECK_THAT(hello_error(R"({"name": "cartpole", "image_width": 64})"), Contains("env.image_width: has no effect on cartpole"));
   CHECK_THAT(hello_error(R"({"name": "jaka_button", "remote": "tcp://127.0.0.1:1"})"), Contains("env.remote: unknown key"));
