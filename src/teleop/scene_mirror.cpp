@@ -21,7 +21,7 @@ SceneMirror::SceneMirror(const EnvConfig& config) {
 
 SceneMirror::~SceneMirror() = default;
 
-void SceneMirror::update(const RobotState& state) {
+void SceneMirror::update(const RobotSnapshot& state) {
   ReachTask& task = env_->task();
   if (state.joint_positions.size() == task.robot().dof()) task.robot().reset_joints(state.joint_positions);
   task.set_target(state.target);

@@ -162,7 +162,7 @@ private:
   std::unique_ptr<Renderer> view_renderer_;
   std::vector<std::uint8_t> view_pixels_;
   std::vector<Image> camera_images_;
-  RobotState state_;
+  RobotSnapshot state_;
   bool state_changed_ = true, view_changed_ = true;
   bool quit_ = false, screenshot_ = false;
   Mode mode_ = Mode::Keys;

@@ -21,7 +21,7 @@ public:
   ~SceneMirror();
 
   // Poses every part from the robot's joint positions and the task's target.
-  void update(const RobotState& state);
+  void update(const RobotSnapshot& state);
 
   const Scene& scene() const { return scene_.scene; }
   // The env's own main camera (its raw-pixel view): where the window's camera starts.
