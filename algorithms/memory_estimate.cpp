@@ -152,6 +152,14 @@ void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int n
     void operator()(const A2cConfig& p) const {
       on_policy(c.network, spec, num_envs, p.n_steps, static_cast<double>(p.n_steps) * num_envs, "a2c", c.source, e);
     }
+    // BC: an actor-critic run n_steps x num_envs per update; its training passes (on the
+    // demonstrations, batch_size samples) happen before. The demonstrations themselves are bounded by
+    // the demo file's reader, not estimated here.
+    void operator()(const BcConfig& p) const {
+      const double rollout = static_cast<double>(p.n_steps) * num_envs;
+      const double batch = c.demonstrations ? std::max<double>(c.demonstrations->batch_size, rollout) : rollout;
+      on_policy(c.network, spec, num_envs, p.n_steps, batch, "bc", c.source, e);
+    }
     void operator()(const DqnConfig& p) const {
       const Footprint f = q_network(c.network, spec, c.source);
       const double obs = observation_input_size(spec.observation);

@@ -29,7 +29,9 @@
 // transitions: SAC, TD3/DDPG) or PolicySearch (candidates judged by whole episodes: ARS, CMA-ES).
 namespace rdsim {
 
-class VecEnv;  // vec_env.hpp
+class VecEnv;                 // vec_env.hpp
+struct DemoFile;              // demos/demo_file.hpp
+struct DemonstrationsConfig;  // demonstrations.hpp
 
 // Named scalar statistics of one update, in a FIXED order for a given algorithm and config:
 // they become the algorithm's columns of progress.csv (the first update fixes the header).
@@ -77,6 +79,15 @@ public:
   // bytes do not fit this algorithm/config (the nn:: readers do that for tensors).
   virtual void save(std::ostream& out, bool training_state) const = 0;
   virtual void load(std::istream& in, bool training_state, const std::string& source) = 0;
+
+  // Learning from demonstrations (the config's "demonstrations" object; what each algorithm does:
+  // demonstrations.hpp). The training loop calls it once before the first update with `pretrain`
+  // true, or on a resumed run with `pretrain` false (then an algorithm only takes back what it
+  // uses during training, e.g. DQN's demonstration buffer). `demos` fit the env (demo_fit.hpp);
+  // `rng` is the run's demonstrations stream. Returns one row per pre-training epoch
+  // (-> pretrain.csv). The default: rdsim::Error, the algorithm cannot learn from demonstrations.
+  virtual std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
+                                                         Rng& rng, bool pretrain);
 };
 
 }  // namespace rdsim

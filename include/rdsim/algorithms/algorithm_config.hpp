@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -10,6 +11,8 @@
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/ars.hpp"
 #include "rdsim/algorithms/cma_es.hpp"
+#include "rdsim/algorithms/bc.hpp"
+#include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/ppo.hpp"
@@ -27,14 +30,15 @@
 namespace rdsim {
 
 using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig, SacConfig, Td3Config, DdpgConfig, TrpoConfig,
-                                     ArsConfig, CmaEsConfig, RandomConfig>;
+                                     ArsConfig, CmaEsConfig, RandomConfig, BcConfig>;
 
 struct AlgorithmConfig {
   NetworkConfig network;
   AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
+  std::optional<DemonstrationsConfig> demonstrations;  // "demonstrations": learning from a demo file
   std::string source;      // the config file, for messages
 
-  std::string name() const;  // "ppo", "a2c", "dqn", "sac", ...
+  std::string name() const;  // "ppo", "a2c", "dqn", "sac", ..., "bc"
 };
 
 // Every algorithm name, in registry order.
@@ -43,12 +47,13 @@ std::vector<std::string> algorithm_names();
 // The algorithm's default hyperparameters; rdsim::Error listing the names for an unknown one.
 AlgorithmParams default_algorithm_params(const std::string& name);
 
-// Reads "algorithm", "network" and the chosen algorithm's object from the top level of a
-// training config (`reader`, which keeps checking the other keys). The object of another
-// algorithm is an error: it would have no effect.
+// Reads "algorithm", "network", the chosen algorithm's object and "demonstrations" from the top
+// level of a training config (`reader`, which keeps checking the other keys). The object of another
+// algorithm is an error: it would have no effect; so are demonstrations keys the chosen algorithm
+// does not use, and bc without demonstrations.
 AlgorithmConfig read_algorithm_config(ConfigReader& reader);
 
-// Writes the same three keys, every value resolved, into `out` (a JSON object).
+// Writes the same keys, every value resolved, into `out` (a JSON object).
 void write_algorithm_config(const AlgorithmConfig& config, nlohmann::json& out);
 
 // Adds what the algorithm of `config` will allocate for `num_envs` envs of `spec` to `estimate`

@@ -3,6 +3,7 @@
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/behavior_cloning.hpp"
 #include "rdsim/algorithms/rollout.hpp"
 #include "rdsim/nn/nn.hpp"
 
@@ -16,6 +17,9 @@ public:
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
+  // Pre-trains the actor (and with fit_critic the critic) on the demonstrations (behavior_cloning.hpp).
+  std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
+                                                 bool pretrain) override;
 
   ActorCritic& policy() { return *policy_; }
 
@@ -35,6 +39,15 @@ protected:
   // at the start of training to 0 at the end (schedules).
   virtual Metrics train(double remaining) = 0;
 
+  // demonstrations.bc_weight (demonstrations.hpp): whether the cloning term is on, and its weight
+  // in this update.
+  bool demonstration_term() const { return demo_weight_ > 0.0 && demo_steps_.size() > 0; }
+  double demonstration_weight() const;
+  // Accumulates (after the RL loss's backward, before clipping) the gradient of
+  // demonstration_weight() x mean -log pi(a | s) over `batch` demonstrated steps drawn with
+  // shuffle_rng_; returns that mean (0 when the term is off).
+  double add_demonstration_gradient(int batch);
+
   Spec spec_;
   RolloutSettings settings_;
   std::unique_ptr<ActorCritic> policy_;
@@ -43,6 +56,10 @@ protected:
   Rng shuffle_rng_;
   RolloutBuffer rollout_;
   long long updates_ = 0;
+
+private:
+  DemoTransitions demo_steps_;  // the demonstrations' training episodes (bc_weight > 0)
+  double demo_weight_ = 0.0, demo_decay_ = 1.0;
 };
 
 }  // namespace rdsim

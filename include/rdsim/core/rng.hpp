@@ -87,6 +87,7 @@ inline constexpr std::uint64_t exploration = 5;       // epsilon-greedy draws, w
 inline constexpr std::uint64_t evaluation = 6;        // `rdsim replay --stochastic`
 inline constexpr std::uint64_t training_noise = 7;    // noise inside gradient steps (SAC actions, TD3 smoothing)
 inline constexpr std::uint64_t perturbations = 8;     // ARS directions, CMA-ES candidates
+inline constexpr std::uint64_t demonstrations = 9;    // demonstration splits, pre-training minibatches
 inline constexpr std::uint64_t env_base = 1000;
 }  // namespace rng_stream
 
