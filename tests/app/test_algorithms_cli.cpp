@@ -91,7 +91,8 @@ TEST_CASE("algorithms that cannot handle an env's spaces say so", "[cli][algorit
   const std::vector<std::pair<std::string, std::string>> cases = {
       {R"({"algorithm": "sac", "env": {"name": "cartpole"}})", "continuous (Box) action space"},
       {R"({"algorithm": "dqn", "env": {"name": "pendulum"}})", "discrete action space"},
-      {R"({"algorithm": "td3", "env": {"name": "jaka_button", "observation": "raw_pixels", "is_discrete": false}})",
+      {R"({"algorithm": "td3", "env": {"name": "jaka_button", "observation": "raw_pixels", "is_discrete": false},
+            "td3": {"buffer_size": 1000}})",  // a small buffer: the default one of images is refused for memory first
        "vector observations"},
       {R"({"algorithm": "cma_es", "env": {"name": "cartpole"}, "network": {"hidden_sizes": [64, 64]}})", "at most 2000"},
       {R"({"algorithm": "trpo", "env": {"name": "cartpole"}, "network": {"shared": true}})", "network.shared"},
