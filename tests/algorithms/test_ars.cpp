@@ -27,7 +27,7 @@ Setup ars_setup(std::uint64_t seed) {
 
 }  // namespace
 
-TEST_CASE("running normaliser: mean and variance of what it saw; merging equals seeing all", "[ars]") {
+TEST_CASE("running normaliser: mean and variance of what it saw, merging equals seeing all", "[ars]") {
   Rng rng(2);
   RunningNormalizer all(3), first(3), second(3);
   std::vector<Eigen::Vector3f> xs;
@@ -94,7 +94,7 @@ TEST_CASE("ARS learns the toy tasks with a linear policy", "[ars]") {
   }
 }
 
-TEST_CASE("ARS: same seed, same run; checkpoints resume exactly; models round-trip", "[ars][checkpoint]") {
+TEST_CASE("ARS: same seed, same run, checkpoints resume exactly, models round-trip", "[ars][checkpoint]") {
   const Setup setup = ars_setup(2);
   checks::same_seed_same_run(setup, checks::sign_envs(3, true), 500);
   checks::resume_is_exact(setup, checks::sign_envs(3, false), 300, 800, 1000);

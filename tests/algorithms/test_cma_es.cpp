@@ -77,7 +77,7 @@ TEST_CASE("CMA-ES learns the toy tasks with a linear policy", "[cma_es]") {
   }
 }
 
-TEST_CASE("CMA-ES: same seed, same run; checkpoints resume exactly; models round-trip", "[cma_es][checkpoint]") {
+TEST_CASE("CMA-ES: same seed, same run, checkpoints resume exactly, models round-trip", "[cma_es][checkpoint]") {
   const Setup setup = cma_setup(2);
   checks::same_seed_same_run(setup, checks::sign_envs(2, true), 300);
   checks::resume_is_exact(setup, checks::sign_envs(2, false), 200, 600, 1000);

@@ -126,7 +126,7 @@ TEST_CASE("behaviour cloning copies the expert and stops early on held-out episo
   }
 }
 
-TEST_CASE("bc runs the cloned policy in the envs; it must learn first", "[demos][bc]") {
+TEST_CASE("bc runs the cloned policy in the envs, it must learn first", "[demos][bc]") {
   const DemoFile f = expert_demos(true, 10);
   VecEnv envs(toy::make_envs(2), 4);
   auto algo = make_algorithm(config_for(BcConfig{16, true}), 1, f.spec);

@@ -54,7 +54,7 @@ TEST_CASE("the random agent acts uniformly in the action space and learns nothin
   CHECK(envs.episodes().stats().mean_return == Approx(5.0).margin(1.0));  // half the actions are right
 }
 
-TEST_CASE("the random agent: same seed, same run; checkpoints resume exactly; models round-trip", "[random][checkpoint]") {
+TEST_CASE("the random agent: same seed, same run, checkpoints resume exactly, models round-trip", "[random][checkpoint]") {
   const Setup setup = random_setup(2);
   const checks::EnvFactory envs = [] { return toy::make_envs(2, false); };
   checks::same_seed_same_run(setup, envs, 300);

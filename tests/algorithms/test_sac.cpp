@@ -29,7 +29,7 @@ Setup sac_setup(std::uint64_t seed) {
 
 }  // namespace
 
-TEST_CASE("SAC soft TD targets: minimum of the target critics minus the entropy term; no bootstrap after termination", "[sac]") {
+TEST_CASE("SAC soft TD targets: minimum of the target critics minus the entropy term, no bootstrap after termination", "[sac]") {
   const Eigen::VectorXf rewards = (Eigen::VectorXf(2) << 1.0f, 2.0f).finished();
   const Eigen::VectorXf terminated = (Eigen::VectorXf(2) << 0.0f, 1.0f).finished();
   const Eigen::VectorXf next_q = (Eigen::VectorXf(2) << 4.0f, 9.0f).finished();
@@ -59,7 +59,7 @@ TEST_CASE("SAC moves the policy towards the best action of a toy task", "[sac]")
   CHECK(envs.episodes().stats().mean_return > 8.5);  // random actions: about 4.2
 }
 
-TEST_CASE("SAC: same seed, same run; checkpoints resume exactly; models round-trip", "[sac][checkpoint]") {
+TEST_CASE("SAC: same seed, same run, checkpoints resume exactly, models round-trip", "[sac][checkpoint]") {
   Setup setup = sac_setup(3);
   setup.sac.learning_starts = 50;
   setup.sac.train_freq = 2;

@@ -62,7 +62,7 @@ TEST_CASE("TD3, DDPG (Gaussian and Ornstein-Uhlenbeck noise) move the policy tow
   }
 }
 
-TEST_CASE("TD3 and DDPG: same seed, same run; checkpoints resume exactly; models round-trip", "[td3][checkpoint]") {
+TEST_CASE("TD3 and DDPG: same seed, same run, checkpoints resume exactly, models round-trip", "[td3][checkpoint]") {
   for (const char* algorithm : {"td3", "ddpg"}) {
     Setup setup = td3_setup(algorithm, 4);
     setup.td3.learning_starts = setup.ddpg.learning_starts = 50;

@@ -110,7 +110,7 @@ TEST_CASE("TRPO learns the toy task within its trust region", "[trpo]") {
   }
 }
 
-TEST_CASE("TRPO: same seed, same run; checkpoints resume exactly; models round-trip", "[trpo][checkpoint]") {
+TEST_CASE("TRPO: same seed, same run, checkpoints resume exactly, models round-trip", "[trpo][checkpoint]") {
   const Setup setup = trpo_setup(2);
   checks::same_seed_same_run(setup, checks::sign_envs(2, false), 512);
   checks::resume_is_exact(setup, checks::sign_envs(2, true), 256, 768, 1024);

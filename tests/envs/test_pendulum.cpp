@@ -18,7 +18,7 @@ Action torque(float u) { return Action::continuous(Eigen::VectorXf::Constant(1, 
 
 }  // namespace
 
-TEST_CASE("pendulum spec matches Gymnasium Pendulum-v1; the registry publishes its defaults", "[pendulum]") {
+TEST_CASE("pendulum spec matches Gymnasium Pendulum-v1, the registry publishes its defaults", "[pendulum]") {
   const EnvConfig c = rdsim::default_env_config("pendulum");
   CHECK(c.max_steps == 200);
   CHECK_FALSE(c.is_discrete);
