@@ -17,7 +17,7 @@ build=${RDSIM_FUZZ_BUILD_DIR:-$root/build-fuzz}
 if [ ! -x "$build/fuzz_model" ] || [ -n "${RDSIM_FUZZ_REBUILD:-}" ]; then
   CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRDSIM_FUZZ=ON >/dev/null
 fi
-cmake --build "$build" -j "$(nproc)" --target fuzz_config fuzz_urdf fuzz_model rdsim >/dev/null
+cmake --build "$build" -j "$(nproc)" --target fuzz_config fuzz_urdf fuzz_model fuzz_request rdsim >/dev/null
 
 export RDSIM_ROOT="$root"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:allocator_may_return_null=1}

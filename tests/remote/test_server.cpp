@@ -315,7 +315,9 @@ TEST_CASE("server: plain text only with --insecure and only on loopback", "[remo
 
 TEST_CASE("server: sessions end on close, on disconnect, after the idle timeout, the cap holds", "[remote][server]") {
   remote::ServerOptions o = plain_options();
-  o.idle_timeout = 0.5;
+  // Long enough that a loaded machine (CI's two cores under the sanitizers) never idles out the
+  // sessions the test is still using, short enough to wait for once.
+  o.idle_timeout = 2.0;
   o.max_sessions = 2;
   ServerThread server(o);
   RemoteEnvConfig link;
@@ -340,7 +342,7 @@ TEST_CASE("server: sessions end on close, on disconnect, after the idle timeout,
   // Idle.
   RawClient idle(server.endpoint());
   CHECK(idle.call(hello_jaka)["reply"] == "hello");
-  CHECK(eventually([&] { return server.server().stats().sessions == 0; }));
+  CHECK(eventually([&] { return server.server().stats().sessions == 0; }, 10.0));
   CHECK_THAT(server.log(), Contains("closed (idle timeout)"));
   CHECK_THAT(idle.call(R"({"id": 5, "request": "reset"})")["error"].get<std::string>(),
              Contains("reset: no session on this connection: send hello first"));
