@@ -35,6 +35,7 @@ protected:
     policy_->zero_grad();
     policy_->backward(d_log_prob, d_entropy, d_value);
     const nn::ParamList params = policy_->params();
+    average_gradients(params);
     const float norm = nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm));
     optimizer_->step();
 

@@ -92,31 +92,34 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   }
 }
 
-Observation ReachEnv::observe() const {
-  Observation o;
+void ReachEnv::observe(ObservationOut out) const {
   if (pixels_) {
-    pixels_->render(*task_, o.pixels);
-    return o;
+    pixels_->render(*task_, out.pixels);
+    return;
   }
+  Eigen::Map<Eigen::VectorXf> o(out.values, spec_.observation.size());
   const Eigen::Vector3f& ee = task_->ee_position();
-  o.values.resize(spec_.observation.size());
-  o.values.head<3>() = task_->target() - ee;
+  o.head<3>() = task_->target() - ee;
   for (size_t k = 0; k < landmark_points_.size(); ++k)
-    o.values.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
+    o.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
   Eigen::Index at = 3 * static_cast<Eigen::Index>(landmark_points_.size() + 1);
-  o.values.segment<3>(at) = ee;
+  o.segment<3>(at) = ee;
   at += 3;
   for (int link : observed_links_) {
     const Eigen::Vector3f p = task_->robot().link_pose(link).translation();
     for (const Eigen::Vector3f& landmark : landmark_points_) {
-      o.values.segment<3>(at) = p - landmark;
+      o.segment<3>(at) = p - landmark;
       at += 3;
     }
   }
-  return o;
 }
 
-Observation ReachEnv::reset(std::optional<std::uint64_t> seed) {
+// The plain interface through the "into" one: one implementation of the episode rules.
+Observation ReachEnv::reset(std::optional<std::uint64_t> seed) { return reset_through_into(*this, seed); }
+
+StepResult ReachEnv::step(const Action& action) { return step_through_into(*this, action); }
+
+void ReachEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
   const bool choices = !terms_.target_choices.empty();
   task_->reset(rng_, random_target_ && !choices);
@@ -126,7 +129,7 @@ Observation ReachEnv::reset(std::optional<std::uint64_t> seed) {
   }
   steps_ = 0;
   done_ = false;
-  return observe();
+  observe(out);
 }
 
 void ReachEnv::select_target(int index) {
@@ -137,26 +140,26 @@ void ReachEnv::select_target(int index) {
   task_->set_target(terms_.target_choices[static_cast<size_t>(index)]);
 }
 
-StepResult ReachEnv::step(const Action& action) {
+StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {
   const Eigen::Vector3f move = task_->move_for(action);  // a bad action is an error even after the end
-  StepResult r;
+  StepOutcome r;
   if (done_) {
     // Stepping a finished episode: nothing moves, no reward.
-    r.observation = observe();
+    observe(out);
     r.terminated = true;
     return r;
   }
   task_->apply_move(move, rng_);
   task_->step_physics();
   ++steps_;
-  r.observation = observe();
+  observe(out);
   judge(r);
   done_ = r.terminated || r.truncated;
   return r;
 }
 
 // Reward, info and episode end of the step just taken (the rules in the header).
-void ReachEnv::judge(StepResult& r) const {
+void ReachEnv::judge(StepOutcome& r) const {
   const ReachTaskSpec& s = task_->spec();
   const float d = task_->distance();
   r.reward = -d;

@@ -5,7 +5,9 @@
 
 #include "rdsim/app/bench_fps.hpp"
 #include "rdsim/app/config_reference.hpp"
+#include "rdsim/app/data_parallel.hpp"
 #include "rdsim/app/envs.hpp"
+#include "rdsim/app/process_communicator.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
 #include "rdsim/app/train.hpp"
@@ -13,7 +15,7 @@
 
 namespace {
 
-void add_train(CLI::App& app, rdsim::TrainOptions& o, std::uint64_t& seed, long long& timesteps) {
+void add_train(CLI::App& app, rdsim::TrainOptions& o, std::uint64_t& seed, long long& timesteps, int& threads) {
   auto* cmd = app.add_subcommand("train", "Train a policy from a JSON config; writes progress.csv, "
                                           "episodes.csv, config.json and model.bin to the run folder");
   auto* config = cmd->add_option("-c,--config", o.config_path, "JSON config file (see configs/)");
@@ -24,7 +26,11 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::uint64_t& seed, long 
   cmd->add_option("--seed", seed, "Override the config's seed");
   cmd->add_option("--timesteps", timesteps, "Override the config's total_timesteps")->check(CLI::PositiveNumber);
   cmd->add_option("--log-dir", o.log_dir, "Override the config's log_dir (the run folder)");
+  cmd->add_option("--threads", threads, "Override the config's num_threads (threads stepping the envs; "
+                                        "results do not depend on it)")->check(CLI::Range(1, 4096));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
+  cmd->footer("Data-parallel on several processes or machines: mpirun -np K rdsim train --config FILE "
+              "(each rank its own envs; total_timesteps counts all ranks; rank 0 writes the run folder).");
 }
 
 void add_replay(CLI::App& app, rdsim::ReplayOptions& o, std::uint64_t& seed) {
@@ -41,7 +47,8 @@ void add_replay(CLI::App& app, rdsim::ReplayOptions& o, std::uint64_t& seed) {
 
 void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
   auto* cmd = app.add_subcommand("bench-fps", "Measure env steps per second (random actions, resets "
-                                              "included; median of several runs), one thread");
+                                              "included; median of several runs): one env on one thread, "
+                                              "or a VecEnv on several (--threads, --scaling)");
   cmd->add_option("--env", o.envs, "Env to measure (repeatable; default: all)");
   cmd->add_option("--mode", o.modes, "Observation mode: ground_truth or raw_pixels (repeatable)")
       ->check(CLI::IsMember({"ground_truth", "raw_pixels"}));
@@ -50,6 +57,12 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--threads", o.threads,
+                  "Threaded mode: a VecEnv of --num-envs envs on 1 and N threads; steps/s, speed-up, pool overhead")
+      ->check(CLI::Range(1, 4096));
+  cmd->add_flag("--scaling", o.scaling, "Threaded mode on 1, 2, 4, ... threads up to every core");
+  cmd->add_option("--num-envs", o.num_envs, "Threaded mode: envs in the VecEnv (default: 4 per thread of the largest count)")
+      ->check(CLI::Range(1, 4096));
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)")
       ->expected(0, 1)
       ->default_str("-");
@@ -78,7 +91,8 @@ int main(int argc, char** argv) {
   rdsim::BenchFpsOptions bench;
   std::uint64_t train_seed = 0, replay_seed = 0;
   long long timesteps = 0;
-  add_train(app, train, train_seed, timesteps);
+  int train_threads = 0;
+  add_train(app, train, train_seed, timesteps, train_threads);
   add_replay(app, replay, replay_seed);
   add_bench(app, bench);
   rdsim::RenderOptions render;
@@ -90,6 +104,13 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
 
+  // The MPI job this process is a rank of (train only); after an error on one rank the others
+  // are stopped instead of waiting for it in a collective.
+  std::unique_ptr<rdsim::Communicator> comm;
+  auto fail = [&](int code) {
+    if (comm && comm->size() > 1) comm->abort(code);
+    return code;
+  };
   try {
     auto* sub = app.get_subcommands().front();
     const std::string name = sub->get_name();
@@ -99,6 +120,9 @@ int main(int argc, char** argv) {
       }
       if (sub->count("--seed")) train.seed = train_seed;
       if (sub->count("--timesteps")) train.timesteps = timesteps;
+      if (sub->count("--threads")) train.threads = train_threads;
+      comm = rdsim::make_process_communicator();
+      train.communicator = comm.get();
       return rdsim::train_command(train);
     }
     if (name == "replay") {
@@ -112,12 +136,17 @@ int main(int argc, char** argv) {
     if (name == "envs") return rdsim::envs_command();
     if (name == "config-reference") return rdsim::config_reference_command();
     if (name == "render") return rdsim::render_command(render);
+  } catch (const rdsim::RankExit& e) {  // rank 0 reports this error
+    return fail(e.code);
   } catch (const rdsim::Error& e) {
-    std::fprintf(stderr, "rdsim: error: %s\n", e.what());
-    return 1;
+    if (comm && comm->rank() > 0)
+      std::fprintf(stderr, "rdsim: error (MPI rank %d): %s\n", comm->rank(), e.what());
+    else
+      std::fprintf(stderr, "rdsim: error: %s\n", e.what());
+    return fail(1);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rdsim: internal error: %s\n", e.what());
-    return 70;
+    return fail(70);
   }
   return 0;
 }

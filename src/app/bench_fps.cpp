@@ -12,6 +12,7 @@
 #include "rdsim/core/files.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "bench_util.hpp"
 
 namespace rdsim {
 namespace {
@@ -41,31 +42,14 @@ std::optional<double> paper_rate(const std::string& env, const std::string& mode
   return std::nullopt;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-Action random_action(const ActionSpace& space, Rng& rng) {
-  if (space.discrete) return Action::discrete(static_cast<int>(rng.below(space.n)));
-  Eigen::VectorXf v(space.low.size());
-  for (int i = 0; i < v.size(); ++i) v[i] = static_cast<float>(rng.uniform(space.low[i], space.high[i]));
-  return Action::continuous(std::move(v));
-}
+using bench::Clock;
+using bench::median;
+using bench::seconds_since;
 
 // One timed run: random actions, resets included (as an agent would see it).
 double env_run(Env& env, long long steps, std::uint64_t seed, long long& episodes) {
-  Rng rng = Rng::derive(seed, 1);
-  const ActionSpace& space = env.spec().action;
-  // Actions are drawn before the clock starts so the row measures the env alone.
-  std::vector<Action> actions;
-  actions.reserve(static_cast<size_t>(std::min<long long>(steps, 4096)));
-  for (size_t i = 0; i < actions.capacity(); ++i) actions.push_back(random_action(space, rng));
+  const std::vector<Action> actions =
+      bench::random_actions(env.spec().action, static_cast<size_t>(std::min<long long>(steps, 4096)), seed);
   env.reset(seed);
   const auto t0 = Clock::now();
   for (long long i = 0; i < steps; ++i) {
@@ -88,12 +72,9 @@ std::optional<double> physics_run(Env& env, long long steps, std::uint64_t seed)
 
 std::optional<BenchRow> bench_row(const EnvEntry& entry, const std::string& mode, int image_size,
                                   const BenchFpsOptions& o) {
-  EnvConfig config = default_env_config(entry.name);
-  config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
-  if (image_size > 0) config.image_width = config.image_height = image_size;
   std::unique_ptr<Env> env;
   try {
-    env = entry.make(config);
+    env = entry.make(bench::row_config(entry.name, mode, image_size));
   } catch (const Error& e) {
     std::fprintf(stderr, "bench-fps: skipping %s / %s: %s\n", entry.name.c_str(), mode.c_str(), e.what());
     return std::nullopt;
@@ -128,7 +109,7 @@ void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchF
     std::string ratio = r.physics_per_s ? fmt(*r.physics_per_s / r.steps_per_s, "%.2fx") : "-";
     std::string paper = r.paper_steps_per_s ? fmt(*r.paper_steps_per_s) : "-";
     std::string gain = r.paper_steps_per_s ? fmt(r.steps_per_s / *r.paper_steps_per_s, "%.0fx") : "-";
-    const std::string image = r.image_size > 0 ? std::to_string(r.image_size) + "x" + std::to_string(r.image_size) : "-";
+    const std::string image = bench::image_label(r.image_size);
     std::fprintf(out, "%-16s %-13s %9s %12.0f %14s %12s %11s %12s\n", r.env.c_str(), r.mode.c_str(),
                 image.c_str(), r.steps_per_s, phys.c_str(), ratio.c_str(), paper.c_str(), gain.c_str());
   }
@@ -165,32 +146,58 @@ bool wanted(const std::vector<std::string>& filter, const std::string& value) {
 
 }  // namespace
 
+namespace bench {
+
+EnvConfig row_config(const std::string& env, const std::string& mode, int image_size) {
+  EnvConfig config = default_env_config(env);
+  config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
+  if (image_size > 0) config.image_width = config.image_height = image_size;
+  return config;
+}
+
+std::FILE* table_stream(const BenchFpsOptions& o) { return o.json_path == "-" ? stderr : stdout; }
+
+void emit_json(const nlohmann::json& j, const BenchFpsOptions& o) {
+  if (o.json_path == "-") {
+    std::cout << j.dump(2) << "\n";
+  } else if (!o.json_path.empty()) {
+    write_file_atomic(o.json_path, j.dump(2) + "\n");
+    std::printf("wrote %s\n", o.json_path.c_str());
+  }
+}
+
+void announce(const Case& c) {
+  std::fprintf(stderr, "bench-fps: %s / %s", c.entry->name.c_str(), c.mode.c_str());
+  if (c.image_size > 0) std::fprintf(stderr, " %dx%d", c.image_size, c.image_size);
+  std::fprintf(stderr, " ...\n");
+}
+
+}  // namespace bench
+
 int bench_fps_command(const BenchFpsOptions& o) {
   for (const auto& name : o.envs) (void)env_entry(name);  // the "unknown environment" error with the known names
-  std::vector<BenchRow> rows;
+  std::vector<bench::Case> cases;
   for (const auto& entry : env_registry()) {
     if (!wanted(o.envs, entry.name)) continue;
     for (std::string mode : {"ground_truth", "raw_pixels"}) {
       if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.supports_pixels)) continue;
       // Ground truth has no image: one row with size 0.
       const std::vector<int> sizes = mode == "raw_pixels" ? pixel_sizes(o) : std::vector<int>{0};
-      for (int size : sizes) {
-        std::fprintf(stderr, "bench-fps: %s / %s", entry.name.c_str(), mode.c_str());
-        if (size > 0) std::fprintf(stderr, " %dx%d", size, size);
-        std::fprintf(stderr, " ...\n");
-        if (auto row = bench_row(entry, mode, size, o)) rows.push_back(std::move(*row));
-      }
+      for (int size : sizes) cases.push_back({&entry, mode, size});
     }
+  }
+  if (cases.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
+  if (o.threads > 0 || o.scaling) return bench::threads_command(cases, o);
+
+  std::vector<BenchRow> rows;
+  for (const bench::Case& c : cases) {
+    bench::announce(c);
+    if (auto row = bench_row(*c.entry, c.mode, c.image_size, o)) rows.push_back(std::move(*row));
   }
   if (rows.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
   // With JSON on stdout the human table goes to stderr, so the JSON stays machine-readable.
-  print_table(o.json_path == "-" ? stderr : stdout, rows, o);
-  if (o.json_path == "-") {
-    std::cout << to_json(rows, o).dump(2) << "\n";
-  } else if (!o.json_path.empty()) {
-    write_file_atomic(o.json_path, to_json(rows, o).dump(2) + "\n");
-    std::printf("wrote %s\n", o.json_path.c_str());
-  }
+  print_table(bench::table_stream(o), rows, o);
+  bench::emit_json(to_json(rows, o), o);
   return 0;
 }
 

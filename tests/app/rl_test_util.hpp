@@ -54,6 +54,23 @@ inline RunResult run_rdsim(const std::string& args, const ScratchDir& dir) {
   return r;
 }
 
+#ifdef RDSIM_MPIEXEC
+// Runs `mpirun -np <ranks> rdsim <args>` (oversubscribed: CI has 2 cores; CI runs as root, which
+// Open MPI refuses unless told).
+inline RunResult run_rdsim_mpi(int ranks, const std::string& args, const ScratchDir& dir) {
+  const std::string out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(RDSIM_MPIEXEC) +
+                          " -np " + std::to_string(ranks) + " --oversubscribe " + RDSIM_BINARY + " " + args + " >" +
+                          out + " 2>" + err;
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+#endif
+
 inline std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> result;
   std::istringstream in(text);

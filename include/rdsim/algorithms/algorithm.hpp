@@ -7,6 +7,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/parallel/communicator.hpp"
 
 // The interface between the training loop (src/app/train.cpp) and a learning algorithm
 // (PPO, A2C, DQN). The loop owns the environments (a VecEnv, which also counts timesteps and
@@ -68,6 +69,18 @@ public:
   // bytes do not fit this algorithm/config (the nn:: readers do that for tensors).
   virtual void save(std::ostream& out, bool training_state) const = 0;
   virtual void load(std::istream& in, bool training_state, const std::string& source) = 0;
+
+  // Data-parallel training (`mpirun -np K rdsim train`): every rank runs this algorithm on its
+  // own envs with the same initial weights, and the algorithm keeps the weights identical on all
+  // ranks through `comm` (communicator.hpp): gradient methods average every gradient over the
+  // ranks before their optimiser step (average_gradients, gradient_averaging.hpp); population
+  // methods spread their evaluations with allgather. Per-rank quantities (n_steps, buffer sizes,
+  // learning_starts) stay per rank. Set before the first update; default: one process.
+  void set_communicator(Communicator& comm) { comm_ = &comm; }
+  Communicator& communicator() const { return comm_ ? *comm_ : single_process_communicator(); }
+
+private:
+  Communicator* comm_ = nullptr;
 };
 
 }  // namespace rdsim

@@ -35,6 +35,10 @@ protected:
   // at the start of training to 0 at the end (schedules).
   virtual Metrics train(double remaining) = 0;
 
+  // Data-parallel training: the gradients of `params` become their mean over the ranks (nothing
+  // happens in one process). Between backward() and gradient clipping.
+  void average_gradients(const nn::ParamList& params);
+
   Spec spec_;
   RolloutSettings settings_;
   std::unique_ptr<ActorCritic> policy_;
@@ -43,6 +47,7 @@ protected:
   Rng shuffle_rng_;
   RolloutBuffer rollout_;
   long long updates_ = 0;
+  std::vector<float> gradient_buffer_;
 };
 
 }  // namespace rdsim

@@ -8,6 +8,8 @@
 // is reported by throwing rdsim::Error; returns the process exit code.
 namespace rdsim {
 
+class Communicator;  // rdsim/parallel/communicator.hpp
+
 struct TrainOptions {
   std::string config_path;
   std::string resume_dir;                   // continue from this run folder's last checkpoint
@@ -15,6 +17,8 @@ struct TrainOptions {
   std::optional<long long> timesteps;       // overrides the config's total_timesteps
   std::string log_dir;                      // overrides the config's log_dir
   bool quiet = false;                       // no progress line
+  std::optional<int> threads;               // overrides the config's num_threads
+  Communicator* communicator = nullptr;     // the MPI job this process is a rank of; null: one process
 };
 int train_command(const TrainOptions& options);
 

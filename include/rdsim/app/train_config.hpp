@@ -26,6 +26,8 @@ struct TrainConfig {
   std::string log_dir;  // empty: runs/<name>
   long long checkpoint_interval = 0;
   int stats_window = 20;
+  int num_threads = 0;  // 0: resolved by resolve_num_threads()
+  int sync_check_interval = 10;
 };
 
 inline constexpr long long max_timesteps = 1'000'000'000'000LL;
@@ -41,7 +43,17 @@ void describe(V& v, C& c) {
           "env steps between checkpoint.bin writes; 0 = at the end only");
   v.field("stats_window", c.stats_window, config::Range{1, 1'000'000},
           "episodes behind progress.csv's return/length/success columns");
+  v.field("num_threads", c.num_threads, config::Range{0, 4096},
+          "threads stepping the envs (results do not depend on it); 0 = every core this process may use "
+          "(shared among the MPI ranks on one machine), at most num_envs");
+  v.field("sync_check_interval", c.sync_check_interval, config::Range{0, 1'000'000},
+          "MPI runs: updates between comparisons of a hash of the weights across ranks; 0 = at the end only");
 }
+
+// The thread count a run uses: `num_threads`, or for 0 the cores this process may use
+// (available_cores) divided among `local_ranks` processes of one MPI job on this machine; at
+// least 1, at most num_envs.
+int resolve_num_threads(const TrainConfig& config, int local_ranks);
 
 // Reads and validates a config file. Unknown keys, wrong types, out-of-range values, a missing
 // file or bad JSON throw rdsim::Error naming the file and the key.

@@ -86,6 +86,7 @@ inline constexpr std::uint64_t replay_sampling = 4;   // off-policy replay buffe
 inline constexpr std::uint64_t exploration = 5;       // epsilon-greedy draws
 inline constexpr std::uint64_t evaluation = 6;        // `rdsim replay --stochastic`
 inline constexpr std::uint64_t env_base = 1000;
+inline constexpr std::uint64_t mpi_rank_base = 1'000'000;  // rank r > 0 of an MPI job: its seed
 }  // namespace rng_stream
 
 }  // namespace rdsim

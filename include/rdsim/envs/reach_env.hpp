@@ -53,6 +53,8 @@ public:
   const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
   StepResult step(const Action& action) override;
+  void reset_into(ObservationOut out, std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepOutcome step_into(const Action& action, ObservationOut out) override;
   bool step_physics_only() override;
   bool render(Image& frame) override;
 
@@ -67,8 +69,8 @@ public:
   void select_target(int index);
 
 private:
-  Observation observe() const;
-  void judge(StepResult& r) const;
+  void observe(ObservationOut out) const;
+  void judge(StepOutcome& r) const;
 
   Spec spec_;
   ReachTerms terms_;
