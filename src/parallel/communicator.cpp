@@ -38,22 +38,23 @@ std::optional<int> env_int(const char* name) {
 
 }  // namespace
 
-void Communicator::allreduce_sum(float* data, std::size_t n) {
-  if (size() == 1) return;
+template <class Reduce>
+void Communicator::count(std::size_t bytes, Reduce reduce) {
   const auto t0 = std::chrono::steady_clock::now();
-  do_allreduce_sum(data, n);
+  reduce();
   traffic_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   traffic_.calls += 1;
-  traffic_.bytes += static_cast<long long>(n * sizeof(float));
+  traffic_.bytes += static_cast<long long>(bytes);
+}
+
+void Communicator::allreduce_sum(float* data, std::size_t n) {
+  if (size() == 1) return;
+  count(n * sizeof(float), [&] { do_allreduce_sum(data, n); });
 }
 
 void Communicator::allreduce_sum(double* data, std::size_t n) {
   if (size() == 1) return;
-  const auto t0 = std::chrono::steady_clock::now();
-  do_allreduce_sum(data, n);
-  traffic_.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  traffic_.calls += 1;
-  traffic_.bytes += static_cast<long long>(n * sizeof(double));
+  count(n * sizeof(double), [&] { do_allreduce_sum(data, n); });
 }
 
 void Communicator::allgather(const double* send, std::size_t n, double* recv) {

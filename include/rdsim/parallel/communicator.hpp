@@ -69,6 +69,9 @@ protected:
   virtual std::vector<std::string> do_gather(const std::string& bytes, int root) = 0;
 
 private:
+  template <class Reduce>
+  void count(std::size_t bytes, Reduce reduce);  // times one allreduce into traffic_
+
   Traffic traffic_;
 };
 
