@@ -127,7 +127,7 @@ TEST_CASE("network.cnn: presets by image size, custom stacks, errors name the ke
   CHECK_THROWS_WITH(rdsim::make_algorithm(dqn, seed, spec), Catch::Contains("cfg.json: network.cnn"));
 }
 
-TEST_CASE("PPO with a CNN policy learns a pixel task; save -> load acts identically", "[algorithms][cnn][ppo]") {
+TEST_CASE("PPO with a CNN policy learns a pixel task, save -> load acts identically", "[algorithms][cnn][ppo]") {
   rdsim::VecEnv vec(square_envs(4), 1);
   const rdsim::AlgorithmConfig config = pixel_config("ppo");
   auto algo = rdsim::make_algorithm(config, seed, vec.spec());
@@ -147,7 +147,7 @@ TEST_CASE("PPO with a CNN policy learns a pixel task; save -> load acts identica
   CHECK(before != actions);
 }
 
-TEST_CASE("A2C and DQN build CNNs for pixels; save -> load acts identically", "[algorithms][cnn]") {
+TEST_CASE("A2C and DQN build CNNs for pixels, save -> load acts identically", "[algorithms][cnn]") {
   for (const std::string name : {"a2c", "dqn"}) {
     INFO(name);
     rdsim::VecEnv vec(square_envs(2), 1);

@@ -239,7 +239,7 @@ TEST_CASE("DQN learns the corridor and is deterministic", "[dqn]") {
   CHECK(train(*algo2, envs2, config.total_timesteps, config.total_timesteps) == metrics);
 }
 
-TEST_CASE("DQN checkpoint resumes identically; model round-trips", "[dqn]") {
+TEST_CASE("DQN checkpoint resumes identically, model round-trips", "[dqn]") {
   const Setup config = corridor_config(7);
   VecEnv envs = corridor_envs(7);
   auto algo = make_algorithm(config, envs.spec());

@@ -174,7 +174,7 @@ TEST_CASE("pixel replay buffer save/load round-trips and refuses a float buffer"
   CHECK_THROWS_WITH(copy.load(float_bytes, "ckpt.bin"), Catch::Contains("ckpt.bin") && Catch::Contains("float"));
 }
 
-TEST_CASE("DQN on pixels: checkpoint resumes identically; model round-trips", "[dqn][pixels]") {
+TEST_CASE("DQN on pixels: checkpoint resumes identically, model round-trips", "[dqn][pixels]") {
   const Setup config = pixel_dqn_config(7);
   VecEnv envs = pixel_corridor_envs(7);
   auto algo = make_algorithm(config, envs.spec());

@@ -23,7 +23,7 @@ nlohmann::json run_bench(BenchFpsOptions o) {
 
 }  // namespace
 
-TEST_CASE("bench-fps: one raw-pixel row per --image-size; the paper figure only at 224", "[bench]") {
+TEST_CASE("bench-fps: one raw-pixel row per --image-size, the paper figure only at 224", "[bench]") {
   BenchFpsOptions o;
   o.envs = {"jaka_button"};
   o.image_sizes = {16, 224};
@@ -41,7 +41,7 @@ TEST_CASE("bench-fps: one raw-pixel row per --image-size; the paper figure only 
   for (const auto& row : rows) CHECK(row.at("steps_per_s").get<double>() > 0.0);
 }
 
-TEST_CASE("bench-fps: pixel rows default to 64 and 224; bad sizes are refused", "[bench]") {
+TEST_CASE("bench-fps: pixel rows default to 64 and 224, bad sizes are refused", "[bench]") {
   BenchFpsOptions o;
   o.envs = {"jaka_button"};
   o.modes = {"raw_pixels"};

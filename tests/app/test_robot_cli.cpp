@@ -86,7 +86,7 @@ TEST_CASE("PPO learns jaka_button with random targets: most of the last 100 epis
   CHECK(rate > 0.6);
 }
 
-TEST_CASE("replay --record writes one PNG per observation; envs that cannot draw say so", "[cli][record]") {
+TEST_CASE("replay --record writes one PNG per observation, envs that cannot draw say so", "[cli][record]") {
   ScratchDir dir("cli_record");
   const std::string run = dir / "run";
   auto r = run_rdsim("train --quiet --config configs/jaka_button.json --timesteps 1024 --log-dir " + run, dir);

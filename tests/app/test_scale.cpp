@@ -158,7 +158,7 @@ TEST_CASE("train: num_threads is checked and resolved", "[threads]") {
 }
 
 #ifdef RDSIM_MPIEXEC
-TEST_CASE("mpirun -np 2: the same CSV twice; steps of both ranks; weights checked every update", "[cli][mpi]") {
+TEST_CASE("mpirun -np 2: the same CSV twice, the steps of both ranks, weights checked every update", "[cli][mpi]") {
   ScratchDir dir("mpi_determinism");
   const std::string config = cartpole_config(dir);
   for (const char* run : {"a", "b"}) {

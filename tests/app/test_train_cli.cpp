@@ -47,7 +47,7 @@ TEST_CASE("train: a bad config exits non-zero with one clear message", "[cli]") 
   CHECK_THAT(r.err, Contains("cartpole"));
 }
 
-TEST_CASE("train: same config and seed give identical logs; the run folder has every file", "[cli]") {
+TEST_CASE("train: same config and seed give identical logs, the run folder has every file", "[cli]") {
   ScratchDir dir("cli_determinism");
   const std::string config = short_ppo(dir);
   for (const char* run : {"a", "b"}) {
@@ -97,7 +97,7 @@ TEST_CASE("train --resume continues a run exactly like an uninterrupted one", "[
   CHECK_THAT(r.err, Contains("checkpoint.bin"));
 }
 
-TEST_CASE("replay runs a model from the file alone; damaged files fail clearly", "[cli]") {
+TEST_CASE("replay runs a model from the file alone, damaged files fail clearly", "[cli]") {
   ScratchDir dir("cli_replay");
   auto r = run_rdsim("train --quiet --config " + short_ppo(dir) + " --log-dir " + (dir / "run"), dir);
   REQUIRE(r.exit_code == 0);

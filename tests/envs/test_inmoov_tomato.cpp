@@ -38,7 +38,7 @@ TEST_CASE("inmoov_tomato: six tomatoes, raw pixels, a bad target index", "[envs]
   CHECK_THROWS_AS(tomato.select_target(6), rdsim::Error);
 }
 
-TEST_CASE("inmoov_tomato: reward is minus the palm-tomato distance; other joints hold", "[envs][inmoov]") {
+TEST_CASE("inmoov_tomato: reward is minus the palm-tomato distance, other joints hold", "[envs][inmoov]") {
   InmoovTomato env(inmoov_config());
   auto o = env.reset(3);
   CHECK(env.target_index() == InmoovTomato::default_target);
@@ -107,7 +107,7 @@ TEST_CASE("inmoov_tomato: continuous moves go where they are told", "[envs][inmo
   CHECK(std::abs(r.observation.values[3] - start.values[3]) < 0.03f);
 }
 
-TEST_CASE("inmoov_tomato: the IK moves only the right arm; the torso holds its pose", "[envs][inmoov]") {
+TEST_CASE("inmoov_tomato: the IK moves only the right arm, the torso holds its pose", "[envs][inmoov]") {
   InmoovTomato env(inmoov_config());
   const auto& task = env.task();
   const auto& model = task.robot_model();

@@ -70,7 +70,7 @@ TEST_CASE("jaka_obstacle: going round the column's near side reaches the button"
   }
 }
 
-TEST_CASE("jaka_obstacle: bad config gives clear errors; raw pixels are 64x64x3", "[jaka_obstacle]") {
+TEST_CASE("jaka_obstacle: bad config gives clear errors, raw pixels are 64x64x3", "[jaka_obstacle]") {
   EnvConfig c = env_config("jaka_obstacle");
   c.observation = ObservationMode::RawPixels;  // in detail: tests/envs/test_pixels.cpp
   CHECK(make_env(c)->spec().observation.shape == std::vector<int>{64, 64, 3});

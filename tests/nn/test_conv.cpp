@@ -258,7 +258,7 @@ TEST_CASE("Cnn presets: shapes of the Nature and small networks", "[nn][cnn]") {
   CHECK(small.head().layers()[0].out_size() == 256);
 }
 
-TEST_CASE("Cnn infer and evaluate agree with forward; backward accumulates", "[nn][cnn]") {
+TEST_CASE("Cnn infer and evaluate agree with forward, backward accumulates", "[nn][cnn]") {
   Rng rng(8);
   nn::Cnn net(nn::small_cnn({32, 32, 3}, 3), 1.0f, rng);
   const MatrixXf batch = random_matrix(net.input_size(), 4, rng, 0.5);
@@ -282,7 +282,7 @@ TEST_CASE("Cnn infer and evaluate agree with forward; backward accumulates", "[n
   CHECK_THROWS_AS(net.backward(MatrixXf::Zero(3, 2)), Error);
 }
 
-TEST_CASE("Cnn save -> load gives identical outputs; shapes are checked", "[nn][cnn]") {
+TEST_CASE("Cnn save -> load gives identical outputs, shapes are checked", "[nn][cnn]") {
   Rng rng_a(1), rng_b(2);
   const nn::CnnShape shape = nn::small_cnn({36, 36, 3}, 4);
   nn::Cnn a(shape, 1.0f, rng_a), b(shape, 1.0f, rng_b);
