@@ -58,11 +58,18 @@ private:
   ObservationBatch batch_;
 };
 
+// Training takes the finished episodes once per update; a VecEnv here every 256 steps as well.
+void take_episodes(PlainLoop&) {}
+void take_episodes(VecEnv& vec) { vec.episodes().take_finished(); }
+
 // Env steps per second of `batch_steps` steps of every env.
 template <class Stepper>
 double timed(Stepper& s, const std::vector<std::vector<Action>>& actions, long long batch_steps, int envs) {
   const auto t0 = Clock::now();
-  for (long long k = 0; k < batch_steps; ++k) s.step(actions[static_cast<std::size_t>(k) % actions.size()]);
+  for (long long k = 0; k < batch_steps; ++k) {
+    s.step(actions[static_cast<std::size_t>(k) % actions.size()]);
+    if (k % 256 == 255) take_episodes(s);
+  }
   return static_cast<double>(batch_steps * envs) / seconds_since(t0);
 }
 
