@@ -70,7 +70,7 @@ TEST_CASE("cartpole steps follow the Euler-integrated Gym equations", "[cartpole
   CHECK(after[3] < before[3]);
 }
 
-TEST_CASE("cartpole terminates past the angle/position limits; surviving to the step limit is success", "[cartpole]") {
+TEST_CASE("cartpole terminates past the angle/position limits, surviving to the step limit is success", "[cartpole]") {
   CartPole env(cartpole_config());
   env.reset(1);
   rdsim::StepResult r;
