@@ -52,6 +52,10 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
   for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
 }
 
+VecEnv::~VecEnv() {
+  for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)].reset(); });
+}
+
 template <class Fn>
 void VecEnv::for_each_env(Fn fn) {
   const int n = size(), workers = pool_.size();

@@ -12,6 +12,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/render/renderer.hpp"
 #include "rl_test_util.hpp"
 
 using Catch::Matchers::Contains;
@@ -71,7 +72,22 @@ TEST_CASE("train: the same CSV and weights on 1 and 2 threads", "[cli][threads]"
 }
 
 TEST_CASE("VecEnv: pixel envs render the same images on 1 and 3 threads", "[threads][pixels]") {
+  // Every backend built here that can make a context: the renderers are made on this thread and
+  // draw on the workers (an egl context binds to one thread: the strict case).
+  std::vector<std::string> backends;
+  for (const std::string& b : rdsim::renderer_backends()) {
+    try {
+      rdsim::make_renderer(b, 8, 8);
+      backends.push_back(b);
+    } catch (const rdsim::Error& e) {
+      WARN("renderer " << b << " unavailable here: " << e.what());
+    }
+  }
+  REQUIRE(!backends.empty());
+  const std::string backend = GENERATE_COPY(from_range(backends));
+  INFO("renderer " << backend);
   rdsim::EnvConfig config = rdsim::default_env_config("jaka_button");
+  config.renderer = backend;
   config.observation = rdsim::ObservationMode::RawPixels;
   config.image_width = config.image_height = 32;
   config.random_target = true;

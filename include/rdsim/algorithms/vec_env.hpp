@@ -44,6 +44,12 @@ public:
   // later resets continue that env's own stream. All envs must share one Spec. num_threads
   // (>= 1) is capped at the number of envs.
   VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window = 20, int num_threads = 1);
+  // Destroys every env on the worker that stepped it: a pixel env's renderer releases its GL
+  // context in the thread where it is current (an EGL context current in a finished thread
+  // would never be freed).
+  ~VecEnv();
+  VecEnv(const VecEnv&) = delete;
+  VecEnv& operator=(const VecEnv&) = delete;
 
   int size() const { return static_cast<int>(envs_.size()); }
   int num_threads() const { return pool_.size(); }
