@@ -68,22 +68,10 @@ double epsilon_at(long long timesteps, long long total_timesteps, double fractio
 
 namespace {
 
-// Observations x buffer_size are stored twice (observation and next observation): as floats,
-// or as bytes for pixel observations.
-constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
-
-int checked_num_actions(const DqnConfig& config, const Spec& spec, const std::string& where) {
+int checked_num_actions(const DqnConfig&, const Spec& spec, const std::string& where) {
   if (!spec.action.discrete || spec.action.n <= 0)
     throw Error(where + ": algorithm: \"dqn\" needs a discrete action space, env \"" + spec.env_name +
                 "\" has continuous actions (set env.is_discrete to true or use ppo/a2c)");
-  const double value_bytes = spec.observation.type == ObsType::UInt8 ? 1.0 : 4.0;
-  const double bytes = 2.0 * value_bytes * static_cast<double>(config.buffer_size) *
-                       static_cast<double>(observation_input_size(spec.observation));
-  if (bytes > kMaxReplayBytes)
-    throw Error(where + ": dqn.buffer_size: " + std::to_string(config.buffer_size) +
-                " transitions of " + std::to_string(observation_input_size(spec.observation)) +
-                " observation values need " + std::to_string(static_cast<long long>(bytes / (1 << 20))) +
-                " MiB, more than the 16 GiB allowed; use a smaller buffer");
   return spec.action.n;
 }
 
@@ -302,9 +290,15 @@ void Dqn::load(std::istream& in, bool training_state, const std::string& source)
   optimizer_->load_state(in, source);
   explore_rng_ = rng_from_bytes(read_string(in, source), source);
   replay_rng_ = rng_from_bytes(read_string(in, source), source);
-  env_calls_ = static_cast<long long>(read_u64(in, source));
-  gradient_steps_ = static_cast<long long>(read_u64(in, source));
+  const std::uint64_t env_calls = read_u64(in, source), gradient_steps = read_u64(in, source);
+  if (env_calls > (1ull << 50) || gradient_steps > (1ull << 50))
+    throw Error(source + ": checkpoint holds DQN counters out of range (damaged file?)");
+  env_calls_ = static_cast<long long>(env_calls);
+  gradient_steps_ = static_cast<long long>(gradient_steps);
   buffer_.load(in, source);
+  if (buffer_.size() > 0 && buffer_.largest_action() >= num_actions_)
+    throw Error(source + ": replay buffer holds an action outside the env's " + std::to_string(num_actions_) +
+                " (damaged file?)");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <cmath>
 
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
@@ -87,6 +88,9 @@ EpisodeRecord read_record(std::istream& in, const std::string& source) {
   e.collision = (bits & 2u) != 0;
   e.out_of_bounds = (bits & 4u) != 0;
   e.wall_time = read_f64(in, source);
+  if (e.episode < 0 || e.timesteps < 0 || e.length < 0 || bits > 7 || !std::isfinite(e.episode_return) ||
+      !std::isfinite(e.wall_time))
+    throw Error(source + ": checkpoint holds a damaged episode record");
   return e;
 }
 
@@ -124,6 +128,7 @@ void EpisodeTracker::save(std::ostream& out) const {
 
 void EpisodeTracker::load(std::istream& in, const std::string& source) {
   const auto episodes = static_cast<long long>(read_u64(in, source));
+  if (episodes < 0) throw Error(source + ": checkpoint holds a damaged episode count");
   const std::uint32_t envs = read_u32(in, source);
   if (envs != running_.size()) {
     throw Error(source + ": checkpoint has " + std::to_string(envs) + " envs, the config " +
@@ -134,6 +139,7 @@ void EpisodeTracker::load(std::istream& in, const std::string& source) {
     r.ret = read_f64(in, source);
     r.length = static_cast<int>(read_u32(in, source));
     const std::uint32_t bits = read_u32(in, source);
+    if (!std::isfinite(r.ret) || r.length < 0 || bits > 7) throw Error(source + ": checkpoint holds a damaged running episode");
     r.success = (bits & 1u) != 0;
     r.collision = (bits & 2u) != 0;
     r.out_of_bounds = (bits & 4u) != 0;

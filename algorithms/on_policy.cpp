@@ -66,7 +66,9 @@ void OnPolicy::load(std::istream& in, bool training_state, const std::string& so
   optimizer_->load_state(in, source);
   sample_rng_ = rng_from_bytes(read_string(in, source), source);
   shuffle_rng_ = rng_from_bytes(read_string(in, source), source);
-  updates_ = static_cast<long long>(read_u64(in, source));
+  const std::uint64_t updates = read_u64(in, source);
+  if (updates > (1ull << 50)) throw Error(source + ": checkpoint holds an update count out of range (damaged file?)");
+  updates_ = static_cast<long long>(updates);
 }
 
 }  // namespace rdsim

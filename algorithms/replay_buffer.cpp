@@ -42,6 +42,10 @@ ReplayBuffer::ReplayBuffer(long long capacity, const ObservationSpace& space)
   terminated_.resize(n);
 }
 
+int ReplayBuffer::largest_action() const {
+  return size_ > 0 ? actions_.head(static_cast<Eigen::Index>(size_)).maxCoeff() : -1;
+}
+
 std::size_t ReplayBuffer::observation_bytes() const {
   return 2 * static_cast<std::size_t>(observation_size_) * static_cast<std::size_t>(capacity_) *
          (pixels_ ? 1 : sizeof(float));
@@ -156,6 +160,10 @@ void ReplayBuffer::load(std::istream& in, const std::string& source) {
   read(actions_.data(), n * 4);
   read(rewards_.data(), n * 4);
   read(terminated_.data(), n * 4);
+  const bool finite = pixels_ || (observations_.leftCols(n).allFinite() && next_observations_.leftCols(n).allFinite());
+  if (!finite || !rewards_.head(n).allFinite() || (n > 0 && actions_.head(n).minCoeff() < 0) ||
+      !(terminated_.head(n).array() == 0.0f || terminated_.head(n).array() == 1.0f).all())
+    throw Error(source + ": replay buffer holds damaged values (damaged file?)");
   size_ = size;
   next_ = next;
 }

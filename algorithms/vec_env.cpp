@@ -21,14 +21,19 @@ void write_observation(std::ostream& out, const Observation& o) {
   write_string(out, std::string(o.pixels.begin(), o.pixels.end()));
 }
 
-Observation read_observation(std::istream& in, const std::string& source) {
+// An observation as write_observation stored it, checked against the env's space.
+Observation read_observation(std::istream& in, const ObservationSpace& space, const std::string& source) {
   Observation o;
-  const std::uint64_t n = read_u64(in, source);
-  if (n > (1u << 24)) throw Error(source + ": damaged observation in checkpoint");
+  const std::uint64_t n = read_count(in, 4, source);
+  const bool floats = space.type == ObsType::Float32;
+  if (n != (floats ? static_cast<std::uint64_t>(space.size()) : 0))
+    throw Error(source + ": checkpoint holds an observation of another shape than the env's (damaged file?)");
   o.values.resize(static_cast<Eigen::Index>(n));
-  in.read(reinterpret_cast<char*>(o.values.data()), static_cast<std::streamsize>(n * 4));
-  if (!in) throw Error(source + ": file is truncated");
+  read_bytes(in, o.values.data(), n * 4, source);
+  if (!o.values.allFinite()) throw Error(source + ": checkpoint holds an observation that is not finite (damaged file?)");
   const std::string pixels = read_string(in, source);
+  if (pixels.size() != (floats ? 0 : static_cast<std::size_t>(space.size())))
+    throw Error(source + ": checkpoint holds an observation of another shape than the env's (damaged file?)");
   o.pixels.assign(pixels.begin(), pixels.end());
   return o;
 }
@@ -121,17 +126,32 @@ void VecEnv::save(std::ostream& out) const {
   tracker_.save(out);
 }
 
+void VecEnv::drop_caches() {
+  // On each env's own worker, like every other call into an env.
+  for_each_env([&](int i) {
+    if (auto* state = dynamic_cast<EnvState*>(envs_[static_cast<std::size_t>(i)].get())) state->drop_caches();
+  });
+}
+
 bool VecEnv::load(std::istream& in, const std::string& source) {
-  timesteps_ = static_cast<long long>(read_u64(in, source));
-  wall_offset_ = read_f64(in, source);
+  const std::uint64_t timesteps = read_u64(in, source);
+  const double wall = read_f64(in, source);
+  // Counters far beyond any run (a negative count read as unsigned, a wall time of years) mean damage.
+  if (timesteps > (1ull << 50) || !(wall >= 0.0 && wall < 1e10))
+    throw Error(source + ": checkpoint counters are out of range (timesteps " + std::to_string(timesteps) +
+                "; damaged file?)");
+  timesteps_ = static_cast<long long>(timesteps);
+  wall_offset_ = wall;
   start_ = std::chrono::steady_clock::now();
-  const bool stateful = read_u32(in, source) != 0;
+  const std::uint32_t stateful_flag = read_u32(in, source);
+  if (stateful_flag > 1) throw Error(source + ": checkpoint is damaged (bad env-state flag)");
+  const bool stateful = stateful_flag != 0;
   if (stateful) {
     for (std::size_t i = 0; i < envs_.size(); ++i) {
       auto* state = dynamic_cast<EnvState*>(envs_[i].get());
       if (!state) throw Error(source + ": checkpoint holds env states this env cannot load");
       state->load_state(read_string(in, source), source);
-      batch_.assign(static_cast<int>(i), read_observation(in, source));
+      batch_.assign(static_cast<int>(i), read_observation(in, spec().observation, source));
     }
   }
   tracker_.load(in, source);

@@ -1,6 +1,7 @@
 #include "rdsim/envs/cartpole.hpp"
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 
@@ -107,7 +108,13 @@ StepOutcome CartPole::step_into(const Action& action, ObservationOut out) {
 std::string CartPole::save_state() const {
   Snapshot s;
   std::memset(&s, 0, sizeof s);  // padding too: identical states give identical bytes
-  s = Snapshot{x_, x_dot_, theta_, theta_dot_, steps_, done_};
+  // Member by member: assigning a whole Snapshot may copy a temporary's undefined padding.
+  s.x = x_;
+  s.x_dot = x_dot_;
+  s.theta = theta_;
+  s.theta_dot = theta_dot_;
+  s.steps = steps_;
+  s.done = done_;
   std::string bytes(sizeof(Snapshot), '\0');
   std::memcpy(bytes.data(), &s, sizeof(Snapshot));
   return bytes + rng_to_bytes(rng_);
@@ -117,6 +124,11 @@ void CartPole::load_state(const std::string& bytes, const std::string& source) {
   if (bytes.size() != sizeof(Snapshot) + sizeof(Rng)) throw Error(source + ": not a cartpole state");
   Snapshot s;
   std::memcpy(&s, bytes.data(), sizeof(Snapshot));
+  unsigned char done_byte = 0;
+  std::memcpy(&done_byte, bytes.data() + offsetof(Snapshot, done), 1);
+  if (!std::isfinite(s.x) || !std::isfinite(s.x_dot) || !std::isfinite(s.theta) || !std::isfinite(s.theta_dot) ||
+      s.steps < 0 || s.steps > spec_.max_episode_steps || done_byte > 1)
+    throw Error(source + ": cartpole state is damaged (values out of range)");
   rng_ = rng_from_bytes(bytes.substr(sizeof(Snapshot)), source);
   x_ = s.x;
   x_dot_ = s.x_dot;

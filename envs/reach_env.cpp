@@ -1,6 +1,10 @@
 #include "rdsim/envs/reach_env.hpp"
 
+#include <sstream>
+
+#include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/rng_bytes.hpp"
 
 namespace rdsim {
 namespace {
@@ -174,6 +178,44 @@ void ReachEnv::judge(StepOutcome& r) const {
   if (r.info.out_of_bounds) r.reward -= s.max_distance * static_cast<float>(s.max_steps - steps_);
   r.terminated = r.info.success || r.info.collision || r.info.out_of_bounds;
   r.truncated = !r.terminated && steps_ >= s.max_steps;
+}
+
+namespace {
+constexpr std::uint32_t kReachStateTag = 0x45524452;  // "RDRE"
+}  // namespace
+
+std::string ReachEnv::save_state() const {
+  std::ostringstream out(std::ios::binary);
+  write_u32(out, kReachStateTag);
+  write_string(out, spec_.env_name);
+  write_string(out, rng_to_bytes(rng_));
+  write_u32(out, static_cast<std::uint32_t>(steps_));
+  write_u32(out, done_ ? 1 : 0);
+  write_u32(out, static_cast<std::uint32_t>(target_index_));
+  task_->save_state(out);
+  return std::move(out).str();
+}
+
+void ReachEnv::load_state(const std::string& bytes, const std::string& source) {
+  std::istringstream in(bytes, std::ios::binary);
+  if (read_u32(in, source) != kReachStateTag) throw Error(source + ": env state is not a reaching env's");
+  const std::string name = read_string(in, source);
+  if (name != spec_.env_name)
+    throw Error(source + ": env state is of " + one_line(name, 40) + ", this env is " + spec_.env_name);
+  const Rng rng = rng_from_bytes(read_string(in, source), source);
+  const auto steps = static_cast<int>(read_u32(in, source));
+  const std::uint32_t done = read_u32(in, source);
+  const auto target_index = static_cast<int>(read_u32(in, source));
+  const int choices = static_cast<int>(terms_.target_choices.size());
+  if (steps < 0 || steps > spec_.max_episode_steps || done > 1 ||
+      (choices > 0 ? target_index < 0 || target_index >= choices : target_index != -1))
+    throw Error(source + ": env state of " + spec_.env_name + " is damaged (counters out of range)");
+  task_->load_state(in, source);
+  if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
+  rng_ = rng;
+  steps_ = steps;
+  done_ = done != 0;
+  target_index_ = target_index;
 }
 
 bool ReachEnv::step_physics_only() {

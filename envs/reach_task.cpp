@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/sim/ik.hpp"
 #include "rdsim/sim/urdf_loader.hpp"
@@ -169,6 +170,58 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
 void ReachTask::step_physics() {
   for (int k = 0; k < spec_.action_repeat; ++k) world_->step();
   ee_ = robot_->link_pose(ee_link_).translation();
+}
+
+namespace {
+
+void write_floats(std::ostream& out, const std::vector<float>& v) {
+  write_u64(out, v.size());
+  for (float x : v) write_f32(out, x);
+}
+
+std::vector<float> read_floats(std::istream& in, const std::string& source) {
+  std::vector<float> v(read_count(in, 4, source));
+  for (float& x : v) x = read_f32(in, source);
+  return v;
+}
+
+void write_vector3(std::ostream& out, const Eigen::Vector3f& v) {
+  for (int i = 0; i < 3; ++i) write_f32(out, v[i]);
+}
+
+Eigen::Vector3f read_vector3(std::istream& in, const std::string& source) {
+  Eigen::Vector3f v;
+  for (int i = 0; i < 3; ++i) v[i] = read_f32(in, source);
+  if (!v.allFinite()) throw Error(source + ": env state holds a point that is not finite");
+  return v;
+}
+
+}  // namespace
+
+void ReachTask::save_state(std::ostream& out) const {
+  const RobotState r = robot_->state();
+  write_floats(out, r.positions);
+  write_floats(out, r.velocities);
+  write_floats(out, r.targets);
+  write_vector3(out, target_);
+  write_vector3(out, ee_);
+  write_f64(out, world_->time());
+}
+
+void ReachTask::load_state(std::istream& in, const std::string& source) {
+  RobotState r;
+  r.positions = read_floats(in, source);
+  r.velocities = read_floats(in, source);
+  r.targets = read_floats(in, source);
+  const Eigen::Vector3f target = read_vector3(in, source);
+  const Eigen::Vector3f ee = read_vector3(in, source);
+  const double time = read_f64(in, source);
+  if (!(time >= 0.0 && time < 1e12)) throw Error(source + ": env state holds a simulated time out of range");
+  robot_->set_state(r, source);
+  set_target(target);
+  ee_ = ee;
+  world_->set_time(time);
+  drop_caches();
 }
 
 bool ReachTask::out_of_bounds() const {

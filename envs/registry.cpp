@@ -76,8 +76,23 @@ EnvConfig read_env_config(ConfigReader& r) {
       r.fail(key, "has no effect on " + name + " (it reads: name" + list + ")");
     }
   }
-  EnvConfig c = default_env_config(name);
+  const EnvConfig defaults = default_env_config(name);
+  EnvConfig c = defaults;
   config::read_fields(r, c);
+  if (c.observation == ObservationMode::RawPixels && !entry->supports_pixels)
+    r.fail("observation", name + " has no camera: expected \"ground_truth\"");
+  // Image options only matter when something is drawn.
+  const bool pixels = c.observation == ObservationMode::RawPixels, frames = c.render_mode == RenderMode::RgbArray;
+  if (!pixels && c.image_width != defaults.image_width)
+    r.fail("image_width", "has no effect without \"observation\": \"raw_pixels\"");
+  if (!pixels && c.image_height != defaults.image_height)
+    r.fail("image_height", "has no effect without \"observation\": \"raw_pixels\"");
+  if (!frames && c.render_width != defaults.render_width)
+    r.fail("render_width", "has no effect without \"render_mode\": \"rgb_array\"");
+  if (!frames && c.render_height != defaults.render_height)
+    r.fail("render_height", "has no effect without \"render_mode\": \"rgb_array\"");
+  if (!pixels && !frames && c.renderer != defaults.renderer)
+    r.fail("renderer", "has no effect when nothing is drawn (needs \"observation\": \"raw_pixels\" or \"render_mode\": \"rgb_array\")");
   return c;
 }
 
@@ -87,6 +102,46 @@ nlohmann::json to_json(const EnvConfig& config) {
   for (auto it = all.begin(); it != all.end(); ++it)
     if (reads(entry, it.key())) out[it.key()] = it.value();
   return out;
+}
+
+Spec env_spec(const EnvConfig& config) {
+  // The same env with nothing to draw (its drawing options back at their defaults).
+  const EnvConfig d = default_env_config(config.name);
+  EnvConfig probe = config;
+  probe.observation = d.observation;
+  probe.render_mode = d.render_mode;
+  probe.multi_view = d.multi_view;
+  probe.image_width = d.image_width;
+  probe.image_height = d.image_height;
+  probe.render_width = d.render_width;
+  probe.render_height = d.render_height;
+  probe.renderer = d.renderer;
+  Spec spec = make_env(probe)->spec();
+  if (config.observation == ObservationMode::RawPixels) {
+    spec.observation = ObservationSpace{};
+    spec.observation.type = ObsType::UInt8;
+    spec.observation.shape = {config.image_height, config.image_width, config.multi_view ? 6 : 3};
+  }
+  return spec;
+}
+
+void estimate_env_memory(const EnvConfig& config, int num_envs, MemoryEstimate& estimate) {
+  const EnvEntry& entry = env_entry(config.name);
+  // Measured resident size of one env (VmRSS before and after building it): a Bullet world with
+  // its robot is a few MB; CartPole is a few numbers.
+  const double physics = entry.supports_pixels ? 8e6 : 1e3;
+  estimate.add("env physics (num_envs)", physics * num_envs);
+  // Per drawn pixel and camera: the renderer's colour and depth buffers and its working copies,
+  // the RGB image, and the observation copies VecEnv and the algorithm keep.
+  constexpr double bytes_per_pixel = 32.0;
+  if (config.observation == ObservationMode::RawPixels) {
+    const double pixels = static_cast<double>(config.image_width) * config.image_height * (config.multi_view ? 2 : 1);
+    estimate.add("raw-pixel images (env.image_width x image_height x num_envs)", bytes_per_pixel * pixels * num_envs);
+  }
+  if (config.render_mode == RenderMode::RgbArray) {
+    const double pixels = static_cast<double>(config.render_width) * config.render_height;
+    estimate.add("rendered frames (env.render_width x render_height x num_envs)", bytes_per_pixel * pixels * num_envs);
+  }
 }
 
 std::unique_ptr<Env> make_env(const EnvConfig& config) {

@@ -1,7 +1,16 @@
 // rdsim: one binary for training, replaying and benchmarking robot learning.
+//
+// Exit status: 0 success; 1 any error (bad input, bad command line, out of memory), reported as
+// one line "rdsim: error: ..."; 130 / 143 a training run stopped by SIGINT / SIGTERM after saving
+// its checkpoint (`rdsim train --resume DIR` continues it); 70 an internal error (a bug: please
+// report it).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <memory>
+#include <new>
+#include <nlohmann/json.hpp>
 
 #include "rdsim/app/bench_fps.hpp"
 #include "rdsim/app/config_reference.hpp"
@@ -11,21 +20,41 @@
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
 #include "rdsim/app/train.hpp"
+#include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace {
 
-void add_train(CLI::App& app, rdsim::TrainOptions& o, std::uint64_t& seed, long long& timesteps, int& threads) {
+// Command-line values that are config values too (seeds) are read by ConfigReader's rules, so
+// "--seed -1" is an error, never 2^64 - 1.
+struct SeedOption {
+  std::string text;
+  std::uint64_t value(const std::string& option) const {
+    nlohmann::json j = nlohmann::json::object();
+    j["seed"] = rdsim::json_from_option(text);
+    rdsim::ConfigReader r(j, option);
+    std::uint64_t seed = 0;
+    r.read("seed", seed);
+    return seed;
+  }
+};
+
+void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::string& timesteps, std::string& log_dir,
+               double& max_memory, int& threads) {
   auto* cmd = app.add_subcommand("train", "Train a policy from a JSON config; writes progress.csv, "
-                                          "episodes.csv, config.json and model.bin to the run folder");
+                                          "episodes.csv, config.json, model.bin and checkpoint.bin to the run folder");
   auto* config = cmd->add_option("-c,--config", o.config_path, "JSON config file (see configs/)");
   auto* resume = cmd->add_option("--resume", o.resume_dir,
                                  "Continue the run in this folder from its last checkpoint");
   config->excludes(resume);
   resume->excludes(config);
-  cmd->add_option("--seed", seed, "Override the config's seed");
-  cmd->add_option("--timesteps", timesteps, "Override the config's total_timesteps")->check(CLI::PositiveNumber);
-  cmd->add_option("--log-dir", o.log_dir, "Override the config's log_dir (the run folder)");
+  cmd->add_option("--seed", seed, "Override the config's seed (integer in [0, 2^64 - 1])");
+  cmd->add_option("--timesteps", timesteps, "Override the config's total_timesteps (integer in [1, 1e12])");
+  cmd->add_option("--log-dir", log_dir, "Override the config's log_dir (the run folder)");
+  cmd->add_flag("--overwrite", o.overwrite, "Delete another run's files in the run folder first (else refused)");
+  cmd->add_option("--max-memory", max_memory,
+                  "Memory limit in GB for the run's estimated needs (default: 80% of the machine's memory)")
+      ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
   cmd->add_option("--threads", threads, "Override the config's num_threads (threads stepping the envs; "
                                         "results do not depend on it)")->check(CLI::Range(1, 4096));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
@@ -33,16 +62,18 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::uint64_t& seed, long 
               "(each rank its own envs; total_timesteps counts all ranks; rank 0 writes the run folder).");
 }
 
-void add_replay(CLI::App& app, rdsim::ReplayOptions& o, std::uint64_t& seed) {
+void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double& max_memory) {
   auto* cmd = app.add_subcommand("replay", "Run a saved model (model.bin) for N episodes and print "
                                            "return, length and success of each");
   cmd->add_option("model", o.model_path, "Model file written by `rdsim train`")->required();
-  cmd->add_option("-n,--episodes", o.episodes, "Number of episodes")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--seed", seed, "Seed of the first episode (default: the model's training seed)");
+  cmd->add_option("-n,--episodes", o.episodes, "Number of episodes")->check(CLI::Range(1, 1'000'000))->capture_default_str();
+  cmd->add_option("--seed", seed.text, "Seed of the first episode (default: the model's training seed)");
   cmd->add_flag("--stochastic", o.stochastic, "Sample actions instead of taking the most likely one");
   cmd->add_option("--record", o.record_dir,
                   "Write what happens as PNG frames DIR/episode_NNN/frame_NNNN.png (robot envs; "
                   "size: env.render_width x render_height of the model's config)");
+  cmd->add_option("--max-memory", max_memory, "Memory limit in GB (default: 80% of the machine's memory)")
+      ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
 }
 
 void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
@@ -55,8 +86,8 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
   cmd->add_option("--image-size", o.image_sizes,
                   "Raw-pixel image side in pixels, one row each (repeatable; default: 64 and 224)")
       ->check(CLI::Range(1, 4096));
-  cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::Range(1, 1000))->capture_default_str();
+  cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::Range(1LL, 1'000'000'000LL))->capture_default_str();
   cmd->add_option("--threads", o.threads,
                   "Threaded mode: a VecEnv of --num-envs envs on 1 and N threads; steps/s, speed-up, pool overhead")
       ->check(CLI::Range(1, 4096));
@@ -68,65 +99,122 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
       ->default_str("-");
 }
 
-void add_render(CLI::App& app, rdsim::RenderOptions& o) {
+void add_render(CLI::App& app, rdsim::RenderOptions& o, SeedOption& seed) {
   auto* cmd = app.add_subcommand("render", "Write the raw-pixel observation an env gives after reset as a PNG");
   cmd->add_option("--env", o.env, "Env name (see `rdsim envs`; needs pixels)")->required();
   cmd->add_option("--out", o.out_path, "PNG file to write")->required();
   cmd->add_option("--view", o.view, "Camera: 1 = main, 2 = second (multi-view) camera")->check(CLI::IsMember({1, 2}))->capture_default_str();
   cmd->add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
-  cmd->add_option("--seed", o.seed, "Reset seed")->capture_default_str();
+  cmd->add_option("--seed", seed.text, "Reset seed (default 0)");
   cmd->add_flag("--random-target", o.random_target, "Randomise the target at reset (env.random_target)");
+}
+
+// Levenshtein distance, for "did you mean".
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The first word is the command; an unknown one is named with the closest valid one.
+void check_command(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2) return;  // CLI11 says a command is required
+  const std::string word = argv[1];
+  if (word[0] == '-') {
+    if (word == "-h" || word == "--help" || word == "--version") return;
+    throw rdsim::Error("unknown option \"" + rdsim::one_line(word, 40) + "\" before the command (rdsim --help)");
+  }
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(sub->get_name());
+  if (std::find(names.begin(), names.end(), word) != names.end()) return;
+  // A command the word begins ("bench" -> "bench-fps"), else the fewest edits away.
+  std::string closest = names.front(), list;
+  for (const auto& n : names) {
+    if (edit_distance(word, n) < edit_distance(word, closest)) closest = n;
+    list += (list.empty() ? "" : ", ") + n;
+  }
+  for (const auto& n : names)
+    if (n.rfind(word, 0) == 0) closest = n;
+  throw rdsim::Error("unknown command \"" + rdsim::one_line(word, 40) + "\"" +
+                     (edit_distance(word, closest) <= 3 || closest.rfind(word, 0) == 0 ? " (did you mean \"" + closest + "\"?)"
+                                                                         : std::string()) +
+                     "; commands: " + list + " (rdsim --help)");
+}
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "rdsim: error: %s\n", rdsim::one_line(message, 2000).c_str());
+  return 1;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"rdsim " RDSIM_VERSION " - robot deep reinforcement learning simulator"};
+  CLI::App app{"rdsim " RDSIM_VERSION " - robot deep reinforcement learning simulator\n"
+               "Exit status: 0 done, 1 error (one line \"rdsim: error: ...\"), 130/143 training stopped by "
+               "SIGINT/SIGTERM after saving (continue with train --resume), 70 internal error"};
   app.require_subcommand(1);
   app.set_version_flag("--version", RDSIM_VERSION);
 
   rdsim::TrainOptions train;
   rdsim::ReplayOptions replay;
   rdsim::BenchFpsOptions bench;
-  std::uint64_t train_seed = 0, replay_seed = 0;
-  long long timesteps = 0;
-  int train_threads = 0;
-  add_train(app, train, train_seed, timesteps, train_threads);
-  add_replay(app, replay, replay_seed);
-  add_bench(app, bench);
   rdsim::RenderOptions render;
-  add_render(app, render);
+  std::string train_seed, timesteps, log_dir;
+  SeedOption replay_seed, render_seed;
+  double train_memory = 0.0, replay_memory = 0.0;
+  int train_threads = 0;
+  add_train(app, train, train_seed, timesteps, log_dir, train_memory, train_threads);
+  add_replay(app, replay, replay_seed, replay_memory);
+  add_bench(app, bench);
+  add_render(app, render, render_seed);
   app.add_subcommand("envs", "List the available environments");
   app.add_subcommand("config-reference",
                      "Print every config key with its type, default (per env), range and meaning "
                      "(markdown; docs/config.md is its output)");
 
-  CLI11_PARSE(app, argc, argv);
-
   // The MPI job this process is a rank of (train only); after an error on one rank the others
   // are stopped instead of waiting for it in a collective.
   std::unique_ptr<rdsim::Communicator> comm;
-  auto fail = [&](int code) {
+  auto stop = [&](int code) {
     if (comm && comm->size() > 1) comm->abort(code);
     return code;
   };
   try {
+    check_command(app, argc, argv);
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+      return fail(std::string(e.what()) + " (rdsim " +
+                  (app.get_subcommands().empty() ? std::string("--help") : app.get_subcommands().front()->get_name() + " --help") +
+                  ")");
+    }
     auto* sub = app.get_subcommands().front();
     const std::string name = sub->get_name();
     if (name == "train") {
-      if (train.config_path.empty() && train.resume_dir.empty()) {
-        throw rdsim::Error("train: give --config FILE or --resume DIR");
-      }
-      if (sub->count("--seed")) train.seed = train_seed;
-      if (sub->count("--timesteps")) train.timesteps = timesteps;
+      if (train.config_path.empty() && train.resume_dir.empty()) throw rdsim::Error("train: give --config FILE or --resume DIR");
+      if (sub->count("--seed")) train.overrides.push_back({"--seed", "seed", train_seed});
+      if (sub->count("--timesteps")) train.overrides.push_back({"--timesteps", "total_timesteps", timesteps});
+      if (sub->count("--log-dir")) train.overrides.push_back({"--log-dir", "log_dir", log_dir});
+      if (sub->count("--max-memory")) train.max_memory_gb = train_memory;
       if (sub->count("--threads")) train.threads = train_threads;
       comm = rdsim::make_process_communicator();
       train.communicator = comm.get();
       return rdsim::train_command(train);
     }
     if (name == "replay") {
-      if (sub->count("--seed")) replay.seed = replay_seed;
+      if (sub->count("--seed")) replay.seed = replay_seed.value("--seed");
+      if (sub->count("--max-memory")) replay.max_memory_gb = replay_memory;
       return rdsim::replay_command(replay);
     }
     if (name == "bench-fps") {
@@ -135,18 +223,21 @@ int main(int argc, char** argv) {
     }
     if (name == "envs") return rdsim::envs_command();
     if (name == "config-reference") return rdsim::config_reference_command();
-    if (name == "render") return rdsim::render_command(render);
+    if (name == "render") {
+      if (sub->count("--seed")) render.seed = render_seed.value("--seed");
+      return rdsim::render_command(render);
+    }
   } catch (const rdsim::RankExit& e) {  // rank 0 reports this error
-    return fail(e.code);
+    return stop(e.code);
   } catch (const rdsim::Error& e) {
-    if (comm && comm->rank() > 0)
-      std::fprintf(stderr, "rdsim: error (MPI rank %d): %s\n", comm->rank(), e.what());
-    else
-      std::fprintf(stderr, "rdsim: error: %s\n", e.what());
-    return fail(1);
+    if (comm && comm->rank() > 0) return stop(fail("(MPI rank " + std::to_string(comm->rank()) + ") " + e.what()));
+    return stop(fail(e.what()));
+  } catch (const std::bad_alloc&) {
+    return stop(fail("out of memory: the machine (or ulimit -v) could not provide what this command needs; "
+                     "use smaller sizes or lower --max-memory so the run is refused up front"));
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "rdsim: internal error: %s\n", e.what());
-    return fail(70);
+    std::fprintf(stderr, "rdsim: internal error: %s\n", rdsim::one_line(e.what(), 2000).c_str());
+    return stop(70);
   }
   return 0;
 }

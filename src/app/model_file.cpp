@@ -1,11 +1,13 @@
 #include "rdsim/app/model_file.hpp"
 
 #include <cstring>
+#include <filesystem>
 
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/checksum.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/json_text.hpp"
 
 namespace rdsim {
 namespace {
@@ -51,6 +53,8 @@ std::string encode_model_file(const ModelFile& file) {
   put<std::uint32_t>(out, static_cast<std::uint32_t>(file.kind));
   put<std::uint64_t>(out, config.size());
   out += config;
+  put<std::uint64_t>(out, file.spec.size());
+  out += file.spec;
   put<std::uint64_t>(out, file.payload.size());
   out += file.payload;
   put<std::uint64_t>(out, fnv1a64(out));
@@ -64,12 +68,13 @@ ModelFile decode_model_file(std::string_view bytes, const std::string& source) {
   }
   Cursor c{bytes, sizeof magic, source};
   const auto version = c.get<std::uint32_t>();
-  if (version != model_format_version && version != 1) {
+  if (version < 1 || version > model_format_version) {
     throw Error(source + ": model format version " + std::to_string(version) + " is not supported (this rdsim reads versions 1 to " +
                 std::to_string(model_format_version) + ")");
   }
   const auto kind = c.get<std::uint32_t>();
   const std::string_view config = c.block();
+  const std::string_view spec = version >= 3 ? c.block() : std::string_view();
   const std::string_view payload = c.block();
   const std::size_t body = c.pos;
   const auto checksum = c.get<std::uint64_t>();
@@ -78,18 +83,36 @@ ModelFile decode_model_file(std::string_view bytes, const std::string& source) {
   if (kind > 1) throw Error(source + ": file is damaged (unknown kind " + std::to_string(kind) + ")");
   ModelFile file;
   file.kind = static_cast<ModelKind>(kind);
-  try {
-    file.config = nlohmann::json::parse(config);
-  } catch (const nlohmann::json::exception&) {
-    throw Error(source + ": file is damaged (its embedded config is not valid JSON)");
-  }
+  file.config = parse_json(config, source + " (embedded config)");
+  if (!file.config.is_object()) throw Error(source + ": file is damaged (its embedded config is not a JSON object)");
   if (version == 1) upgrade_v1_config(file.config);
+  file.spec = std::string(spec);
   file.payload = std::string(payload);
   return file;
 }
 
+std::string describe_spec(const Spec& spec) {
+  std::string s = spec.env_name + ": observation " + (spec.observation.type == ObsType::UInt8 ? "uint8 {" : "float32 {");
+  for (std::size_t i = 0; i < spec.observation.shape.size(); ++i)
+    s += (i ? ", " : "") + std::to_string(spec.observation.shape[i]);
+  s += "}, actions ";
+  s += spec.action.discrete ? "discrete " + std::to_string(spec.action.n) : "box " + std::to_string(spec.action.dim());
+  return s;
+}
+
+void check_model_spec(const ModelFile& file, const Spec& spec, const std::string& source) {
+  if (file.spec.empty() || file.spec == describe_spec(spec)) return;
+  throw Error(source + ": file is damaged or edited: its weights were trained on \"" + one_line(file.spec, 120) +
+              "\" but its config builds \"" + describe_spec(spec) + "\"");
+}
+
 void write_model_file(const std::string& path, const ModelFile& file) { write_file_atomic(path, encode_model_file(file)); }
 
-ModelFile read_model_file(const std::string& path) { return decode_model_file(read_file(path), path); }
+ModelFile read_model_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw Error(path + ": is not a regular file (expected a model.bin or checkpoint.bin written by `rdsim train`)");
+  return decode_model_file(read_file(path, max_model_file_bytes), path);
+}
 
 }  // namespace rdsim

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/error.hpp"
@@ -56,11 +57,16 @@ int replay_command(const ReplayOptions& o) {
   const ModelFile file = read_model_file(o.model_path);
   TrainConfig config = parse_train_config(file.config, o.model_path + " (embedded config)", "replay");
   if (!o.record_dir.empty()) config.env.render_mode = RenderMode::RgbArray;
+  config.num_envs = 1;
+  check_memory(estimate_training_memory(config, config_spec(config)), memory_limit(o.max_memory_gb), o.model_path);
   auto env = make_env(config.env);
+  check_model_spec(file, env->spec(), o.model_path);
   FrameRecorder recorder(o.record_dir, *env);
   auto algo = make_algorithm(config.algorithm, config.seed, env->spec());
   std::istringstream in(file.payload);
   algo->load(in, false, o.model_path);  // a checkpoint's payload starts with the same weights
+  if (file.kind == ModelKind::Model && in.peek() != std::char_traits<char>::eof())
+    throw Error(o.model_path + ": file is damaged (unexpected trailing data after the weights)");
 
   const std::uint64_t seed = o.seed.value_or(config.seed);
   Rng rng = Rng::derive(seed, rng_stream::evaluation);

@@ -1,18 +1,24 @@
 // `rdsim train`: the one training loop for every algorithm (see include/rdsim/algorithms/algorithm.hpp).
 #include "rdsim/app/train.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <unistd.h>
+#include <vector>
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/app/checkpoint.hpp"
 #include "rdsim/app/data_parallel.hpp"
+#include "rdsim/app/interrupt.hpp"
+#include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
+#include "rdsim/app/run_folder.hpp"
 #include "rdsim/app/train_config.hpp"
-#include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
@@ -26,13 +32,6 @@ const std::vector<std::string> progress_head = {"timesteps", "updates", "episode
                                                 "max_return", "mean_length", "success_rate"};
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
 const std::vector<std::string> progress_tail = {"steps_per_s", "wall_time"};
-
-// Where a resumed run picks up the log files and the checkpoint schedule.
-struct TrainerState {
-  long long progress_rows = 0;
-  long long episode_rows = 0;
-  long long updates = 0;
-};
 
 // One line on a terminal (rewritten in place), plain periodic lines otherwise.
 class ProgressDisplay {
@@ -68,88 +67,105 @@ std::vector<std::unique_ptr<Env>> make_envs(const TrainConfig& config) {
   return envs;
 }
 
-std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const TrainerState& state) {
-  std::ostringstream out;
-  algo.save(out, true);  // first, so `rdsim replay checkpoint.bin` reads the weights like a model's
-  write_u64(out, static_cast<std::uint64_t>(state.progress_rows));
-  write_u64(out, static_cast<std::uint64_t>(state.episode_rows));
-  write_u64(out, static_cast<std::uint64_t>(state.updates));
-  vec.save(out);
-  return out.str();
-}
-
-TrainerState restore(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source, bool root) {
-  std::istringstream in(payload);
-  algo.load(in, true, source);
-  TrainerState s;
-  s.progress_rows = static_cast<long long>(read_u64(in, source));
-  s.episode_rows = static_cast<long long>(read_u64(in, source));
-  s.updates = static_cast<long long>(read_u64(in, source));
-  if (!vec.load(in, source) && root) {
-    std::fprintf(stderr, "rdsim: note: these envs cannot save their state; the resumed run starts fresh "
-                         "episodes and will not match an uninterrupted run exactly\n");
-  }
-  if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": file is damaged (unexpected trailing data)");
-  return s;
-}
-
 std::vector<std::string> episode_row(const EpisodeRecord& e) {
   return {CsvWriter::cell(e.episode), CsvWriter::cell(e.timesteps), CsvWriter::cell(e.episode_return),
           CsvWriter::cell(e.length),  CsvWriter::cell(e.success),   CsvWriter::cell(e.collision),
           CsvWriter::cell(e.out_of_bounds), CsvWriter::cell(e.wall_time)};
 }
 
-// The run's config: read (or taken from the checkpoint) on rank 0 and sent to the other ranks, so
-// that only rank 0 needs the files. Fills `checkpoint` when resuming.
-TrainConfig load_config(const TrainOptions& o, Communicator& comm, ModelFile& checkpoint, std::string& checkpoint_path) {
-  const bool resume = !o.resume_dir.empty();
+// The run's config and folder. A new run reads its config file (with the command line's
+// overrides) and takes a folder that holds no other run; a resumed one takes its folder first,
+// then reads the config its checkpoint embeds. Either way the memory the config implies is
+// checked before anything large exists. Under MPI rank 0 alone reads the files and holds the
+// folder (and its lock); the other ranks get the config and the checkpoint from it.
+struct RunStart {
   TrainConfig config;
-  if (resume) {
-    if (o.seed) throw Error("train: --seed cannot change a resumed run (it continues the checkpoint's seed)");
-    if (!o.log_dir.empty()) throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
-    checkpoint_path = (std::filesystem::path(o.resume_dir) / "checkpoint.bin").string();
-    std::string bytes = comm.rank() == 0 ? read_file(checkpoint_path) : std::string();
-    comm.broadcast(bytes, 0);
-    checkpoint = decode_model_file(bytes, checkpoint_path);
-    if (checkpoint.kind != ModelKind::Checkpoint) throw Error(checkpoint_path + ": is a model, not a checkpoint");
-    config = parse_train_config(checkpoint.config, checkpoint_path + " (embedded config)", "resumed");
-    config.log_dir = o.resume_dir;
-  } else {
+  std::unique_ptr<RunFolder> folder;  // rank 0
+  ModelFile checkpoint;               // resume only
+  std::string checkpoint_path;        // resume only
+};
+
+RunStart start_run(const TrainOptions& o, Communicator& comm) {
+  RunStart run;
+  const bool root = comm.rank() == 0;
+  const MemoryLimit limit = memory_limit(o.max_memory_gb);
+  if (o.resume_dir.empty()) {
     std::string text;
-    if (comm.rank() == 0) {
-      config = read_train_config(o.config_path);
-      text = to_json(config).dump();
+    if (root) {
+      run.config = read_train_config(o.config_path, o.overrides);
+      if (o.threads) run.config.num_threads = *o.threads;
+      check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, run.config.source);
+      run.folder = std::make_unique<RunFolder>(run.config.log_dir, o.overwrite ? RunFolder::Mode::Overwrite : RunFolder::Mode::New);
+      text = to_json(run.config).dump();
     }
-    comm.broadcast(text, 0);
-    if (comm.rank() != 0) {
-      const std::string name = std::filesystem::path(o.config_path).stem().string();
-      config = parse_train_config(nlohmann::json::parse(text), o.config_path + " (from rank 0)", name);
+    if (comm.size() > 1) {
+      comm.broadcast(text, 0);
+      if (!root) {
+        const std::string name = std::filesystem::path(o.config_path).stem().string();
+        run.config = parse_train_config(nlohmann::json::parse(text), o.config_path + " (from rank 0)", name);
+        if (o.threads) run.config.num_threads = *o.threads;
+        check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, o.config_path);
+      }
     }
-    if (o.seed) config.seed = *o.seed;
-    if (!o.log_dir.empty()) config.log_dir = o.log_dir;
+    return run;
   }
-  if (o.timesteps) config.total_timesteps = *o.timesteps;
-  if (o.threads) config.num_threads = *o.threads;
-  return config;
+  for (const ConfigOverride& v : o.overrides) {
+    if (v.key == "seed") throw Error("train: --seed cannot change a resumed run (it continues the checkpoint's seed)");
+    if (v.key == "log_dir") throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
+  }
+  if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
+  run.checkpoint_path = (std::filesystem::path(o.resume_dir) / "checkpoint.bin").string();
+  if (root) {
+    run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
+    run.checkpoint = read_model_file(run.checkpoint_path);
+  }
+  if (comm.size() > 1) {  // every rank needs the whole file: it holds every rank's state
+    std::string bytes = root ? encode_model_file(run.checkpoint) : std::string();
+    comm.broadcast(bytes, 0);
+    if (!root) run.checkpoint = decode_model_file(bytes, run.checkpoint_path);
+  }
+  const std::string& path = run.checkpoint_path;
+  if (run.checkpoint.kind != ModelKind::Checkpoint) throw Error(path + ": is a model, not a checkpoint");
+  nlohmann::json embedded = run.checkpoint.config;
+  apply_overrides(embedded, o.overrides, path + " (embedded config)");
+  run.config = parse_train_config(embedded, path + " (embedded config)", "resumed");
+  run.config.log_dir = o.resume_dir;
+  if (o.threads) run.config.num_threads = *o.threads;
+  check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, path);
+  return run;
+}
+
+// What the ranks agree on after each update, so that they leave the loop and save together:
+// the largest interrupt signal any rank received (0: none) and whether rank 0's checkpoint
+// schedule (which reads its own clock) says a save is due. One process: its own values.
+struct LoopDecision {
+  int signal = 0;
+  bool save_due = false;
+};
+
+LoopDecision agree(Communicator& comm, int signal, bool save_due) {
+  if (comm.size() == 1) return {signal, save_due};
+  const std::uint64_t mine[2] = {static_cast<std::uint64_t>(signal), save_due ? 1u : 0u};
+  std::vector<std::uint64_t> all(2 * static_cast<std::size_t>(comm.size()));
+  comm.allgather(mine, 2, all.data());
+  LoopDecision d;
+  d.save_due = all[1] != 0;  // rank 0's schedule
+  for (int r = 0; r < comm.size(); ++r) d.signal = std::max(d.signal, static_cast<int>(all[2 * static_cast<std::size_t>(r)]));
+  return d;
 }
 
 }  // namespace
 
 int train_command(const TrainOptions& o) {
+  InterruptGuard interrupts;  // before anything slow: a Ctrl-C during setup still saves or quits cleanly
   Communicator& comm = o.communicator ? *o.communicator : single_process_communicator();
-  const bool root = comm.rank() == 0;  // rank 0 writes the run folder
+  const bool root = comm.rank() == 0;  // rank 0 holds and writes the run folder
   const int ranks = comm.size();
+  RunStart run = start_run(o, comm);
+  const TrainConfig& config = run.config;
   const bool resume = !o.resume_dir.empty();
-  ModelFile checkpoint;
-  std::string checkpoint_path;
-  TrainConfig config = load_config(o, comm, checkpoint, checkpoint_path);
-
-  const std::filesystem::path dir(config.log_dir);
-  if (root) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw Error(config.log_dir + ": cannot create the run folder: " + ec.message());
-  }
+  const std::string& checkpoint_path = run.checkpoint_path;
+  auto file = [&](const std::string& name) { return run.folder->file(name); };  // rank 0
 
   const std::uint64_t seed = rank_seed(config.seed, comm.rank());
   VecEnv vec(make_envs(config), seed, config.stats_window, resolve_num_threads(config, comm.local_size()));
@@ -158,8 +174,14 @@ int train_command(const TrainOptions& o) {
   RunEpisodes run_episodes(comm, config.stats_window);
   TrainerState state;
   if (resume) {
-    state = restore(checkpoint_part(comm, checkpoint.payload, run_episodes, checkpoint_path), *algo, vec,
-                    checkpoint_path, root);
+    check_model_spec(run.checkpoint, vec.spec(), checkpoint_path);
+    state = restore_checkpoint(checkpoint_part(comm, run.checkpoint.payload, run_episodes, checkpoint_path), *algo, vec,
+                               checkpoint_path, root);
+    run.checkpoint.payload.clear();
+    if (root) {
+      check_log_rows(file("progress.csv"), state.progress_rows, checkpoint_path);
+      check_log_rows(file("episodes.csv"), state.episode_rows, checkpoint_path);
+    }
   } else {
     share_weights(comm, *algo);
   }
@@ -167,15 +189,16 @@ int train_command(const TrainOptions& o) {
   const nlohmann::json resolved = to_json(config);
   std::unique_ptr<CsvWriter> episodes, progress;  // rank 0; progress's columns are known after the first update
   if (root) {
-    write_file_atomic((dir / "config.json").string(), resolved.dump(2) + "\n");
-    episodes = std::make_unique<CsvWriter>((dir / "episodes.csv").string(), episode_columns, resume ? state.episode_rows : -1);
+    write_file_atomic(file("config.json"), resolved.dump(2) + "\n");
+    episodes = std::make_unique<CsvWriter>(file("episodes.csv"), episode_columns, resume ? state.episode_rows : -1);
   }
 
   // Collective under MPI: every rank calls it, rank 0 writes the file.
-  auto save = [&](const std::string& file, ModelKind kind) {
+  auto save_file = [&](const std::string& name, ModelKind kind) {
     ModelFile f;
     f.kind = kind;
     f.config = resolved;
+    f.spec = describe_spec(vec.spec());
     if (kind == ModelKind::Model) {
       if (!root) return;
       std::ostringstream out;
@@ -189,15 +212,22 @@ int train_command(const TrainOptions& o) {
       f.payload = gather_checkpoint(comm, checkpoint_payload(*algo, vec, state), run_episodes);
       if (!root) return;
     }
-    write_model_file((dir / file).string(), f);
+    write_model_file(file(name), f);
   };
-
   // total_timesteps counts the steps of all ranks; the ranks step in lockstep, each its share.
   const long long total = config.total_timesteps;
   const long long rank_total = (total + ranks - 1) / ranks;
-  const long long interval = config.checkpoint_interval;
   auto run_timesteps = [&] { return vec.timesteps() * ranks; };
-  long long next_checkpoint = interval > 0 ? (run_timesteps() / interval + 1) * interval : 0;
+  CheckpointSchedule schedule(config.checkpoint_interval, config.checkpoint_seconds, run_timesteps());
+  // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
+  auto save = [&] {
+    schedule.start();
+    save_file("checkpoint.bin", ModelKind::Checkpoint);
+    save_file("model.bin", ModelKind::Model);
+    schedule.done(run_timesteps());
+  };
+  if (!resume) save();  // from the start, `--resume` always finds something to continue
+
   ProgressDisplay display(o.quiet || !root);
   const long long start_steps = run_timesteps();
   const double start_wall = vec.wall_time();
@@ -206,7 +236,9 @@ int train_command(const TrainOptions& o) {
   double overall_sps = 0.0;
   long long last_allreduce_bytes = comm.allreduce_traffic().bytes;
 
-  while (vec.timesteps() < rank_total) {
+  LoopDecision decision = agree(comm, interrupts.requested(), false);
+  while (vec.timesteps() < rank_total && !decision.signal) {
+    vec.drop_caches();  // every update starts from what a checkpoint restores (core/env_state.hpp)
     const Metrics metrics = algo->update(vec, {vec.timesteps(), rank_total});
     ++state.updates;
     for (const auto& e : run_episodes.take_finished(vec)) episodes->write_row(episode_row(e));
@@ -226,7 +258,7 @@ int train_command(const TrainOptions& o) {
         for (const auto& [name, value] : metrics) columns.push_back(name);
         if (ranks > 1) columns.push_back("allreduce_bytes");
         columns.insert(columns.end(), progress_tail.begin(), progress_tail.end());
-        progress = std::make_unique<CsvWriter>((dir / "progress.csv").string(), columns, resume ? state.progress_rows : -1);
+        progress = std::make_unique<CsvWriter>(file("progress.csv"), columns, resume ? state.progress_rows : -1);
       }
       const EpisodeStats s = run_episodes.stats(vec);
       const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -246,24 +278,27 @@ int train_command(const TrainOptions& o) {
       overall_sps = wall > start_wall ? static_cast<double>(t - start_steps) / (wall - start_wall) : 0.0;
       display.show(t, total, s, overall_sps, wall);
     }
-    if (interval > 0 && t >= next_checkpoint) {
-      save("checkpoint.bin", ModelKind::Checkpoint);
-      next_checkpoint = (t / interval + 1) * interval;
-    }
+    decision = agree(comm, interrupts.requested(), root && schedule.due(t));
+    if (vec.timesteps() < rank_total && decision.save_due && !decision.signal) save();
   }
   check_same_weights(comm, *algo, state.updates);
-  save("model.bin", ModelKind::Model);
-  save("checkpoint.bin", ModelKind::Checkpoint);
-  if (!root) return 0;
+  save();
+  if (!root) return decision.signal ? 128 + decision.signal : 0;
 
   const EpisodeStats s = run_episodes.stats(vec);
   display.show(run_timesteps(), total, s, overall_sps, vec.wall_time(), true);
   display.finish();
+  if (decision.signal) {
+    std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
+                 run_timesteps(), total, file("checkpoint.bin").c_str(),
+                 file("model.bin").c_str(), run.folder->path().string().c_str());
+    return 128 + decision.signal;
+  }
   if (!o.quiet) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
                 config.algorithm.name().c_str(), config.env.name.c_str(), run_timesteps(), run_episodes.episodes(vec),
-                s.count, s.mean_return, vec.wall_time(), (dir / "model.bin").string().c_str());
+                s.count, s.mean_return, vec.wall_time(), file("model.bin").c_str());
     if (ranks > 1) {
       const Communicator::Traffic& a = comm.allreduce_traffic();
       std::printf("rdsim train: %d MPI ranks x %d envs (%d threads each); rank 0 allreduced %lld bytes in %lld calls "

@@ -6,11 +6,51 @@
 #include <nlohmann/json.hpp>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/files.hpp"
+#include "rdsim/core/json_text.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/parallel/worker_pool.hpp"
 
 namespace rdsim {
+
+namespace {
+
+// Rules that span the env, the algorithm and the run settings; each struct's own rules are in
+// its describe(). A key whose value cannot matter is an error, not a silent no-op.
+void check_combination(ConfigReader& r, const TrainConfig& c) {
+  const bool pixels = c.env.observation == ObservationMode::RawPixels;
+  const NetworkConfig defaults;
+  ConfigReader network = r.child("network");
+  if (pixels) {
+    if (c.algorithm.network.input_scale != defaults.input_scale)
+      network.fail("input_scale", "only for vector observations (pixels are already scaled to [0, 1]); expected 1");
+    const char* mlp_key = c.algorithm.network.hidden_sizes != defaults.hidden_sizes ? "hidden_sizes"
+                          : c.algorithm.network.activation != defaults.activation ? "activation"
+                          : c.algorithm.network.shared != defaults.shared          ? "shared"
+                                                                                   : nullptr;
+    if (mlp_key)
+      network.fail(mlp_key, "has no effect with raw-pixel observations (the network.cnn trunk is used; remove the key)");
+  } else if (config::write_fields(c.algorithm.network.cnn) != config::write_fields(defaults.cnn)) {
+    network.fail("cnn", "has no effect with ground-truth observations (only raw_pixels use a CNN; remove the key)");
+  }
+  if (c.env.is_discrete && c.algorithm.network.log_std_init != defaults.log_std_init)
+    network.fail("log_std_init", "has no effect with discrete actions (only Box actions have a Gaussian policy)");
+
+  if (const auto* ppo = std::get_if<PpoConfig>(&c.algorithm.params)) {
+    const long long rollout = static_cast<long long>(ppo->n_steps) * c.num_envs;
+    if (ppo->batch_size > rollout)
+      r.child("ppo").fail("batch_size", "expected at most the rollout size n_steps x num_envs = " + std::to_string(rollout) +
+                                            ", got " + std::to_string(ppo->batch_size) +
+                                            " (larger minibatches are cut to the rollout)");
+  }
+  if (const auto* dqn = std::get_if<DqnConfig>(&c.algorithm.params)) {
+    if (dqn->learning_starts >= c.total_timesteps)
+      r.child("dqn").fail("learning_starts", "expected fewer than total_timesteps (" + std::to_string(c.total_timesteps) +
+                                                 "), got " + std::to_string(dqn->learning_starts) +
+                                                 " (the run would never learn)");
+  }
+}
+
+}  // namespace
 
 TrainConfig parse_train_config(const nlohmann::json& json, const std::string& where, const std::string& name) {
   ConfigReader r(json, where);
@@ -24,24 +64,46 @@ TrainConfig parse_train_config(const nlohmann::json& json, const std::string& wh
   config::FieldReader run(r);
   describe(run, c);
   if (c.log_dir.empty()) c.log_dir = "runs/" + name;
-  if (c.algorithm.network.input_scale != 1.0 && c.env.observation == ObservationMode::RawPixels)
-    r.child("network").fail("input_scale", "only for vector observations (pixels are already scaled to [0, 1]); expected 1");
+  check_combination(r, c);
   r.finish();
   return c;
 }
 
-TrainConfig read_train_config(const std::string& path) {
-  const std::string text = read_file(path);
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
-    std::string what = e.what();
-    const auto at = what.find("parse error");
-    throw Error(path + ": not valid JSON: " + (at == std::string::npos ? what : what.substr(at)));
+void apply_overrides(nlohmann::json& config, const std::vector<ConfigOverride>& overrides, const std::string& where) {
+  for (const ConfigOverride& o : overrides) {
+    // The file's own value must be valid too: a bad file stays a bad file whatever replaces the key.
+    if (config.is_object() && config.contains(o.key)) {
+      nlohmann::json own = nlohmann::json::object();
+      own[o.key] = config[o.key];
+      ConfigReader reader(own, where);
+      TrainConfig scratch;
+      config::read_fields(reader, scratch);
+    }
+    nlohmann::json value = json_from_option(o.text);
+    if (value.is_string() && value.get_ref<const std::string&>().empty())
+      throw Error(o.option + ": expected a value, got an empty string");
+    nlohmann::json alone = nlohmann::json::object();
+    alone[o.key] = value;
+    ConfigReader reader(alone, o.option);
+    TrainConfig scratch;
+    config::read_fields(reader, scratch);  // the run settings' types and ranges (describe above)
+    if (!config.is_object()) return;        // parse_train_config reports it
+    config[o.key] = std::move(value);
   }
+}
+
+TrainConfig read_train_config(const std::string& path, const std::vector<ConfigOverride>& overrides) {
+  nlohmann::json json = read_json_file(path);
+  apply_overrides(json, overrides, path);
   return parse_train_config(json, path, std::filesystem::path(path).stem().string());
+}
+
+Spec config_spec(const TrainConfig& config) {
+  try {
+    return env_spec(config.env);
+  } catch (const Error& e) {
+    throw Error(config.source + ": " + e.what());
+  }
 }
 
 nlohmann::json to_json(const TrainConfig& c) {

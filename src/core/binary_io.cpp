@@ -46,13 +46,23 @@ float read_f32(std::istream& in, const std::string& source) {
 
 double read_f64(std::istream& in, const std::string& source) { return std::bit_cast<double>(read_u64(in, source)); }
 
-std::string read_string(std::istream& in, const std::string& source) {
-  const std::uint64_t n = read_u64(in, source);
+std::uint64_t bytes_left(std::istream& in) {
   const auto pos = in.tellg();
+  if (pos < 0) return 0;
   in.seekg(0, std::ios::end);
   const auto end = in.tellg();
   in.seekg(pos);
-  if (pos < 0 || end < 0 || n > static_cast<std::uint64_t>(end - pos)) throw Error(source + ": file is truncated");
+  return end < pos ? 0 : static_cast<std::uint64_t>(end - pos);
+}
+
+std::uint64_t read_count(std::istream& in, std::uint64_t item_bytes, const std::string& source) {
+  const std::uint64_t n = read_u64(in, source);
+  if (item_bytes > 0 && n > bytes_left(in) / item_bytes) throw Error(source + ": file is truncated or damaged (a count of " + std::to_string(n) + " does not fit in it)");
+  return n;
+}
+
+std::string read_string(std::istream& in, const std::string& source) {
+  const std::uint64_t n = read_count(in, 1, source);
   std::string s(n, '\0');
   read_bytes(in, s.data(), n, source);
   return s;

@@ -1,27 +1,83 @@
 #include "rdsim/core/config_reader.hpp"
 
 #include <nlohmann/json.hpp>
-#include <sstream>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <optional>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/json_text.hpp"
 
 namespace rdsim {
 namespace {
 
-std::string describe(const nlohmann::json& v) {
-  std::string s = v.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
+std::string describe(const nlohmann::json& v) { return json_excerpt(v, 60); }
+
+// Numbers as people read them: 1e12 rather than 1000000000000, 2^64 - 1 rather than 20 digits;
+// plain digits when a short form would not be exact.
+std::string readable(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  if (std::strtod(buf, nullptr) != x) std::snprintf(buf, sizeof buf, "%.17g", x);
+  std::string s = buf;
+  const auto e = s.find("e");  // "1e+12" -> "1e12", "1e-05" -> "1e-5"
+  if (e != std::string::npos) {
+    std::string mantissa = s.substr(0, e), exponent = s.substr(e + 1);
+    const bool negative = exponent[0] == '-';
+    exponent = exponent.substr(1);
+    while (exponent.size() > 1 && exponent[0] == '0') exponent.erase(0, 1);
+    s = mantissa + "e" + (negative ? "-" : "") + exponent;
+  }
   return s;
 }
+std::string readable(long long x) {
+  if (x > -1'000'000 && x < 1'000'000) return std::to_string(x);
+  const std::string s = readable(static_cast<double>(x));
+  const double back = std::strtod(s.c_str(), nullptr);
+  const bool exact = back > -9.2e18 && back < 9.2e18 && std::llround(back) == x;
+  return exact && s.size() < std::to_string(x).size() ? s : std::to_string(x);
+}
+std::string readable(int x) { return std::to_string(x); }
 
 template <class T>
 std::string range_text(T lo, T hi) {
-  std::ostringstream os;
-  os << "in [" << lo << ", " << hi << "]";
-  return os.str();
+  return "in [" + readable(lo) + ", " + readable(hi) + "]";
+}
+
+// The integer a JSON number stands for when it is one in [lo, hi] (2, 2.0, 1e5); nullopt otherwise.
+std::optional<long long> integer_in(const nlohmann::json& v, long long lo, long long hi) {
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<long long>::max())) return std::nullopt;
+    const auto x = static_cast<long long>(u);
+    return x >= lo && x <= hi ? std::optional<long long>(x) : std::nullopt;
+  }
+  if (v.is_number_integer()) {
+    const auto x = v.get<long long>();
+    return x >= lo && x <= hi ? std::optional<long long>(x) : std::nullopt;
+  }
+  if (v.is_number_float()) {
+    // Range first: casting a double outside long long's range is undefined.
+    const double d = v.get<double>();
+    if (!(d >= static_cast<double>(lo) && d <= static_cast<double>(hi)) || std::trunc(d) != d) return std::nullopt;
+    const auto x = static_cast<long long>(d);
+    return x >= lo && x <= hi ? std::optional<long long>(x) : std::nullopt;
+  }
+  return std::nullopt;
 }
 
 }  // namespace
+
+nlohmann::json json_from_option(const std::string& text) {
+  const bool numeric = !text.empty() && text.size() < 64 && text.find_first_not_of("+-.0123456789eE") == std::string::npos;
+  if (numeric) {
+    const auto parsed = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (parsed.is_number()) return parsed;
+  }
+  return text;
+}
 
 ConfigReader::ConfigReader(const nlohmann::json& object, std::string where, std::string path)
     : object_(object), where_(std::move(where)), path_(std::move(path)) {
@@ -65,22 +121,26 @@ void ConfigReader::read(const std::string& key, bool& out) {
 void ConfigReader::read(const std::string& key, std::string& out) {
   const auto* v = find(key);
   if (!v) return;
-  if (!v->is_string()) fail(key, "expected a string, got " + describe(*v));
+  // Config strings are names and paths: bounded, and no control characters (a NUL would cut a
+  // path short, a newline would split a message).
+  const auto printable = [](const std::string& t) {
+    for (const char c : t)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return false;
+    return true;
+  };
+  if (!v->is_string() || v->get_ref<const std::string&>().size() > max_string_bytes ||
+      !printable(v->get_ref<const std::string&>()))
+    fail(key, "expected a string of at most " + std::to_string(max_string_bytes) +
+                  " bytes without control characters, got " + describe(*v));
   out = v->get<std::string>();
 }
 
 void ConfigReader::read(const std::string& key, long long& out, long long lo, long long hi) {
   const auto* v = find(key);
   if (!v) return;
-  bool integral = v->is_number_integer();
-  if (v->is_number_float()) {
-    double d = v->get<double>();
-    integral = d == static_cast<double>(static_cast<long long>(d));
-  }
-  if (!integral) fail(key, "expected an integer " + range_text(lo, hi) + ", got " + describe(*v));
-  long long x = v->is_number_float() ? static_cast<long long>(v->get<double>()) : v->get<long long>();
-  if (x < lo || x > hi) fail(key, "expected an integer " + range_text(lo, hi) + ", got " + describe(*v));
-  out = x;
+  const auto x = integer_in(*v, lo, hi);
+  if (!x) fail(key, "expected an integer " + range_text(lo, hi) + ", got " + describe(*v));
+  out = *x;
 }
 
 void ConfigReader::read(const std::string& key, int& out, int lo, int hi) {
@@ -92,10 +152,13 @@ void ConfigReader::read(const std::string& key, int& out, int lo, int hi) {
 void ConfigReader::read(const std::string& key, std::uint64_t& out) {
   const auto* v = find(key);
   if (!v) return;
-  if (!v->is_number_unsigned() && !(v->is_number_integer() && v->get<long long>() >= 0)) {
-    fail(key, "expected a non-negative integer, got " + describe(*v));
+  if (v->is_number_unsigned()) {
+    out = v->get<std::uint64_t>();
+    return;
   }
-  out = v->get<std::uint64_t>();
+  const auto x = integer_in(*v, 0, std::numeric_limits<long long>::max());
+  if (!x) fail(key, "expected an integer in [0, 2^64 - 1], got " + describe(*v));
+  out = static_cast<std::uint64_t>(*x);
 }
 
 void ConfigReader::read(const std::string& key, double& out, double lo, double hi) {
@@ -110,13 +173,13 @@ void ConfigReader::read(const std::string& key, double& out, double lo, double h
 void ConfigReader::read(const std::string& key, std::vector<int>& out, int lo, int hi) {
   const auto* v = find(key);
   if (!v) return;
-  if (!v->is_array()) fail(key, "expected a list of integers " + range_text(lo, hi) + ", got " + describe(*v));
+  const std::string expected = "expected a list of at most " + std::to_string(max_list_items) + " integers " + range_text(lo, hi);
+  if (!v->is_array() || v->size() > max_list_items) fail(key, expected + ", got " + describe(*v));
   std::vector<int> result;
   for (const auto& e : *v) {
-    if (!e.is_number_integer() || e.get<long long>() < lo || e.get<long long>() > hi) {
-      fail(key, "expected a list of integers " + range_text(lo, hi) + ", got " + describe(*v));
-    }
-    result.push_back(e.get<int>());
+    const auto x = integer_in(e, lo, hi);
+    if (!x) fail(key, expected + ", got " + describe(e) + " in " + describe(*v));
+    result.push_back(static_cast<int>(*x));
   }
   out = std::move(result);
 }
@@ -124,12 +187,12 @@ void ConfigReader::read(const std::string& key, std::vector<int>& out, int lo, i
 void ConfigReader::read(const std::string& key, std::vector<double>& out, double lo, double hi) {
   const auto* v = find(key);
   if (!v) return;
-  if (!v->is_array()) fail(key, "expected a list of numbers " + range_text(lo, hi) + ", got " + describe(*v));
+  const std::string expected = "expected a list of at most " + std::to_string(max_list_items) + " numbers " + range_text(lo, hi);
+  if (!v->is_array() || v->size() > max_list_items) fail(key, expected + ", got " + describe(*v));
   std::vector<double> result;
   for (const auto& e : *v) {
-    if (!e.is_number() || !(e.get<double>() >= lo && e.get<double>() <= hi)) {
-      fail(key, "expected a list of numbers " + range_text(lo, hi) + ", got " + describe(*v));
-    }
+    if (!e.is_number() || !(e.get<double>() >= lo && e.get<double>() <= hi))
+      fail(key, expected + ", got " + describe(e) + " in " + describe(*v));
     result.push_back(e.get<double>());
   }
   out = std::move(result);
@@ -147,7 +210,7 @@ void ConfigReader::read_choice(const std::string& key, std::string& out,
   }
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "" : ", ") + ("\"" + c + "\"");
-  fail(key, "expected one of " + list + ", got \"" + value + "\"");
+  fail(key, "expected one of " + list + ", got " + describe(nlohmann::json(value)));
 }
 
 ConfigReader ConfigReader::child(const std::string& key) {
@@ -163,7 +226,7 @@ void ConfigReader::finish() const {
     if (!seen_.count(it.key())) {
       std::string known;
       for (const auto& k : seen_) known += (known.empty() ? "" : ", ") + k;
-      fail(it.key(), "unknown key (known keys here: " + known + ")");
+      fail(one_line(it.key(), 60), "unknown key (known keys here: " + known + ")");
     }
   }
 }

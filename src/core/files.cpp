@@ -2,52 +2,112 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <filesystem>
+#include <vector>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
+namespace {
 
-void write_file_atomic(const std::string& path, std::string_view data) {
-  const std::string tmp = path + ".tmp";
-  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd < 0) throw Error(path + ": cannot write: " + std::strerror(errno));
-  size_t done = 0;
+constexpr std::string_view kTmpSuffix = ".tmp";
+
+// Closes the descriptor and removes the temporary file unless released.
+struct TempFile {
+  int fd = -1;
+  std::string path;
+  ~TempFile() {
+    if (fd >= 0) ::close(fd);
+    if (!path.empty()) ::unlink(path.c_str());
+  }
+};
+
+bool write_all(int fd, std::string_view data) {
+  std::size_t done = 0;
   while (done < data.size()) {
-    ssize_t n = ::write(fd, data.data() + done, data.size() - done);
+    const ssize_t n = ::write(fd, data.data() + done, data.size() - done);
     if (n < 0) {
       if (errno == EINTR) continue;
-      std::string why = std::strerror(errno);
-      ::close(fd);
-      ::unlink(tmp.c_str());
-      throw Error(path + ": cannot write: " + why);
+      return false;
     }
-    done += static_cast<size_t>(n);
+    done += static_cast<std::size_t>(n);
   }
-  // fsync so that a crash after the rename cannot leave an empty file behind the new name.
-  if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    ::unlink(tmp.c_str());
-    throw Error(path + ": cannot write: " + std::strerror(errno));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::string why = std::strerror(errno);
-    ::unlink(tmp.c_str());
-    throw Error(path + ": cannot replace: " + why);
+  return true;
+}
+
+}  // namespace
+
+bool is_atomic_write_leftover(const std::string& name) {
+  // ".NAME.XXXXXX.tmp": a dot, a name, a dot, six characters, ".tmp".
+  if (name.size() < 1 + 1 + 1 + 6 + kTmpSuffix.size() || name[0] != '.') return false;
+  if (name.compare(name.size() - kTmpSuffix.size(), kTmpSuffix.size(), kTmpSuffix) != 0) return false;
+  return name[name.size() - kTmpSuffix.size() - 7] == '.';
+}
+
+void write_file_atomic(const std::string& path, std::string_view data) {
+  const std::filesystem::path target(path);
+  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+  std::string name = ".";
+  name += target.filename().string();
+  name += ".XXXXXX";
+  name += kTmpSuffix;
+  std::string pattern = (dir / name).string();
+  TempFile tmp;
+  tmp.fd = ::mkstemps(pattern.data(), static_cast<int>(kTmpSuffix.size()));
+  if (tmp.fd < 0) throw Error(path + ": cannot write: " + std::strerror(errno));
+  tmp.path = pattern;
+  // mkstemp makes the file private (0600); results are ordinary files.
+  if (::fchmod(tmp.fd, 0644) != 0 || !write_all(tmp.fd, data)) throw Error(path + ": cannot write: " + std::strerror(errno));
+  // fsync before the rename, so a crash after it can never leave an empty file behind the name.
+  if (::fsync(tmp.fd) != 0) throw Error(path + ": cannot write: " + std::strerror(errno));
+  const int fd = tmp.fd;
+  tmp.fd = -1;
+  if (::close(fd) != 0) throw Error(path + ": cannot write: " + std::strerror(errno));
+  if (std::rename(tmp.path.c_str(), path.c_str()) != 0) throw Error(path + ": cannot replace: " + std::strerror(errno));
+  tmp.path.clear();
+  // The rename itself reaches the disk with the folder's fsync.
+  const int dir_fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dir_fd >= 0) {
+    ::fsync(dir_fd);
+    ::close(dir_fd);
   }
 }
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open: " + std::strerror(errno));
-  std::ostringstream os;
-  os << in.rdbuf();
-  if (in.bad()) throw Error(path + ": cannot read");
-  return os.str();
+std::string read_file(const std::string& path, std::uint64_t max_bytes) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) throw Error(path + ": cannot open: " + std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw Error(path + ": cannot read: " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw Error(path + ": is a folder, expected a file");
+  const auto too_big = [&](const std::string& size) {
+    return Error(path + ": " + size + " more than the " + std::to_string(max_bytes) + " bytes rdsim reads from it");
+  };
+  if (S_ISREG(st.st_mode) && static_cast<std::uint64_t>(st.st_size) > max_bytes)
+    throw too_big("is " + std::to_string(st.st_size) + " bytes,");
+  std::string out;
+  if (S_ISREG(st.st_mode)) out.reserve(static_cast<std::size_t>(st.st_size));
+  std::vector<char> chunk(1 << 16);
+  for (;;) {
+    const ssize_t n = ::read(fd, chunk.data(), chunk.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw Error(path + ": cannot read: " + std::strerror(errno));
+    }
+    if (n == 0) break;
+    if (out.size() + static_cast<std::size_t>(n) > max_bytes) throw too_big("holds");
+    out.append(chunk.data(), static_cast<std::size_t>(n));
+  }
+  return out;
 }
 
 }  // namespace rdsim

@@ -33,8 +33,11 @@ void read_matrix(std::istream& in, Eigen::MatrixXf& m, int rows, int cols, const
   if (r != static_cast<std::uint32_t>(rows) || c != static_cast<std::uint32_t>(cols))
     throw Error(source + ": " + what + " has shape " + shape_text(r, c) + ", expected " +
                 shape_text(rows, cols) + " (the model was saved with a different network)");
+  if (static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols) > bytes_left(in) / 4)
+    throw Error(source + ": file is truncated (" + what + " does not fit in it)");
   m.resize(rows, cols);
   read_bytes(in, m.data(), static_cast<std::size_t>(m.size()) * 4, source);
+  if (!m.allFinite()) throw Error(source + ": " + what + " holds a value that is not finite (NaN or infinity; damaged or diverged model)");
 }
 
 void save_params(const ParamList& params, std::ostream& out) {

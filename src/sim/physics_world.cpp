@@ -174,4 +174,9 @@ void PhysicsWorld::forget_contacts(int body) {
     if (objects[i]->getUserIndex() == body) impl_->forget_pairs(objects[i]);
 }
 
+void PhysicsWorld::forget_all_contacts() {
+  btCollisionObjectArray& objects = impl_->world.getCollisionObjectArray();
+  for (int i = 0; i < objects.size(); ++i) impl_->forget_pairs(objects[i]);
+}
+
 }  // namespace rdsim

@@ -377,6 +377,37 @@ void Robot::reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q) {
   for (auto* c : colliders_) world_.impl().forget_pairs(c);
 }
 
+RobotState Robot::state() const {
+  RobotState s;
+  for (const Dof& d : dofs_) {
+    s.positions.push_back(multibody_->getJointPos(d.bullet_link));
+    s.velocities.push_back(multibody_->getJointVel(d.bullet_link));
+    s.targets.push_back(d.target);
+  }
+  return s;
+}
+
+void Robot::set_state(const RobotState& s, const std::string& source) {
+  const auto n = static_cast<size_t>(dof());
+  if (s.positions.size() != n || s.velocities.size() != n || s.targets.size() != n)
+    throw Error(source + ": robot state has " + std::to_string(s.positions.size()) + " joints, " + model_.source +
+                " has " + std::to_string(n));
+  for (size_t i = 0; i < n; ++i)
+    if (!std::isfinite(s.positions[i]) || !std::isfinite(s.velocities[i]) || !std::isfinite(s.targets[i]))
+      throw Error(source + ": robot state of joint " + model_.joints[static_cast<size_t>(dofs_[i].joint)].name +
+                  " is not finite");
+  for (size_t i = 0; i < n; ++i) {
+    Dof& d = dofs_[i];
+    multibody_->setJointPos(d.bullet_link, s.positions[i]);
+    multibody_->setJointVel(d.bullet_link, s.velocities[i]);
+    d.target = s.targets[i];
+    if (d.motor) d.motor->setPositionTarget(d.target, position_gain_);
+  }
+  multibody_->clearForcesAndTorques();
+  multibody_->clearConstraintForces();
+  update_transforms();
+}
+
 void Robot::update_transforms() {
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;

@@ -2,9 +2,11 @@
 
 #include <console_bridge/console.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -33,7 +35,41 @@ std::mutex& parser_mutex() {  // console_bridge's handler is process-wide
   return m;
 }
 
+// XML elements nested deeper than this are refused before urdfdom sees them: its parser takes
+// time quadratic in the depth (30,000 levels: over half a minute). A URDF needs about six.
+constexpr int kMaxXmlDepth = 100;
+
+void check_xml_depth(const std::string& xml, const std::string& where) {
+  int depth = 0;
+  for (std::size_t at = xml.find('<'); at != std::string::npos; at = xml.find('<', at + 1)) {
+    if (xml.compare(at, 4, "<!--") == 0) {  // comment: skip to its end
+      at = xml.find("-->", at + 4);
+      if (at == std::string::npos) return;  // unterminated: urdfdom reports it
+      continue;
+    }
+    if (at + 1 < xml.size() && (xml[at + 1] == '!' || xml[at + 1] == '?')) continue;  // declarations
+    const bool closing = at + 1 < xml.size() && xml[at + 1] == '/';
+    // The tag's end, outside quoted attribute values.
+    std::size_t end = at + 1;
+    for (char quote = 0; end < xml.size(); ++end) {
+      if (quote) {
+        if (xml[end] == quote) quote = 0;
+      } else if (xml[end] == '"' || xml[end] == '\'') {
+        quote = xml[end];
+      } else if (xml[end] == '>') {
+        break;
+      }
+    }
+    if (end >= xml.size()) return;
+    if (closing) --depth;
+    else if (xml[end - 1] != '/' && ++depth > kMaxXmlDepth)
+      throw Error(where + ": not a valid URDF: XML elements nested more than " + std::to_string(kMaxXmlDepth) + " levels deep");
+    at = end;
+  }
+}
+
 urdf::ModelInterfaceSharedPtr parse_with_messages(const std::string& xml, const std::string& where) {
+  check_xml_depth(xml, where);
   std::lock_guard<std::mutex> lock(parser_mutex());
   MessageCollector collector;
   console_bridge::useOutputHandler(&collector);
@@ -45,7 +81,9 @@ urdf::ModelInterfaceSharedPtr parse_with_messages(const std::string& xml, const 
     thrown = e.what();
   }
   console_bridge::restorePreviousOutputHandler();
-  if (!model) {
+  // urdfdom reports some bad values (a mass "nan") as errors yet returns a model with the value
+  // replaced by 0: any error it reports makes the file invalid.
+  if (!model || !collector.messages.empty()) {
     std::string why = !thrown.empty() ? thrown : collector.messages;
     if (why.empty()) why = "urdfdom rejected it without a reason";
     throw Error(where + ": not a valid URDF: " + why);
@@ -62,10 +100,56 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& p) {
 
 [[noreturn]] void fail(const std::string& where, const std::string& what) { throw Error(where + ": " + what); }
 
+// A number as the message shows it ("nan", "inf", "1e+30").
+std::string num(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
+
+bool finite(const urdf::Pose& p) {
+  return std::isfinite(p.position.x) && std::isfinite(p.position.y) && std::isfinite(p.position.z) &&
+         std::isfinite(p.rotation.x) && std::isfinite(p.rotation.y) && std::isfinite(p.rotation.z) &&
+         std::isfinite(p.rotation.w);
+}
+
+// Physical limits on what a link may carry: beyond them Bullet's integration breaks down, long
+// before anything a robot could be. (No robot link weighs more than 100 t nor has a radius of
+// gyration above 100 m.)
+constexpr double kMaxMass = 1e5;                   // kg
+constexpr double kMaxGyrationRadius = 100.0;       // m
+constexpr double kTriangleSlack = 1e-6;            // relative, for rounding in the URDF's numbers
+
+// Mass and inertia of a link (its mass may be 0 only when nothing moves it: `moving` is whether
+// its own joint is movable). The inertia about the centre of mass must be a physical one:
+// positive definite, principal moments obeying the triangle inequality (I1 + I2 >= I3), and not
+// absurdly large for the mass.
+void check_inertial(const Link& link, bool moving, const std::string& where) {
+  const std::string ctx = "link \"" + link.name + "\": ";
+  const double m = link.inertial.mass;
+  if (moving && !(m > 0.0))
+    fail(where, ctx + "mass " + num(m) + ": a link on a movable joint needs a mass > 0 (Bullet cannot accelerate a massless body)");
+  if (!(m <= kMaxMass)) fail(where, ctx + "mass " + num(m) + " kg is out of range (at most " + num(kMaxMass) + " kg)");
+  const Eigen::Matrix3d& I = link.inertial.inertia;
+  if (m == 0.0) return;  // a massless decoration welded to its parent: its inertia does nothing
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d p = eig.eigenvalues();  // ascending
+  if (!(p[0] > 0.0))
+    fail(where, ctx + "inertia (ixx " + num(I(0, 0)) + ", iyy " + num(I(1, 1)) + ", izz " + num(I(2, 2)) +
+                    ") is not positive definite (smallest principal moment " + num(p[0]) + ")");
+  if (p[0] + p[1] < p[2] * (1.0 - kTriangleSlack))
+    fail(where, ctx + "inertia principal moments " + num(p[0]) + ", " + num(p[1]) + ", " + num(p[2]) +
+                    " break the triangle inequality (I1 + I2 >= I3): no body has such an inertia");
+  if (!(std::sqrt(p[2] / m) <= kMaxGyrationRadius))
+    fail(where, ctx + "inertia " + num(p[2]) + " kg m^2 is implausible for a mass of " + num(m) + " kg (radius of gyration " +
+                    num(std::sqrt(p[2] / m)) + " m, at most " + num(kMaxGyrationRadius) + " m)");
+}
+
 Shape to_shape(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const std::string& where,
                const std::string& link) {
   const std::string ctx = "link \"" + link + "\": ";
   if (!g) fail(where, ctx + "a collision/visual element has no <geometry>");
+  if (!finite(origin)) fail(where, ctx + "a collision/visual <origin> is not finite");
   Shape s;
   s.origin = to_isometry(origin);
   switch (g->type) {
@@ -73,7 +157,8 @@ Shape to_shape(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const
       const auto& d = std::static_pointer_cast<urdf::Box>(g)->dim;
       s.type = ShapeType::Box;
       s.size = Eigen::Vector3d(d.x, d.y, d.z);
-      if (!(s.size.minCoeff() > 0.0)) fail(where, ctx + "box size must be positive in x, y and z");
+      if (!(s.size.minCoeff() > 0.0) || !s.size.allFinite())
+        fail(where, ctx + "box size (" + num(d.x) + " " + num(d.y) + " " + num(d.z) + ") must be finite and positive in x, y and z");
       break;
     }
     case urdf::Geometry::CYLINDER: {
@@ -81,13 +166,14 @@ Shape to_shape(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const
       s.type = ShapeType::Cylinder;
       s.radius = c->radius;
       s.length = c->length;
-      if (!(s.radius > 0.0 && s.length > 0.0)) fail(where, ctx + "cylinder radius and length must be positive");
+      if (!(s.radius > 0.0 && s.length > 0.0) || !std::isfinite(s.radius) || !std::isfinite(s.length))
+        fail(where, ctx + "cylinder radius " + num(s.radius) + " and length " + num(s.length) + " must be finite and positive");
       break;
     }
     case urdf::Geometry::SPHERE:
       s.type = ShapeType::Sphere;
       s.radius = std::static_pointer_cast<urdf::Sphere>(g)->radius;
-      if (!(s.radius > 0.0)) fail(where, ctx + "sphere radius must be positive");
+      if (!(s.radius > 0.0) || !std::isfinite(s.radius)) fail(where, ctx + "sphere radius " + num(s.radius) + " must be finite and positive");
       break;
     case urdf::Geometry::MESH:
       fail(where, ctx + "mesh geometry (\"" + std::static_pointer_cast<urdf::Mesh>(g)->filename +
@@ -104,12 +190,14 @@ Link to_link(const urdf::Link& in, const std::string& where) {
   if (in.inertial) {
     const urdf::Inertial& i = *in.inertial;
     if (!(i.mass >= 0.0) || !std::isfinite(i.mass))
-      fail(where, "link \"" + in.name + "\": mass must be >= 0");
+      fail(where, "link \"" + in.name + "\": mass " + num(i.mass) + " must be finite and >= 0");
+    if (!finite(i.origin)) fail(where, "link \"" + in.name + "\": <inertial><origin> is not finite");
     out.inertial.mass = i.mass;
     out.inertial.origin = to_isometry(i.origin);
     out.inertial.inertia << i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz;
     if (!(i.ixx >= 0.0 && i.iyy >= 0.0 && i.izz >= 0.0) || !out.inertial.inertia.allFinite())
-      fail(where, "link \"" + in.name + "\": inertia ixx, iyy, izz must be finite and >= 0");
+      fail(where, "link \"" + in.name + "\": inertia (ixx " + num(i.ixx) + ", iyy " + num(i.iyy) + ", izz " + num(i.izz) + ", ixy " +
+                      num(i.ixy) + ", ixz " + num(i.ixz) + ", iyz " + num(i.iyz) + ") must be finite with ixx, iyy, izz >= 0");
   }
   for (const auto& c : in.collision_array) out.collisions.push_back(to_shape(c->geometry, c->origin, where, in.name));
   for (const auto& v : in.visual_array) {
@@ -118,6 +206,8 @@ Link to_link(const urdf::Link& in, const std::string& where) {
     if (v->material) {
       const urdf::Color& c = v->material->color;
       vs.rgba = Eigen::Vector4f(c.r, c.g, c.b, c.a);
+      if (!(vs.rgba.minCoeff() >= 0.0f && vs.rgba.maxCoeff() <= 1.0f))
+        fail(where, "link \"" + in.name + "\": material rgba must be four numbers in [0, 1]");
       vs.material = v->material->name;
     }
     out.visuals.push_back(vs);
@@ -138,16 +228,18 @@ Joint to_joint(const urdf::Joint& in, const std::string& where) {
     case urdf::Joint::PLANAR: fail(where, ctx + "planar joints are not supported");
     default: fail(where, ctx + "unknown joint type");
   }
+  if (!finite(in.parent_to_joint_origin_transform)) fail(where, ctx + "<origin> is not finite");
   j.origin = to_isometry(in.parent_to_joint_origin_transform);
   if (j.movable()) {
     const Eigen::Vector3d axis(in.axis.x, in.axis.y, in.axis.z);
-    if (!(axis.norm() > 1e-9)) fail(where, ctx + "<axis> must not be zero");
+    if (!(axis.norm() > 1e-9) || !axis.allFinite()) fail(where, ctx + "<axis> must be finite and not zero");
     j.axis = axis.normalized();
     if (!in.limits) fail(where, ctx + "a movable joint needs <limit effort=... velocity=...>");
     j.effort = in.limits->effort;
     j.velocity = in.limits->velocity;
-    if (!(j.effort > 0.0)) fail(where, ctx + "<limit effort> must be > 0");
-    if (!(j.velocity > 0.0)) fail(where, ctx + "<limit velocity> must be > 0");
+    if (!(j.effort > 0.0) || !std::isfinite(j.effort)) fail(where, ctx + "<limit effort> " + num(j.effort) + " must be finite and > 0");
+    if (!(j.velocity > 0.0) || !std::isfinite(j.velocity))
+      fail(where, ctx + "<limit velocity> " + num(j.velocity) + " must be finite and > 0");
   }
   if (j.type == JointType::Continuous) {
     j.lower = -std::numeric_limits<double>::infinity();
@@ -155,11 +247,14 @@ Joint to_joint(const urdf::Joint& in, const std::string& where) {
   } else if (j.type != JointType::Fixed) {
     j.lower = in.limits->lower;
     j.upper = in.limits->upper;
-    if (!(j.lower <= j.upper)) fail(where, ctx + "<limit lower> must not exceed upper");
+    if (!std::isfinite(j.lower) || !std::isfinite(j.upper) || !(j.lower <= j.upper))
+      fail(where, ctx + "<limit lower> " + num(j.lower) + " and upper " + num(j.upper) + " must be finite with lower <= upper");
   }
   if (in.dynamics) {
     j.damping = in.dynamics->damping;
     j.friction = in.dynamics->friction;
+    if (!(j.damping >= 0.0) || !(j.friction >= 0.0) || !std::isfinite(j.damping) || !std::isfinite(j.friction))
+      fail(where, ctx + "<dynamics damping> " + num(j.damping) + " and friction " + num(j.friction) + " must be finite and >= 0");
   }
   return j;
 }
@@ -242,11 +337,13 @@ RobotModel parse_urdf(const std::string& xml, const std::string& where) {
     model.links[li].parent_joint = static_cast<int>(li) - 1;
   }
   model.joints = std::move(ordered);
+  for (size_t li = 0; li < model.links.size(); ++li)
+    check_inertial(model.links[li], li > 0 && model.joints[li - 1].movable(), where);
   return model;
 }
 
 RobotModel load_urdf(const std::string& path) {
-  return parse_urdf(read_file(path), path);
+  return parse_urdf(read_file(path, max_urdf_bytes), path);
 }
 
 }  // namespace rdsim

@@ -60,7 +60,7 @@ TEST_CASE("train: the same CSV and weights on 1 and 2 threads", "[cli][threads]"
   for (const std::string& config : {cartpole_config(dir), jaka_config(dir)}) {
     for (const std::string threads : {"1", "2"}) {
       const std::string run = dir / "t";
-      const auto r = rltest::run_rdsim("train --quiet --config " + config + " --threads " + threads + " --log-dir " +
+      const auto r = rltest::run_rdsim("train --quiet --config " + config + " --threads " + threads + " --overwrite --log-dir " +
                                            run + threads, dir);
       INFO(r.err);
       REQUIRE(r.exit_code == 0);

@@ -94,7 +94,7 @@ TEST_CASE("train --resume continues a run exactly like an uninterrupted one", "[
 
   r = run_rdsim("train --resume " + (dir / "nothing_here"), dir);
   CHECK(r.exit_code == 1);
-  CHECK_THAT(r.err, Contains("checkpoint.bin"));
+  CHECK_THAT(r.err, Contains("nothing_here: no such run folder"));
 }
 
 TEST_CASE("replay runs a model from the file alone, damaged files fail clearly", "[cli]") {

@@ -1,8 +1,11 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "rdsim/app/memory_check.hpp"
+#include "rdsim/app/run_folder.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/error.hpp"
+#include "../error_of.hpp"
 #include "rl_test_util.hpp"
 
 using Catch::Matchers::Contains;
@@ -92,4 +95,83 @@ TEST_CASE("a missing config file is an error naming it", "[train_config]") {
   } catch (const rdsim::Error& e) {
     CHECK_THAT(e.what(), Contains("configs/does_not_exist.json"));
   }
+}
+
+TEST_CASE("command-line overrides are read by the config file's rules, naming the option", "[train_config][cli]") {
+  nlohmann::json j = {{"env", {{"name", "cartpole"}}}, {"seed", 1}};
+  const auto error = [&](std::vector<rdsim::ConfigOverride> o) {
+    nlohmann::json copy = j;
+    try {
+      rdsim::apply_overrides(copy, o, "c.json");
+    } catch (const rdsim::Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(error({{"--seed", "seed", "-1"}}), Contains("--seed: seed: expected an integer in [0, 2^64 - 1], got -1"));
+  CHECK_THAT(error({{"--timesteps", "total_timesteps", "1e18"}}), Contains("--timesteps: total_timesteps") && Contains("[1, 1e12]"));
+  CHECK_THAT(error({{"--log-dir", "log_dir", ""}}), Contains("--log-dir: expected a value"));
+  nlohmann::json ok = j;
+  rdsim::apply_overrides(ok, {{"--seed", "seed", "7"}, {"--timesteps", "total_timesteps", "1e4"}}, "c.json");
+  const auto c = rdsim::parse_train_config(ok, "c.json", "c");
+  CHECK(c.seed == 7);
+  CHECK(c.total_timesteps == 10000);
+  // The value the override replaces must be valid too.
+  j["seed"] = -3;
+  CHECK_THAT(error({{"--seed", "seed", "7"}}), Contains("c.json: seed: expected an integer"));
+}
+
+TEST_CASE("keys without effect and contradicting keys are errors naming why", "[train_config]") {
+  rltest::ScratchDir dir("config_rules");
+  auto check = [&](const std::string& text, const std::string& why) {
+    const std::string msg = config_error(dir, text);
+    INFO(text << " -> " << msg);
+    CHECK_THAT(msg, Contains(why));
+  };
+  check(R"({"env": {"name": "cartpole"}, "ppo": {"n_steps": 16, "batch_size": 64}})", "ppo.batch_size: expected at most the rollout size");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "dqn": {"exploration_initial_eps": 0.1, "exploration_final_eps": 0.5}})",
+        "dqn.exploration_final_eps: expected at most exploration_initial_eps");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "total_timesteps": 50})", "dqn.learning_starts: expected fewer than total_timesteps");
+  check(R"({"env": {"name": "jaka_button", "multi_view": true}})", "env.multi_view: has no effect without");
+  check(R"({"env": {"name": "jaka_button", "image_width": 128}})", "env.image_width: has no effect without");
+  check(R"({"env": {"name": "cartpole", "urdf_root": "x"}})", "env.urdf_root: has no effect on cartpole");
+  check(R"({"env": {"name": "cartpole"}, "network": {"log_std_init": -1}})", "network.log_std_init: has no effect with discrete");
+  check(R"({"env": {"name": "cartpole"}, "network": {"cnn": {"preset": "small"}}})", "network.cnn: has no effect with ground-truth");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "a2c", "a2c": {"optimizer": "adam", "rms_alpha": 0.9}})",
+        "a2c.rms_alpha: has no effect with optimizer");
+  check(R"({"env": {"name": "cartpole"}, "ppo": {"n_steps": 1, "n_steps": 2}})", "ppo.n_steps: duplicate key");
+}
+
+TEST_CASE("the memory a config implies is estimated before anything is allocated", "[train_config][memory]") {
+  nlohmann::json j = {{"env", {{"name", "cartpole"}}}, {"network", {{"hidden_sizes", {65536, 65536}}}}};
+  const auto big = rdsim::parse_train_config(j, "big.json", "big");
+  const rdsim::MemoryEstimate e = rdsim::estimate_training_memory(big, rdsim::config_spec(big));
+  CHECK(e.total() > 100e9);  // two 65536 x 65536 layers per network: 4.3e9 weights each
+  CHECK_THAT(e.summary(), Contains("network.hidden_sizes"));
+  CHECK_THAT(rdsim::test::error_of([&] { rdsim::check_memory(e, rdsim::memory_limit(16.0), "big.json"); }),
+             Contains("big.json: this run would need about") && Contains("more than the limit of 16 GB (--max-memory 16)"));
+  const auto small = rdsim::read_train_config("configs/cartpole_ppo.json");
+  const rdsim::MemoryEstimate s = rdsim::estimate_training_memory(small, rdsim::config_spec(small));
+  CHECK(s.total() < 100e6);
+  CHECK_NOTHROW(rdsim::check_memory(s, rdsim::memory_limit(std::nullopt), "cartpole_ppo.json"));
+  // Pixels scale with the image and the envs: 4096 x 4096 x 64 envs is refused up front.
+  j = {{"env", {{"name", "jaka_button"}, {"observation", "raw_pixels"}, {"image_width", 4096}, {"image_height", 4096}}},
+       {"num_envs", 64}};
+  const auto pixels = rdsim::parse_train_config(j, "pixels.json", "pixels");
+  const rdsim::MemoryEstimate p = rdsim::estimate_training_memory(pixels, rdsim::config_spec(pixels));
+  CHECK(p.total() > 30e9);
+  CHECK_THAT(p.summary(10), Contains("env.image_width x image_height x num_envs"));
+}
+
+TEST_CASE("a run folder is locked by one run at a time, naming the holder", "[run_folder]") {
+  rltest::ScratchDir dir("run_folder_lock");
+  const std::string run = dir / "run";
+  {
+    rdsim::RunFolder first(run, rdsim::RunFolder::Mode::New);
+    CHECK_THAT(rdsim::test::error_of([&] { rdsim::RunFolder second(run, rdsim::RunFolder::Mode::New); }),
+               Contains(run + ": another rdsim run (pid " + std::to_string(::getpid()) + ")"));
+  }
+  rdsim::RunFolder again(run, rdsim::RunFolder::Mode::New);  // released with the first
+  CHECK_THAT(rdsim::test::error_of([&] { rdsim::RunFolder missing(dir / "nope", rdsim::RunFolder::Mode::Resume); }),
+             Contains("no such run folder"));
 }

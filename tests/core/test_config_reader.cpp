@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "../error_of.hpp"
@@ -53,4 +54,42 @@ TEST_CASE("config reader errors name the file and the key path", "[config]") {
     r.accept("lr");
     CHECK_THAT(error_of([&] { r.finish(); }), Contains("typo") && Contains("unknown key"));
   }
+}
+
+TEST_CASE("config reader: integers are read exactly, whatever number form they come in", "[config]") {
+  auto j = nlohmann::json::parse(R"({"a": 1e5, "b": 2.5, "c": 1e300, "d": -1e300, "e": 18446744073709551615,
+                                     "f": [1, 2.0, 3e2], "g": [1, 1e300], "u": -1, "v": 1.5})");
+  ConfigReader r(j, "cfg.json");
+  long long a = 0, x = 0;
+  r.read("a", a, 0LL, 1'000'000LL);
+  CHECK(a == 100000);
+  for (const char* key : {"b", "c", "d", "e"}) {
+    INFO(key);
+    CHECK_THAT(error_of([&] { r.read(key, x, 0LL, 1'000'000'000'000LL); }), Contains(std::string("cfg.json: ") + key) && Contains("[0, 1e12]"));
+  }
+  std::vector<int> f;
+  r.read("f", f, 0, 1000);
+  CHECK(f == std::vector<int>{1, 2, 300});
+  CHECK_THAT(error_of([&] { r.read("g", f, 0, 1000); }), Contains("cfg.json: g") && Contains("1e+300"));
+  std::uint64_t seed = 0;
+  CHECK_THAT(error_of([&] { r.read("u", seed); }), Contains("[0, 2^64 - 1]") && Contains("got -1"));
+  CHECK_THAT(error_of([&] { r.read("v", seed); }), Contains("got 1.5"));
+  r.read("e", seed);
+  CHECK(seed == 18446744073709551615ull);
+}
+
+TEST_CASE("config reader: ranges read well, lists and strings are bounded", "[config]") {
+  auto j = nlohmann::json::parse(R"({"n": 0, "s": "a\nb", "t": "ok"})");
+  j["long"] = std::string(5000, 'x');
+  j["list"] = std::vector<int>(300, 1);
+  ConfigReader r(j, "cfg.json");
+  long long n = 1;
+  CHECK_THAT(error_of([&] { r.read("n", n, 1LL, 100'000'000LL); }), Contains("in [1, 1e8], got 0"));
+  std::string s;
+  CHECK_THAT(error_of([&] { r.read("s", s); }), Contains("without control characters") && Contains("\"a\\nb\""));
+  CHECK_THAT(error_of([&] { r.read("long", s); }), Contains("at most 4096 bytes"));
+  r.read("t", s);
+  CHECK(s == "ok");
+  std::vector<int> list;
+  CHECK_THAT(error_of([&] { r.read("list", list, 0, 10); }), Contains("at most 256"));
 }

@@ -70,10 +70,13 @@ TEST_CASE("env.renderer is read, written back and checked", "[config][render]") 
   };
   CHECK(read({{"name", "jaka_button"}}).renderer == "osmesa");
   for (const char* choice : {"osmesa", "egl", "auto"}) {
-    const rdsim::EnvConfig c = read({{"name", "jaka_button"}, {"renderer", choice}});
+    const rdsim::EnvConfig c = read({{"name", "jaka_button"}, {"observation", "raw_pixels"}, {"renderer", choice}});
     CHECK(c.renderer == choice);
     CHECK(read(rdsim::to_json(c)).renderer == choice);
   }
-  CHECK_THROWS_WITH(read({{"name", "jaka_button"}, {"renderer", "vulkan"}}),
+  CHECK_THROWS_WITH(read({{"name", "jaka_button"}, {"observation", "raw_pixels"}, {"renderer", "vulkan"}}),
                     Contains("test.json") && Contains("env.renderer") && Contains("vulkan"));
+  // Without images to draw the key would do nothing.
+  CHECK_THROWS_WITH(read({{"name", "jaka_button"}, {"renderer", "egl"}}),
+                    Contains("env.renderer") && Contains("no effect"));
 }

@@ -30,7 +30,7 @@ for algo in "${algos[@]}"; do
   for seed in $seeds; do
     dir="$out/${algo}_seed${seed}"
     start=$(date +%s%N)
-    if ! "$bin" train --quiet --config "$config" --seed "$seed" --log-dir "$dir"; then
+    if ! "$bin" train --quiet --overwrite --config "$config" --seed "$seed" --log-dir "$dir"; then
       echo "$algo seed $seed: training failed"
       runs=$((runs + 1))
       continue

@@ -33,7 +33,7 @@ echo "config: $config   binary: $bin   output: $out   target success: $target"
 for seed in $seeds; do
   dir="$out/seed$seed"
   start=$(date +%s%N)
-  if ! "$bin" train --quiet --config "$config" --seed "$seed" --log-dir "$dir"; then
+  if ! "$bin" train --quiet --overwrite --config "$config" --seed "$seed" --log-dir "$dir"; then
     echo "seed $seed: training failed"
     continue
   fi

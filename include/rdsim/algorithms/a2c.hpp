@@ -43,6 +43,8 @@ void describe(V& v, C& c) {
   v.field("vf_coef", c.vf_coef, config::Range{0.0, 100.0}, "value loss weight");
   v.field("max_grad_norm", c.max_grad_norm, config::Range{1e-9, 1e9}, "global gradient-norm clip");
   v.field("normalize_advantage", c.normalize_advantage, "advantages standardised per update");
+  v.check(c.optimizer == "rmsprop" || (c.rms_alpha == A2cConfig{}.rms_alpha && !c.rms_tf_style),
+          c.rms_tf_style ? "rms_tf_style" : "rms_alpha", "has no effect with optimizer \"adam\" (RMSprop only)");
 }
 
 // `where` (the config file) prefixes messages about the network.

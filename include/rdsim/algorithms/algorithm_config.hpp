@@ -12,6 +12,7 @@
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/ppo.hpp"
 #include "rdsim/core/config_reader.hpp"
+#include "rdsim/core/memory_estimate.hpp"
 
 // What a training config says about the learner: which algorithm, its networks, and its own
 // hyperparameters (the object named after it: "ppo": {...}). Adding an algorithm: its config
@@ -42,6 +43,13 @@ AlgorithmConfig read_algorithm_config(ConfigReader& reader);
 
 // Writes the same three keys, every value resolved, into `out` (a JSON object).
 void write_algorithm_config(const AlgorithmConfig& config, nlohmann::json& out);
+
+// Adds what the algorithm of `config` will allocate for `num_envs` envs of `spec` to `estimate`
+// (networks with gradients and optimiser state, rollout or replay storage, training activations,
+// checkpoint buffers), computed from the config alone (algorithms/memory_estimate.cpp). Throws
+// rdsim::Error naming `config.source` when the network does not fit the observations (a CNN too
+// deep for the image), as building it would. Adding an algorithm: add its case there.
+void estimate_algorithm_memory(const AlgorithmConfig& config, const Spec& spec, int num_envs, MemoryEstimate& estimate);
 
 // Creates the algorithm for envs described by `spec`, with fresh weights drawn from
 // Rng::derive(seed, rng_stream::network_init). rdsim::Error when the algorithm cannot handle the

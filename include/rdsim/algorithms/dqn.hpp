@@ -54,10 +54,15 @@ void describe(V& v, C& c) {
   v.field("max_grad_norm", c.max_grad_norm, config::Range{1e-9, 1e9}, "global gradient-norm clip");
   v.field("double_q", c.double_q, "double Q-learning targets (van Hasselt et al.)");
   v.field("huber", c.huber, "Huber (smooth L1) TD loss, else squared error");
+  v.check(c.exploration_initial_eps >= c.exploration_final_eps, "exploration_final_eps",
+          "expected at most exploration_initial_eps (" + nlohmann::json(c.exploration_initial_eps).dump() +
+              "): epsilon falls from the initial to the final value");
+  v.check(c.batch_size <= c.buffer_size, "batch_size",
+          "expected at most buffer_size (" + std::to_string(c.buffer_size) + ")");
 }
 
-// rdsim::Error naming `where` (the config file) when the env has continuous actions or the
-// replay buffer would not fit in memory.
+// rdsim::Error naming `where` (the config file) when the env has continuous actions. (Whether the
+// replay buffer fits in memory is the training run's memory estimate: estimate_algorithm_memory.)
 std::unique_ptr<Algorithm> make_dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& where);
 

@@ -46,6 +46,8 @@ public:
   long long capacity() const { return capacity_; }
   int observation_size() const { return observation_size_; }
   bool stores_pixels() const { return pixels_; }
+  // The largest action index stored (-1 when empty).
+  int largest_action() const;
   // Bytes held by the stored observations (both observation and next observation).
   std::size_t observation_bytes() const;
 
@@ -54,7 +56,8 @@ public:
   void sample(int batch_size, Rng& rng, ReplayBatch& out) const;
 
   // The stored transitions and ring position (checkpoints). load() throws rdsim::Error naming
-  // `source` when capacity, observation size or storage type differ from this buffer's.
+  // `source` when capacity, observation size or storage type differ from this buffer's, or the
+  // stored values are damaged (not finite, negative actions, terminated flags other than 0/1).
   void save(std::ostream& out) const;
   void load(std::istream& in, const std::string& source);
 

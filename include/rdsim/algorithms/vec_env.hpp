@@ -72,6 +72,11 @@ public:
   // Seconds of training so far (includes the time before a resume).
   double wall_time() const;
 
+  // Brings every env's engine caches to the state a checkpoint restores (EnvState::drop_caches).
+  // The training loop calls it at every update boundary, so a resumed run matches an
+  // uninterrupted one bit for bit.
+  void drop_caches();
+
   // Checkpoint support. When every env implements EnvState, save() stores their complete state
   // and load() continues bit-identically; otherwise load() resets the envs with fresh seeds and
   // drops the episodes that were in progress (returns false in that case).

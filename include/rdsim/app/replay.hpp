@@ -13,6 +13,7 @@ struct ReplayOptions {
   std::optional<std::uint64_t> seed;  // default: the model's training seed
   bool stochastic = false;            // sample actions instead of taking the most likely one
   std::string record_dir;             // write every frame as PNG here (empty: no recording)
+  std::optional<double> max_memory_gb;  // memory limit (app/memory_check.hpp)
 };
 int replay_command(const ReplayOptions& options);
 

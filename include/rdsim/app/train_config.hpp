@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
+#include <vector>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/core/config_fields.hpp"
@@ -25,6 +26,7 @@ struct TrainConfig {
   int num_envs = 1;
   std::string log_dir;  // empty: runs/<name>
   long long checkpoint_interval = 0;
+  double checkpoint_seconds = 60.0;
   int stats_window = 20;
   int num_threads = 0;  // 0: resolved by resolve_num_threads()
   int sync_check_interval = 10;
@@ -40,7 +42,9 @@ void describe(V& v, C& c) {
   v.field("num_envs", c.num_envs, config::Range{1, 4096}, "envs stepped in lockstep (VecEnv)");
   v.field("log_dir", c.log_dir, "run folder; empty = runs/<config file stem>");
   v.field("checkpoint_interval", c.checkpoint_interval, config::Range{0LL, max_timesteps},
-          "env steps between checkpoint.bin writes; 0 = at the end only");
+          "env steps between checkpoints (checkpoint.bin and model.bin); 0 = by time only");
+  v.field("checkpoint_seconds", c.checkpoint_seconds, config::Range{0.0, 1e6},
+          "wall-clock seconds between checkpoints, so a killed run loses at most about this much; 0 = by steps only");
   v.field("stats_window", c.stats_window, config::Range{1, 1'000'000},
           "episodes behind progress.csv's return/length/success columns");
   v.field("num_threads", c.num_threads, config::Range{0, 4096},
@@ -55,12 +59,31 @@ void describe(V& v, C& c) {
 // least 1, at most num_envs.
 int resolve_num_threads(const TrainConfig& config, int local_ranks);
 
-// Reads and validates a config file. Unknown keys, wrong types, out-of-range values, a missing
-// file or bad JSON throw rdsim::Error naming the file and the key.
-TrainConfig read_train_config(const std::string& path);
+// A run setting given on the command line instead of the config file ("--seed 4" sets "seed").
+// It is read with the config file's rules (type, range; read_train_config) and errors name the
+// option: "--seed: seed: expected an integer in [0, 2^64 - 1], got -1".
+struct ConfigOverride {
+  std::string option;  // "--seed"
+  std::string key;     // "seed": a top-level key of the config
+  std::string text;    // as typed: a number where the key wants one, else the string itself
+};
+
+// Puts the overrides into a config's JSON, each first checked on its own (naming its option); the
+// value it replaces is checked too (naming `where`, the config's source).
+void apply_overrides(nlohmann::json& config, const std::vector<ConfigOverride>& overrides, const std::string& where);
+
+// Reads and validates a config file (bounded: core/json_text.hpp), with `overrides` applied
+// before validation. Unknown keys, wrong types, out-of-range values, keys without effect,
+// contradicting keys, a missing file or bad JSON throw rdsim::Error naming the file and the key.
+TrainConfig read_train_config(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
 
 // The same from parsed JSON; `where` names the source in messages, `name` becomes TrainConfig::name.
 TrainConfig parse_train_config(const nlohmann::json& json, const std::string& where, const std::string& name);
+
+// The Spec of the config's envs (envs/registry.hpp env_spec: no renderer is built). An env that
+// refuses the config (a value only the env can judge, a URDF it cannot load) is an rdsim::Error
+// naming config.source too.
+Spec config_spec(const TrainConfig& config);
 
 // The resolved config: every key with its value, defaults filled in (the env's keys, the chosen
 // algorithm's object). parse_train_config(to_json(c)) == c.

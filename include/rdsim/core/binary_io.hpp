@@ -23,6 +23,11 @@ float read_f32(std::istream& in, const std::string& source);
 double read_f64(std::istream& in, const std::string& source);
 // A damaged length never makes it allocate more than the rest of the stream holds.
 std::string read_string(std::istream& in, const std::string& source);
+// A u64 count of items of `item_bytes` bytes each, checked to fit in what is left of the stream,
+// so a damaged count can never make a reader allocate more than the file holds.
+std::uint64_t read_count(std::istream& in, std::uint64_t item_bytes, const std::string& source);
+// Bytes from the current position to the end of the stream.
+std::uint64_t bytes_left(std::istream& in);
 // Exactly n bytes into `data`.
 void read_bytes(std::istream& in, void* data, std::size_t n, const std::string& source);
 

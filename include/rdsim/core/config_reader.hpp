@@ -1,10 +1,21 @@
 #pragma once
 #include <nlohmann/json_fwd.hpp>
+#include <cstddef>
+#include <cstdint>
 #include <set>
 #include <string>
 #include <vector>
 
 namespace rdsim {
+
+// Lists in a config (hidden_sizes, channels, ...) hold at most this many entries.
+inline constexpr std::size_t max_list_items = 256;
+// Strings (names, paths) hold at most this many bytes (PATH_MAX).
+inline constexpr std::size_t max_string_bytes = 4096;
+
+// A value typed on the command line as JSON: a number when it reads as one ("-1", "1e18"), else
+// the text as a string, so that ConfigReader's checks and messages apply to it as to a file's.
+nlohmann::json json_from_option(const std::string& text);
 
 // Reads one JSON object into typed fields, once. Every problem becomes an rdsim::Error naming
 // the file and the key path ("configs/x.json: ppo.clip: expected a number in [0, 1], got 3").

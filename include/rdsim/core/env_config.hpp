@@ -67,6 +67,8 @@ void describe(V& v, C& c) {
   v.field("render_height", c.render_height, config::Range{8, 4096}, "height of those frames");
   v.choice("renderer", c.renderer, {"osmesa", "egl", "auto"},
            "renderer backend: osmesa (CPU), egl (GPU through EGL when built), auto (egl when it works)");
+  v.check(!c.multi_view || c.observation == ObservationMode::RawPixels, "multi_view",
+          "has no effect without \"observation\": \"raw_pixels\" (it adds a second camera to the images)");
 }
 
 const char* to_string(ObservationMode mode);

@@ -6,6 +6,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
+#include "rdsim/core/env_state.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_task.hpp"
@@ -46,7 +47,7 @@ struct ReachTerms {
   OrbitView main_view{}, second_view{};  // raw-pixel cameras (second: multi_view)
 };
 
-class ReachEnv : public Env {
+class ReachEnv : public Env, public EnvState {
 public:
   ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config);
 
@@ -57,6 +58,12 @@ public:
   StepOutcome step_into(const Action& action, ObservationOut out) override;
   bool step_physics_only() override;
   bool render(Image& frame) override;
+
+  // EnvState: the task's physics state, the episode's step counter, target choice and random
+  // stream; Bullet's contact caches are dropped instead (see core/env_state.hpp).
+  std::string save_state() const override;
+  void load_state(const std::string& bytes, const std::string& source) override;
+  void drop_caches() override { task_->drop_caches(); }
 
   const ReachTask& task() const { return *task_; }
   ReachTask& task() { return *task_; }

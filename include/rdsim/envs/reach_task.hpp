@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
@@ -111,6 +112,13 @@ public:
   bool out_of_bounds() const;
   // Whether any robot link touches static body `index` (index into spec().statics).
   bool robot_touches(int static_index) const;
+
+  // The simulated state between steps (robot joints and their targets, target point, end
+  // effector, simulated time), for checkpoints. load_state() leaves the contact caches dropped
+  // (drop_caches), as EnvState requires; rdsim::Error naming `source` for bytes of another task.
+  void save_state(std::ostream& out) const;
+  void load_state(std::istream& in, const std::string& source);
+  void drop_caches() { world_->forget_all_contacts(); }
 
   const ReachTaskSpec& spec() const { return spec_; }
   // For renderers and tests.

@@ -7,6 +7,7 @@
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
+#include "rdsim/core/memory_estimate.hpp"
 
 namespace rdsim {
 
@@ -36,6 +37,15 @@ EnvConfig read_env_config(ConfigReader& reader);
 
 // The resolved "env" object: name and every key the env reads, with its value.
 nlohmann::json to_json(const EnvConfig& config);
+
+// The Spec envs of `config` have, without building a renderer: a ground-truth twin of the env is
+// built once to ask it (cheap), and a raw-pixel space comes from the config ({image_height,
+// image_width, 3 per camera}). So nothing large is allocated before the memory estimate is checked.
+Spec env_spec(const EnvConfig& config);
+
+// Adds what `num_envs` envs of `config` will allocate to `estimate`: physics worlds and, when they
+// draw, framebuffers and images (from the config; nothing is built).
+void estimate_env_memory(const EnvConfig& config, int num_envs, MemoryEstimate& estimate);
 
 // Creates the env named by config.name after checking every value against the same rules as
 // read_env_config (so a config built in code meets them too).

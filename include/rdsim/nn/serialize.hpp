@@ -23,7 +23,8 @@ void params_from_bytes(const ParamList& params, const std::string& bytes, const 
 
 // One tensor: u32 rows, u32 cols, rows*cols float32 (core/binary_io.hpp for the scalars).
 void write_matrix(std::ostream& out, const Eigen::MatrixXf& m);
-// Reads a matrix and checks it has rows x cols; `what` names it in the error.
+// Reads a matrix and checks it has rows x cols (before allocating) and only finite values;
+// `what` names it in the error.
 void read_matrix(std::istream& in, Eigen::MatrixXf& m, int rows, int cols, const std::string& source,
                  const std::string& what);
 

@@ -74,6 +74,12 @@ public:
   // Drops the cached contact pairs of a body (after teleporting it), so the next step starts
   // from its current state only.
   void forget_contacts(int body);
+  // Drops every cached pair and contact manifold (with its warm-starting impulses). Afterwards
+  // the world evolves exactly like one rebuilt from the same body poses and joint states: the
+  // broadphase re-finds pairs in its fixed proxy order. What EnvState::drop_caches relies on.
+  void forget_all_contacts();
+  // Simulated time, for restoring a saved world (time() as it was).
+  void set_time(double seconds) { time_ = seconds; }
 
   struct Impl;  // the Bullet objects (src/sim/physics_world_impl.hpp), for Robot's implementation
   Impl& impl() { return *impl_; }

@@ -2,6 +2,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rdsim/sim/robot_model.hpp"
@@ -50,6 +51,13 @@ struct RobotOptions {
   bool limit_constraints = true;
 };
 
+// Everything a Robot simulates between steps, per dof, as Bullet holds it (floats): joint
+// positions, joint velocities and position targets. (Forces are cleared by every step; contact
+// caches belong to the world: PhysicsWorld::forget_all_contacts.)
+struct RobotState {
+  std::vector<float> positions, velocities, targets;
+};
+
 class Robot {
 public:
   // Built by PhysicsWorld::add_robot.
@@ -75,6 +83,11 @@ public:
   void joint_positions(Eigen::Ref<Eigen::VectorXf> out) const;
   Eigen::VectorXf joint_positions() const;
   Eigen::VectorXf joint_velocities() const;
+
+  RobotState state() const;
+  // Puts the joints exactly where state() found them (bit for bit) and refreshes link poses.
+  // rdsim::Error naming `source` when the sizes do not match this robot or a value is not finite.
+  void set_state(const RobotState& state, const std::string& source);
 
   // Teleports the joints to `q` at rest (targets = q) and forgets cached contacts.
   void reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q);

@@ -60,6 +60,8 @@ void Adam::load_state(std::istream& in, const std::string& source) {
                 std::to_string(params_.size()));
   const auto t = static_cast<long long>(read_u64(in, source));
   const float lr = read_f32(in, source);
+  if (t < 0 || t > (1LL << 50) || !std::isfinite(lr) || lr < 0.0f)
+    throw Error(source + ": Adam state is damaged (step count or learning rate out of range)");
   std::vector<Eigen::MatrixXf> m(params_.size()), v(params_.size());
   for (size_t i = 0; i < params_.size(); ++i) {
     const int rows = static_cast<int>(params_[i].value->rows());

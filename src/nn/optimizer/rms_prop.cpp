@@ -1,6 +1,8 @@
 #include <istream>
 #include <ostream>
 
+#include <cmath>
+
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/nn/optimizer.hpp"
@@ -48,6 +50,7 @@ void RmsProp::load_state(std::istream& in, const std::string& source) {
     throw Error(source + ": RMSprop state holds " + std::to_string(count) + " tensors, expected " +
                 std::to_string(params_.size()));
   const float lr = read_f32(in, source);
+  if (!std::isfinite(lr) || lr < 0.0f) throw Error(source + ": RMSprop state is damaged (learning rate out of range)");
   std::vector<Eigen::MatrixXf> square_avg(params_.size());
   for (size_t i = 0; i < params_.size(); ++i)
     read_matrix(in, square_avg[i], static_cast<int>(params_[i].value->rows()),
