@@ -33,7 +33,7 @@ Eigen::VectorXf home_pose(const RobotModel& model) {
 
 EnvConfig inmoov_tomato_defaults() {
   return EnvConfig{.name = "inmoov_tomato", .max_distance = 0.6, .max_steps = 400, .action_step = 0.004,
-                   .success_threshold = 0.06};
+                   .success_threshold = 0.06, .ik_iterations = 3};
 }
 
 OrbitView inmoov_main_view() {
@@ -53,11 +53,10 @@ ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config) {
   // The right arm only: the torso joints on the path to the palm hold their home pose.
   s.ik_joints = {"r_omoplate", "r_shoulder_lift", "r_upper_arm_rotate", "r_elbow", "r_wrist_roll", "r_wrist_pitch"};
   s.home = home_pose(load_urdf(s.robot_urdf));
-  s.home_noise = 0.02f;
+  s.rest = Eigen::VectorXf::Zero(s.home.size());  // RobotDrlSim's reset pose and IK rest pose: every joint 0
   s.statics = {{assets + "/objects/tomato_tree.urdf", Eigen::Isometry3f(Eigen::Translation3f(0.65f, -0.20f, 0.0f))}};
   s.target_body = -1;  // the tomatoes are part of the tree: the target is set per reset
   s.workspace = Eigen::AlignedBox3f(Eigen::Vector3f(0.10f, -0.70f, 0.80f), Eigen::Vector3f(0.70f, 0.15f, 1.65f));
-  s.ik_iterations = 3;
   apply_env_config(config, s);
   return s;
 }
@@ -78,6 +77,7 @@ ReachTerms inmoov_tomato_terms(const ReachTaskSpec& spec) {
   t.default_choice = InmoovTomato::default_target;
   t.main_view = inmoov_main_view();
   t.second_view = inmoov_second_view();
+  t.cameras = inmoov_eye_cameras();
   return t;
 }
 

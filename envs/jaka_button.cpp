@@ -7,7 +7,7 @@ namespace rdsim {
 EnvConfig jaka_button_defaults() {
   // max_steps: the paper used 1000 and had no success end.
   return EnvConfig{.name = "jaka_button", .max_distance = 0.7, .max_steps = 200, .action_step = 0.015,
-                   .success_threshold = 0.025};
+                   .success_threshold = 0.025, .ik_iterations = 1};
 }
 
 // The paper's main camera (yaw 155, pitch -36, fov 60) re-aimed: the paper's target
@@ -34,16 +34,19 @@ ReachTaskSpec jaka_button_spec(const EnvConfig& config) {
   s.workspace = Eigen::AlignedBox3f(Eigen::Vector3f(0.15f, -0.5f, 0.02f), Eigen::Vector3f(0.85f, 0.5f, 0.55f));
   s.robot_urdf = assets + "/jaka/jaka_zu7.urdf";
   s.ee_link = "flange_link";
-  s.ik_iterations = 1;
   s.home.resize(6);
   s.home << -0.26f, 1.44f, -1.85f, 1.98f, 1.5708f, 0.0f;
-  s.home_noise = 0.02f;
+  s.rest.resize(6);
+  s.rest << 0.0f, 0.0f, 1.0f, 1.0f, 1.0f, 1.0f;  // RobotDrlSim's reset pose and IK rest pose
   apply_env_config(config, s);
   return s;
 }
 
 ReachTerms jaka_button_terms() {
-  return ReachTerms{.press_body = JakaButton::button_index, .main_view = reach_main_view(), .second_view = reach_second_view()};
+  return ReachTerms{.press_body = JakaButton::button_index,
+                    .main_view = reach_main_view(),
+                    .second_view = reach_second_view(),
+                    .cameras = {jaka_wrist_camera()}};
 }
 
 std::unique_ptr<Env> make_jaka_button(const EnvConfig& config) { return std::make_unique<JakaButton>(config); }

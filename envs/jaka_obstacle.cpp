@@ -33,8 +33,10 @@ ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
   return s;
 }
 
-ReachTerms jaka_obstacle_terms() {
+ReachTerms jaka_obstacle_terms(const EnvConfig& config) {
   ReachTerms t;
+  t.reward = config.reward;
+  if (config.column_motion == ColumnMotion::RandomWalk) t.walking_body = JakaObstacle::column_index;
   t.press_body = JakaObstacle::button_index;
   t.forbidden_body = JakaObstacle::column_index;
   t.collision_reward = JakaObstacle::collision_reward;
@@ -42,6 +44,7 @@ ReachTerms jaka_obstacle_terms() {
   t.observed_links = {"wrist_2_link", "wrist_3_link"};
   t.main_view = obstacle_main_view();
   t.second_view = reach_second_view();
+  t.cameras = {jaka_wrist_camera()};
   return t;
 }
 

@@ -19,11 +19,7 @@ PixelView::PixelView(const ReachTask& task, const EnvConfig& config, const Orbit
   check_size("image_width", config.image_width);
   check_size("image_height", config.image_height);
   const int w = config.image_width, h = config.image_height;
-  add_robot(scene_, task.robot());
-  for (size_t i = 0; i < task.spec().statics.size(); ++i) {
-    const int index = static_cast<int>(i);
-    add_static_body(scene_, task.world(), task.static_body(index), task.static_model(index));
-  }
+  add_task_bodies(scene_, task);
   cameras_.push_back(make_orbit_camera(main_view, w, h));
   if (config.multi_view) cameras_.push_back(make_orbit_camera(second_view, w, h));
   for (const Camera& c : cameras_) check_camera(c);

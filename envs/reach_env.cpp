@@ -1,5 +1,6 @@
 #include "rdsim/envs/reach_env.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 #include "rdsim/core/binary_io.hpp"
@@ -21,14 +22,30 @@ float link_reach(const RobotModel& model, int link) {
   return static_cast<float>(reach);
 }
 
-// Float32 bounds of the ground-truth observation: target - ee, ee - landmark..., ee,
-// link - landmark... (links anywhere within their reach of the robot's base).
-ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Eigen::Vector3f>& landmarks,
-                                   const RobotModel& robot, const std::vector<int>& links) {
-  const Eigen::Vector3f lo = s.workspace.min() - Eigen::Vector3f::Constant(s.workspace_margin);
-  const Eigen::Vector3f hi = s.workspace.max() + Eigen::Vector3f::Constant(s.workspace_margin);
+// Where the end effector can be: the workspace box plus margin with workspace_bounds, else anywhere
+// within its reach of the robot's base.
+Eigen::AlignedBox3f ee_box(const ReachTaskSpec& s, const RobotModel& robot, int ee_link) {
+  if (!s.workspace_bounds) {
+    const Eigen::Vector3f base = s.base_pose.translation();
+    const Eigen::Vector3f r = Eigen::Vector3f::Constant(link_reach(robot, ee_link));
+    return Eigen::AlignedBox3f(base - r, base + r);
+  }
+  return Eigen::AlignedBox3f(s.workspace.min() - Eigen::Vector3f::Constant(s.workspace_margin),
+                             s.workspace.max() + Eigen::Vector3f::Constant(s.workspace_margin));
+}
+
+// Float32 bounds of the ground-truth observation (the layouts in reach_env.hpp): full = target - ee,
+// ee - landmark..., ee, link - landmark... (links anywhere within their reach of the robot's base);
+// relative = ee - target, ee - landmark.... A landmark may move by up to `slack` from its point.
+ObservationSpace ground_truth_space(const ReachTaskSpec& s, const Eigen::AlignedBox3f& ee,
+                                   const std::vector<Eigen::Vector3f>& landmarks,
+                                   const std::vector<Eigen::Vector3f>& slack, const RobotModel& robot,
+                                   const std::vector<int>& links, ObservationLayout layout) {
+  const bool full = layout == ObservationLayout::Full;
+  const Eigen::Vector3f lo = ee.min(), hi = ee.max();
   const Eigen::Vector3f reach = (hi - lo).cwiseMax(Eigen::Vector3f::Constant(s.max_distance));
-  const int n = 3 * (2 + static_cast<int>(landmarks.size()) * (1 + static_cast<int>(links.size())));
+  const int per_landmark = full ? 1 + static_cast<int>(links.size()) : 1;
+  const int n = 3 * ((full ? 2 : 1) + static_cast<int>(landmarks.size()) * per_landmark);
   ObservationSpace space;
   space.type = ObsType::Float32;
   space.shape = {n};
@@ -38,9 +55,10 @@ ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Ei
   space.high.head<3>() = reach;
   for (size_t k = 0; k < landmarks.size(); ++k) {
     const Eigen::Index at = 3 * static_cast<Eigen::Index>(k + 1);
-    space.low.segment<3>(at) = lo - landmarks[k];
-    space.high.segment<3>(at) = hi - landmarks[k];
+    space.low.segment<3>(at) = lo - landmarks[k] - slack[k];
+    space.high.segment<3>(at) = hi - landmarks[k] + slack[k];
   }
+  if (!full) return space;
   Eigen::Index at = 3 * static_cast<Eigen::Index>(landmarks.size() + 1);
   space.low.segment<3>(at) = lo;
   space.high.segment<3>(at) = hi;
@@ -48,9 +66,9 @@ ObservationSpace ground_truth_space(const ReachTaskSpec& s, const std::vector<Ei
   const Eigen::Vector3f base = s.base_pose.translation();
   for (int link : links) {
     const Eigen::Vector3f r = Eigen::Vector3f::Constant(link_reach(robot, link));
-    for (const Eigen::Vector3f& landmark : landmarks) {
-      space.low.segment<3>(at) = base - r - landmark;
-      space.high.segment<3>(at) = base + r - landmark;
+    for (size_t k = 0; k < landmarks.size(); ++k) {
+      space.low.segment<3>(at) = base - r - landmarks[k] - slack[k];
+      space.high.segment<3>(at) = base + r - landmarks[k] + slack[k];
       at += 3;
     }
   }
@@ -63,18 +81,45 @@ void check_static_index(const ReachTaskSpec& s, int index, const char* what) {
                 std::to_string(s.statics.size()) + " static bodies");
 }
 
+RobotInfo robot_info_of(const ReachTask& task) {
+  RobotInfo info;
+  const Robot& robot = task.robot();
+  info.robot = robot.model().name;
+  info.effector_link = task.spec().ee_link;
+  info.workspace = task.spec().workspace;
+  for (int dof = 0; dof < robot.dof(); ++dof) {
+    const Joint& j = robot.model().joints[static_cast<size_t>(robot.dof_joint(dof))];
+    JointInfo ji;
+    ji.name = j.name;
+    ji.kind = j.type == JointType::Prismatic ? JointKind::Prismatic
+              : j.type == JointType::Continuous ? JointKind::Continuous
+                                                : JointKind::Revolute;
+    ji.lower = static_cast<float>(j.lower);
+    ji.upper = static_cast<float>(j.upper);
+    ji.max_velocity = static_cast<float>(j.velocity);
+    info.joints.push_back(ji);
+  }
+  return info;
+}
+
 }  // namespace
 
 ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config) : terms_(std::move(terms)) {
   check_static_index(task, terms_.press_body, "press body");
   check_static_index(task, terms_.forbidden_body, "forbidden body");
+  check_static_index(task, terms_.walking_body, "walking body");
+  std::vector<Eigen::Vector3f> slack;  // how far each landmark can move from its point
   for (int landmark : terms_.landmarks) {
     check_static_index(task, landmark, "landmark");
     landmark_points_.push_back(task.statics[static_cast<size_t>(landmark)].pose.translation());
+    const float walk = landmark == terms_.walking_body ? terms_.walk_range : 0.0f;
+    slack.emplace_back(walk, walk, 0.0f);
   }
   task_ = std::make_unique<ReachTask>(std::move(task));
   for (const std::string& link : terms_.observed_links) observed_links_.push_back(task_->robot_model().require_link(link));
   random_target_ = config.random_target;
+  layout_ = config.observation_layout;
+  end_on_success_ = config.end_on_success;
   if (!terms_.target_choices.empty()) select_target(terms_.default_choice);
 
   const ReachTaskSpec& s = task_->spec();
@@ -82,7 +127,8 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   spec_.action = task_->action_space();
   spec_.max_episode_steps = s.max_steps;
   spec_.control_dt = s.world.time_step * s.action_repeat;
-  spec_.observation = ground_truth_space(s, landmark_points_, task_->robot_model(), observed_links_);
+  spec_.observation = ground_truth_space(s, ee_box(s, task_->robot_model(), task_->ee_link()), landmark_points_,
+                                         slack, task_->robot_model(), observed_links_, layout_);
   if (config.observation == ObservationMode::RawPixels) {
     pixels_ = std::make_unique<PixelView>(*task_, config, terms_.main_view, terms_.second_view);
     spec_.observation = pixels_->space();
@@ -94,7 +140,17 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
     view.multi_view = false;
     viewer_ = std::make_unique<PixelView>(*task_, view, terms_.main_view, terms_.second_view);
   }
+  renderer_backend_ = config.renderer;
+  robot_info_ = robot_info_of(*task_);
+  // The task's first-person cameras, and the main view fixed in the world to watch the whole task.
+  terms_.cameras.push_back(world_camera("scene", terms_.main_view));
+  for (const CameraMount& m : terms_.cameras) {
+    if (!m.link.empty()) task_->robot_model().require_link(m.link);
+    robot_info_.cameras.push_back({m.name, m.link, m.fov_deg});
+  }
 }
+
+ReachEnv::~ReachEnv() = default;
 
 void ReachEnv::observe(ObservationOut out) const {
   if (pixels_) {
@@ -103,6 +159,12 @@ void ReachEnv::observe(ObservationOut out) const {
   }
   Eigen::Map<Eigen::VectorXf> o(out.values, spec_.observation.size());
   const Eigen::Vector3f& ee = task_->ee_position();
+  if (layout_ == ObservationLayout::Relative) {
+    o.head<3>() = ee - task_->target();
+    for (size_t k = 0; k < landmark_points_.size(); ++k)
+      o.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
+    return;
+  }
   o.head<3>() = task_->target() - ee;
   for (size_t k = 0; k < landmark_points_.size(); ++k)
     o.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
@@ -125,6 +187,10 @@ StepResult ReachEnv::step(const Action& action) { return step_through_into(*this
 
 void ReachEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
+  if (terms_.walking_body >= 0) {
+    walk_offset_.setZero();
+    place_walking_body();
+  }
   const bool choices = !terms_.target_choices.empty();
   task_->reset(rng_, random_target_ && !choices);
   if (choices) {
@@ -144,8 +210,8 @@ void ReachEnv::select_target(int index) {
   task_->set_target(terms_.target_choices[static_cast<size_t>(index)]);
 }
 
-StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {
-  const Eigen::Vector3f move = task_->move_for(action);  // a bad action is an error even after the end
+template <class SetTargets>
+StepOutcome ReachEnv::control_step(ObservationOut out, SetTargets&& set_targets) {
   StepOutcome r;
   if (done_) {
     // Stepping a finished episode: nothing moves, no reward.
@@ -153,7 +219,8 @@ StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {
     r.terminated = true;
     return r;
   }
-  task_->apply_move(move, rng_);
+  walk();
+  set_targets();
   task_->step_physics();
   ++steps_;
   observe(out);
@@ -162,22 +229,98 @@ StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {
   return r;
 }
 
+void ReachEnv::walk() {
+  if (terms_.walking_body < 0) return;
+  for (int i = 0; i < 2; ++i) {
+    const float move = static_cast<float>(rng_.uniform(-1.0, 1.0)) * terms_.walk_step;
+    walk_offset_[i] = std::clamp(walk_offset_[i] + move, -terms_.walk_range, terms_.walk_range);
+  }
+  place_walking_body();
+}
+
+void ReachEnv::place_walking_body() {
+  const int index = terms_.walking_body;
+  Eigen::Isometry3f pose = task_->spec().statics[static_cast<size_t>(index)].pose;
+  pose.translation().head<2>() += walk_offset_;
+  task_->world().set_static_pose(task_->static_body(index), pose);
+  for (size_t k = 0; k < terms_.landmarks.size(); ++k)
+    if (terms_.landmarks[k] == index) landmark_points_[k] = pose.translation();
+}
+
+StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {
+  const Eigen::Vector3f move = task_->move_for(action);  // a bad action is an error even after the end
+  return control_step(out, [&] { task_->apply_move(move, rng_); });
+}
+
+template <class SetTargets>
+StepResult ReachEnv::control_step_result(SetTargets&& set_targets) {
+  StepResult r;
+  r.observation = make_observation(spec_.observation);
+  const StepOutcome o = control_step(observation_out(r.observation), std::forward<SetTargets>(set_targets));
+  r.reward = o.reward;
+  r.terminated = o.terminated;
+  r.truncated = o.truncated;
+  r.info = o.info;
+  return r;
+}
+
+StepResult ReachEnv::move_effector(const Eigen::Vector3f& position) {
+  if (!position.allFinite()) throw Error(spec_.env_name + ": effector position must be finite numbers (m)");
+  return control_step_result([&] { task_->apply_effector_target(position); });
+}
+
+StepResult ReachEnv::set_joint_targets(const Eigen::VectorXf& targets) {
+  Robot& robot = task_->robot();
+  if (targets.size() != robot.dof())
+    throw Error(spec_.env_name + ": expected " + std::to_string(robot.dof()) + " joint targets (one per joint), got " +
+                std::to_string(targets.size()));
+  if (!targets.allFinite()) throw Error(spec_.env_name + ": joint targets must be finite numbers");
+  return control_step_result([&] { robot.set_position_targets(targets); });
+}
+
+RobotSnapshot ReachEnv::robot_state() {
+  const Robot& robot = task_->robot();
+  RobotSnapshot s;
+  s.joint_positions = robot.joint_positions();
+  s.joint_velocities = robot.joint_velocities();
+  s.joint_targets = robot.position_targets();
+  const Eigen::Isometry3f ee = robot.link_pose(task_->ee_link());
+  s.effector_position = ee.translation();
+  s.effector_orientation = Eigen::Quaternionf(ee.linear());
+  s.target = task_->target();
+  s.steps = steps_;
+  return s;
+}
+
+void ReachEnv::camera_image(int camera, int width, int height, Image& out) {
+  if (!cameras_) cameras_ = std::make_unique<RobotCameras>(*task_, terms_.cameras, renderer_backend_);
+  cameras_->render(*task_, camera, width, height, out);
+}
+
 // Reward, info and episode end of the step just taken (the rules in the header).
 void ReachEnv::judge(StepOutcome& r) const {
   const ReachTaskSpec& s = task_->spec();
   const float d = task_->distance();
-  r.reward = -d;
   r.info.distance = d;
   r.info.collision = terms_.forbidden_body >= 0 && task_->robot_touches(terms_.forbidden_body);
   const bool pressed = terms_.press_body >= 0 &&
                        task_->world().touching({task_->robot().body(), task_->ee_link()},
                                                {task_->static_body(terms_.press_body), -1});
-  r.info.success = !r.info.collision && (task_->reached() || pressed);
-  r.info.out_of_bounds = !r.info.success && !r.info.collision && task_->out_of_bounds();
-  if (r.info.collision) r.reward = terms_.collision_reward;
+  const bool at_goal = !r.info.collision && (task_->reached() || pressed);
+  const bool last = steps_ >= s.max_steps;
+  r.info.success = at_goal && (end_on_success_ || last);
+  r.info.out_of_bounds = !at_goal && !r.info.collision && task_->out_of_bounds();
+  const bool negative_distance = terms_.reward == RewardRule::NegativeDistance;
+  if (negative_distance) {
+    r.reward = r.info.collision ? terms_.collision_reward : -d;
+  } else {
+    r.reward = 1.0f / std::max(d, 0.01f) - 2.0f * static_cast<float>(steps_) / static_cast<float>(s.max_steps);
+    if (r.info.collision) r.reward -= 10.0f;
+    if (d < 0.1f) r.reward += 10.0f;
+  }
   if (r.info.out_of_bounds) r.reward -= s.max_distance * static_cast<float>(s.max_steps - steps_);
-  r.terminated = r.info.success || r.info.collision || r.info.out_of_bounds;
-  r.truncated = !r.terminated && steps_ >= s.max_steps;
+  r.terminated = (end_on_success_ && r.info.success) || (r.info.collision && negative_distance) || r.info.out_of_bounds;
+  r.truncated = !r.terminated && last;
 }
 
 namespace {
@@ -192,6 +335,8 @@ std::string ReachEnv::save_state() const {
   write_u32(out, static_cast<std::uint32_t>(steps_));
   write_u32(out, done_ ? 1 : 0);
   write_u32(out, static_cast<std::uint32_t>(target_index_));
+  write_f32(out, walk_offset_.x());  // m, the walking body's offset from its place (0 without one)
+  write_f32(out, walk_offset_.y());
   task_->save_state(out);
   return std::move(out).str();
 }
@@ -206,16 +351,24 @@ void ReachEnv::load_state(const std::string& bytes, const std::string& source) {
   const auto steps = static_cast<int>(read_u32(in, source));
   const std::uint32_t done = read_u32(in, source);
   const auto target_index = static_cast<int>(read_u32(in, source));
+  const float walk_x = read_f32(in, source);  // two statements: argument order is unspecified
+  const float walk_y = read_f32(in, source);
+  const Eigen::Vector2f walk_offset(walk_x, walk_y);
   const int choices = static_cast<int>(terms_.target_choices.size());
   if (steps < 0 || steps > spec_.max_episode_steps || done > 1 ||
       (choices > 0 ? target_index < 0 || target_index >= choices : target_index != -1))
     throw Error(source + ": env state of " + spec_.env_name + " is damaged (counters out of range)");
+  const float walk_range = terms_.walking_body >= 0 ? terms_.walk_range : 0.0f;
+  if (!walk_offset.allFinite() || walk_offset.cwiseAbs().maxCoeff() > walk_range)
+    throw Error(source + ": env state of " + spec_.env_name + " is damaged (walking body offset out of range)");
   task_->load_state(in, source);
   if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
   rng_ = rng;
   steps_ = steps;
   done_ = done != 0;
   target_index_ = target_index;
+  walk_offset_ = walk_offset;
+  if (terms_.walking_body >= 0) place_walking_body();
 }
 
 bool ReachEnv::step_physics_only() {

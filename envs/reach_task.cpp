@@ -13,24 +13,25 @@ namespace {
 
 constexpr double kIkDamping = 0.02;  // m: keeps the step bounded near singular poses
 
-// The robot's model with every movable joint not in spec.ik_joints made fixed at its home angle, so
+// The robot's model with every movable joint not in spec.ik_joints made fixed at its reset angle, so
 // the IK chain moves only ik_joints. Joint indices are unchanged: chain joints still map to robot dofs.
 RobotModel ik_model(const RobotModel& robot_model, const Robot& robot, const ReachTaskSpec& spec) {
   RobotModel model = robot_model;
-  if (spec.ik_joints.empty()) return model;
+  if (spec.ik_joints.empty() || spec.ik_all_joints) return model;
   for (const std::string& name : spec.ik_joints) {
     const int j = model.joint_index(name);
     if (j < 0 || !model.joints[static_cast<size_t>(j)].movable())
       throw Error(spec.robot_urdf + ": ik_joints names '" + name + "', which is not a movable joint of the robot");
   }
-  if (spec.home.size() != robot.dof())
-    throw Error(spec.robot_urdf + ": the home pose has " + std::to_string(spec.home.size()) +
-                " joint values, the robot has " + std::to_string(robot.dof()));
+  const Eigen::VectorXf& pose = spec.reset_to_rest ? spec.rest : spec.home;  // where the frozen joints stay
+  if (pose.size() != robot.dof())
+    throw Error(spec.robot_urdf + ": the " + (spec.reset_to_rest ? "rest" : "home") + " pose has " +
+                std::to_string(pose.size()) + " joint values, the robot has " + std::to_string(robot.dof()));
   for (size_t j = 0; j < model.joints.size(); ++j) {
     Joint& joint = model.joints[j];
     if (!joint.movable() || std::find(spec.ik_joints.begin(), spec.ik_joints.end(), joint.name) != spec.ik_joints.end())
       continue;
-    const double q = spec.home[robot.dof_of_joint(static_cast<int>(j))];
+    const double q = pose[robot.dof_of_joint(static_cast<int>(j))];
     if (joint.type == JointType::Prismatic)
       joint.origin = joint.origin * Eigen::Translation3d(q * joint.axis);
     else
@@ -46,10 +47,25 @@ RobotModel ik_model(const RobotModel& robot_model, const Robot& robot, const Rea
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
   spec.discrete = config.is_discrete;
   spec.step = static_cast<float>(config.action_step);
+  spec.move_noise = static_cast<float>(config.move_noise);
   spec.success_threshold = static_cast<float>(config.success_threshold);
   spec.max_distance = static_cast<float>(config.max_distance);
+  spec.workspace_bounds = config.workspace_bounds;
   spec.max_steps = config.max_steps;
   spec.action_repeat = config.action_repeat;
+  spec.ik_method = config.ik_method;
+  spec.ik_iterations = config.ik_iterations;
+  spec.ik_all_joints = config.ik_joints == IkJoints::All;
+  spec.reset_to_rest = config.reset_pose == ResetPose::Rest;
+  spec.reset_noise = static_cast<float>(config.reset_noise);
+  spec.world.solver_iterations = config.solver_iterations;
+  // Position motors are pybullet's POSITION_CONTROL, and pybullet's URDF import adds joint-limit
+  // constraints; the computed-torque drive keeps the limits through its clamped targets instead.
+  const bool motors = config.drive == DriveMode::PositionMotor;
+  spec.robot.drive = motors ? JointDrive::ConstraintMotor : JointDrive::ComputedTorque;
+  spec.robot.limit_constraints = motors;
+  spec.robot.position_gain = static_cast<float>(config.position_gain);
+  spec.robot.velocity_gain = static_cast<float>(config.velocity_gain);
 }
 
 ActionSpace ReachTask::action_space() const {
@@ -86,6 +102,7 @@ Eigen::Vector3f ReachTask::move_for(const Action& action) const {
 ReachTask::ReachTask(ReachTaskSpec spec) : spec_(std::move(spec)) {
   if (spec_.target_body >= static_cast<int>(spec_.statics.size()))
     throw Error("ReachTaskSpec: target_body " + std::to_string(spec_.target_body) + " is not a static body");
+  if (spec_.rest.size() == 0) spec_.rest = spec_.home;
   world_ = std::make_unique<PhysicsWorld>(spec_.world);
   static_models_.reserve(spec_.statics.size());
   for (const auto& s : spec_.statics) {
@@ -106,9 +123,14 @@ ReachTask::ReachTask(ReachTaskSpec spec) : spec_(std::move(spec)) {
   if (spec_.home.size() != robot_->dof())
     throw Error(spec_.robot_urdf + ": the home pose has " + std::to_string(spec_.home.size()) +
                 " joint values, the robot has " + std::to_string(robot_->dof()));
+  if (spec_.rest.size() != robot_->dof())
+    throw Error(spec_.robot_urdf + ": the rest pose has " + std::to_string(spec_.rest.size()) +
+                " joint values, the robot has " + std::to_string(robot_->dof()));
+  rest_chain_.resize(chain_->dof());
+  for (int i = 0; i < chain_->dof(); ++i) rest_chain_[i] = spec_.rest[chain_dofs_[static_cast<size_t>(i)]];
   base_inverse_ = spec_.base_pose.inverse();
-  scratch_q_ = spec_.home;
-  robot_->reset_joints(spec_.home);
+  scratch_q_ = reset_pose();
+  robot_->reset_joints(reset_pose());
   ee_ = robot_->link_pose(ee_link_).translation();
   set_target(spec_.nominal_target);
 }
@@ -125,9 +147,9 @@ void ReachTask::set_target(const Eigen::Vector3f& point) {
 }
 
 void ReachTask::reset(Rng& rng, bool random_target) {
-  scratch_q_ = spec_.home;
-  if (spec_.home_noise > 0.0f)
-    for (int dof : chain_dofs_) scratch_q_[dof] += static_cast<float>(rng.uniform(-1.0, 1.0)) * spec_.home_noise;
+  scratch_q_ = reset_pose();
+  if (spec_.reset_noise > 0.0f)
+    for (int dof : chain_dofs_) scratch_q_[dof] += static_cast<float>(rng.uniform(-1.0, 1.0)) * spec_.reset_noise;
   robot_->reset_joints(scratch_q_);
   Eigen::Vector3f target = spec_.nominal_target;
   if (random_target && spec_.random_centre) target = *spec_.random_centre;
@@ -145,26 +167,45 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
     const double sigma = static_cast<double>(spec_.move_noise * spec_.step);
     for (int i = 0; i < 3; ++i) goal[i] += static_cast<float>(rng.normal(0.0, sigma));
   }
-  goal = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
+  if (spec_.workspace_bounds) goal = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
   const Eigen::Vector3d goal_root = (base_inverse_ * goal).cast<double>();
   JointVector q(chain_->dof());
   for (int i = 0; i < chain_->dof(); ++i) q[i] = robot_->joint_position(chain_dofs_[static_cast<size_t>(i)]);
-  // Damped least squares steps, each one FK + Jacobian (solve_ik's accept/reject test would cost a
-  // second FK per iteration; a move of a centimetre or two is well inside the linear regime).
   JointVector solution = q;
-  for (int it = 0; it < spec_.ik_iterations; ++it) {
-    ChainJacobian jacobian;
-    const Eigen::Vector3d error = goal_root - chain_->forward(solution, jacobian).translation();
-    solution = chain_->clamp(solution + damped_least_squares_step(jacobian.topRows<3>(), error, kIkDamping));
+  if (spec_.ik_method == IkMethod::NullSpace) {
+    NullSpaceIkOptions options;
+    options.iterations = spec_.ik_iterations;
+    solution = null_space_ik(*chain_, goal_root, q, rest_chain_, options);
+  } else {
+    // Damped least squares steps, each one FK + Jacobian (solve_ik's accept/reject test would cost a
+    // second FK per iteration; a move of a centimetre or two is well inside the linear regime).
+    for (int it = 0; it < spec_.ik_iterations; ++it) {
+      ChainJacobian jacobian;
+      const Eigen::Vector3d error = goal_root - chain_->forward(solution, jacobian).translation();
+      solution = chain_->clamp(solution + damped_least_squares_step(jacobian.topRows<3>(), error, kIkDamping));
+    }
   }
-  // Joints the drive would have to clamp at their speed limit would bend the move; slowing the whole
-  // joint step instead keeps the end effector on the requested line.
   JointVector dq = solution - q;
-  double over = 1.0;
-  for (int i = 0; i < dq.size(); ++i) over = std::max(over, std::abs(dq[i]) / max_joint_move_[i]);
-  dq /= over;
+  if (spec_.robot.drive == JointDrive::ComputedTorque) {
+    // This drive closes the whole error within a step (kp 1), so joints it would have to clamp at
+    // their speed limit would bend the move; slowing the whole joint step instead keeps the end
+    // effector on the requested line. Position motors with a small kp approach their target
+    // gradually, as pybullet's do, so they get the IK solution itself.
+    double over = 1.0;
+    for (int i = 0; i < dq.size(); ++i) over = std::max(over, std::abs(dq[i]) / max_joint_move_[i]);
+    dq /= over;
+  }
   for (int i = 0; i < chain_->dof(); ++i)
     robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(q[i] + dq[i]));
+}
+
+void ReachTask::apply_effector_target(const Eigen::Vector3f& goal) {
+  const Eigen::Vector3f clipped = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
+  JointVector q(chain_->dof());
+  for (int i = 0; i < chain_->dof(); ++i) q[i] = robot_->joint_position(chain_dofs_[static_cast<size_t>(i)]);
+  const IkResult ik = solve_ik(*chain_, (base_inverse_ * clipped).cast<double>(), q);
+  for (int i = 0; i < chain_->dof(); ++i)
+    robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(ik.q[i]));
 }
 
 void ReachTask::step_physics() {
@@ -225,6 +266,7 @@ void ReachTask::load_state(std::istream& in, const std::string& source) {
 }
 
 bool ReachTask::out_of_bounds() const {
+  if (!spec_.workspace_bounds) return false;
   const Eigen::Vector3f m = Eigen::Vector3f::Constant(spec_.workspace_margin);
   const bool outside = (ee_.array() < (spec_.workspace.min() - m).array()).any() ||
                        (ee_.array() > (spec_.workspace.max() + m).array()).any();

@@ -15,9 +15,21 @@ namespace {
 // The options of every reaching env.
 const std::vector<std::string>& reach_keys() {
   static const std::vector<std::string> keys = {
-      "observation",   "is_discrete", "render_mode",       "multi_view",    "random_target", "max_distance",
-      "urdf_root",     "max_steps",   "action_step",       "success_threshold", "action_repeat", "image_width",
-      "image_height",  "render_width", "render_height",    "renderer"};
+      "observation",   "is_discrete",      "render_mode",       "multi_view",    "random_target", "max_distance",
+      "urdf_root",     "max_steps",        "action_step",       "success_threshold", "action_repeat",
+      "solver_iterations", "ik_method",    "ik_iterations",     "ik_joints",     "drive",         "position_gain",
+      "velocity_gain", "move_noise",       "workspace_bounds",  "end_on_success", "reset_pose",   "reset_noise",
+      "observation_layout", "image_width", "image_height",      "render_width",  "render_height", "renderer"};
+  return keys;
+}
+
+// jaka_obstacle's: a reaching env's, and its column and reward.
+const std::vector<std::string>& obstacle_keys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k = reach_keys();
+    k.insert(k.end(), {"column_motion", "reward"});
+    return k;
+  }();
   return keys;
 }
 
@@ -34,7 +46,7 @@ const std::vector<EnvEntry>& env_registry() {
       {"jaka_button", "JAKA Zu 7 moves its flange to a button on a table by IK moves (RobotDrlSim 4.1)", true,
        jaka_button_defaults, reach_keys(), make_jaka_button},
       {"jaka_obstacle", "jaka_button with a column to go around; -200 for touching it (RobotDrlSim 4.2)", true,
-       jaka_obstacle_defaults, reach_keys(), make_jaka_obstacle},
+       jaka_obstacle_defaults, obstacle_keys(), make_jaka_obstacle},
       {"inmoov_tomato", "InMoov humanoid moves its right palm to a tomato on a tree by IK moves (RobotDrlSim 4.3)",
        true, inmoov_tomato_defaults, reach_keys(), make_inmoov_tomato},
   };

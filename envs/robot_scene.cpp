@@ -1,5 +1,7 @@
 #include "rdsim/envs/robot_scene.hpp"
 
+#include "rdsim/envs/reach_task.hpp"
+
 namespace rdsim {
 
 DrawItem visual_item(const VisualShape& visual) {
@@ -39,6 +41,14 @@ void add_static_body(RobotScene& scene, const PhysicsWorld& world, int body, con
       item.pose = pose * offset;
       scene.parts.push_back({body, -1, scene.scene.add(item), offset});
     }
+}
+
+void add_task_bodies(RobotScene& scene, const ReachTask& task) {
+  add_robot(scene, task.robot());
+  for (size_t i = 0; i < task.spec().statics.size(); ++i) {
+    const int index = static_cast<int>(i);
+    add_static_body(scene, task.world(), task.static_body(index), task.static_model(index));
+  }
 }
 
 void update_poses(RobotScene& scene, const PhysicsWorld& world) {

@@ -13,12 +13,17 @@
 #include <nlohmann/json.hpp>
 
 #include "rdsim/app/bench_fps.hpp"
+#include "rdsim/app/bench_remote.hpp"
 #include "rdsim/app/config_reference.hpp"
+#include "rdsim/app/dashboard.hpp"
 #include "rdsim/app/data_parallel.hpp"
 #include "rdsim/app/envs.hpp"
+#include "rdsim/app/keygen.hpp"
+#include "rdsim/app/plot.hpp"
 #include "rdsim/app/process_communicator.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
+#include "rdsim/app/serve.hpp"
 #include "rdsim/app/train.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
@@ -60,6 +65,35 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::st
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
   cmd->footer("Data-parallel on several processes or machines: mpirun -np K rdsim train --config FILE "
               "(each rank its own envs; total_timesteps counts all ranks; rank 0 writes the run folder).");
+  cmd->add_option("--dashboard", o.dashboard,
+                  "Serve the live dashboard of this run at HOST:PORT while training (e.g. 127.0.0.1:8097)");
+}
+
+void add_plot(CLI::App& app, rdsim::PlotOptions& o) {
+  auto* cmd = app.add_subcommand("plot", "Draw the learning curves of runs (mean and band over each "
+                                         "algorithm's runs) from their progress.csv, as PNG or SVG");
+  cmd->add_option("runs", o.runs, "Run folders, or folders holding run folders")->required();
+  cmd->add_option("-o,--out", o.out, "Figure to write: FILE.png or FILE.svg")->required();
+  cmd->add_option("--metric", o.metric, "success, return, length, kl, or any progress.csv column")->capture_default_str();
+  cmd->add_option("--x", o.x, "x axis: a progress.csv column (timesteps, updates, episodes, wall_time)")->capture_default_str();
+  cmd->add_option("--band", o.band, "std: mean ± 1 standard deviation over runs; minmax: their range")
+      ->check(CLI::IsMember({"std", "minmax"}))
+      ->capture_default_str();
+  cmd->add_option("--title", o.title, "Title (default: env and metric)");
+  cmd->add_option("--width", o.width, "Width in pixels")->check(CLI::Range(200, 8000))->capture_default_str();
+  cmd->add_option("--height", o.height, "Height in pixels")->check(CLI::Range(150, 8000))->capture_default_str();
+}
+
+void add_dashboard(CLI::App& app, rdsim::DashboardCommandOptions& o) {
+  auto* cmd = app.add_subcommand("dashboard", "Serve a live web page plotting the runs under the folders "
+                                              "(progress.csv), updated as they train");
+  cmd->add_option("runs", o.roots, "Folders holding run folders, or run folders (default: runs)");
+  cmd->add_option("--bind", o.bind, "HOST:PORT to listen on (loopback unless you name another address)")
+      ->capture_default_str();
+  cmd->add_option("--poll-ms", o.poll_ms, "How often the page asks for new rows (ms)")
+      ->check(CLI::Range(50, 60000))
+      ->capture_default_str();
+  cmd->add_option("--for", o.serve_s, "Stop after this many seconds (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
 }
 
 void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double& max_memory) {
@@ -74,6 +108,15 @@ void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double
                   "size: env.render_width x render_height of the model's config)");
   cmd->add_option("--max-memory", max_memory, "Memory limit in GB (default: 80% of the machine's memory)")
       ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
+  cmd->add_option("--video", o.video_path,
+                  "Write a video of the episodes, captioned with episode, step, return and success: "
+                  "FILE.mp4 (H.264, when built with FFmpeg) or FILE.gif (robot envs)");
+  cmd->add_option("--fps", o.video_fps, "Video frames per second")->check(CLI::Range(1, 240))->capture_default_str();
+  cmd->add_option("--every", o.frame_every, "Keep every k-th step's frame (--record, --video)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  cmd->add_option("--width", o.frame_width, "Frame width (default: the config's env.render_width)")->check(CLI::Range(8, 4096));
+  cmd->add_option("--height", o.frame_height, "Frame height (default: env.render_height)")->check(CLI::Range(8, 4096));
 }
 
 void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
@@ -94,6 +137,9 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
   cmd->add_flag("--scaling", o.scaling, "Threaded mode on 1, 2, 4, ... threads up to every core");
   cmd->add_option("--num-envs", o.num_envs, "Threaded mode: envs in the VecEnv (default: 4 per thread of the largest count)")
       ->check(CLI::Range(1, 4096));
+  cmd->add_flag("--paper", o.paper,
+                "Like-for-like Table 3: each robot env's paper preset (configs/paper/, the original's per-step "
+                "work) next to its defaults, ground truth and 224x224 pixels");
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)")
       ->expected(0, 1)
       ->default_str("-");
@@ -108,6 +154,38 @@ void add_render(CLI::App& app, rdsim::RenderOptions& o, SeedOption& seed) {
   cmd->add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
   cmd->add_option("--seed", seed.text, "Reset seed (default 0)");
   cmd->add_flag("--random-target", o.random_target, "Randomise the target at reset (env.random_target)");
+}
+
+void add_serve(CLI::App& app, rdsim::ServeOptions& o) {
+  auto* cmd = app.add_subcommand("serve", "Host environments for remote clients (docs/protocol.md; "
+                                          "tools/rdsim_client.py, or \"remote\" in a config's env) until Ctrl-C");
+  cmd->add_option("--bind", o.bind, "Address to listen on (port * = any free port; printed on start)")->capture_default_str();
+  cmd->add_option("--keys", o.keys_dir,
+                  "Folder with server.key_secret and clients/*.key (rdsim keygen): CurveZMQ authentication and encryption");
+  cmd->add_flag("--insecure", o.insecure, "Plain text without --keys (allowed on loopback addresses only)");
+  cmd->add_option("--max-sessions", o.max_sessions, "Most envs served at once")->check(CLI::Range(1, 4096))->capture_default_str();
+  cmd->add_option("--idle-timeout", o.idle_timeout, "Seconds without requests after which a session is closed")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
+
+void add_keygen(CLI::App& app, rdsim::KeygenOptions& o) {
+  auto* cmd = app.add_subcommand("keygen", "Write a CurveZMQ key pair: DIR/NAME.key (public) and DIR/NAME.key_secret "
+                                           "(secret, mode 0600)");
+  cmd->add_option("name", o.name, "Key name (letters, digits, _ - .)")->required();
+  cmd->add_option("--dir", o.dir, "Folder to write the two files to")->capture_default_str();
+}
+
+void add_bench_remote(CLI::App& app, rdsim::BenchRemoteOptions& o) {
+  auto* cmd = app.add_subcommand("bench-remote", "Measure remote env steps/s and round-trip latency over loopback "
+                                                 "(CurveZMQ on) next to in-process steps/s, in one run");
+  cmd->add_option("--env", o.env, "Env to measure")->capture_default_str();
+  cmd->add_option("--steps", o.steps, "Env steps per measurement")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--clients", o.clients, "Clients of the concurrent row")->check(CLI::Range(1, 64))->capture_default_str();
+  cmd->add_option("--image-size", o.image_size, "Side of the raw-pixel row's images")->check(CLI::Range(8, 1024))->capture_default_str();
+  cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_flag("--insecure", o.insecure, "Plain text instead of CurveZMQ (to see what encryption costs)");
+  cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)");
 }
 
 // Levenshtein distance, for "did you mean".
@@ -144,7 +222,10 @@ void check_command(const CLI::App& app, int argc, char** argv) {
     list += (list.empty() ? "" : ", ") + n;
   }
   for (const auto& n : names)
-    if (n.rfind(word, 0) == 0) closest = n;
+    if (n.rfind(word, 0) == 0) {
+      closest = n;  // the first such command ("bench" -> "bench-fps", not "bench-remote")
+      break;
+    }
   throw rdsim::Error("unknown command \"" + rdsim::one_line(word, 40) + "\"" +
                      (edit_distance(word, closest) <= 3 || closest.rfind(word, 0) == 0 ? " (did you mean \"" + closest + "\"?)"
                                                                          : std::string()) +
@@ -181,6 +262,16 @@ int main(int argc, char** argv) {
   app.add_subcommand("config-reference",
                      "Print every config key with its type, default (per env), range and meaning "
                      "(markdown; docs/config.md is its output)");
+  rdsim::DashboardCommandOptions dashboard;
+  add_dashboard(app, dashboard);
+  rdsim::PlotOptions plot;
+  add_plot(app, plot);
+  rdsim::ServeOptions serve;
+  add_serve(app, serve);
+  rdsim::KeygenOptions keygen;
+  add_keygen(app, keygen);
+  rdsim::BenchRemoteOptions bench_remote;
+  add_bench_remote(app, bench_remote);
 
   // The MPI job this process is a rank of (train only); after an error on one rank the others
   // are stopped instead of waiting for it in a collective.
@@ -223,10 +314,15 @@ int main(int argc, char** argv) {
     }
     if (name == "envs") return rdsim::envs_command();
     if (name == "config-reference") return rdsim::config_reference_command();
+    if (name == "dashboard") return rdsim::dashboard_command(dashboard);
+    if (name == "plot") return rdsim::plot_command(plot);
     if (name == "render") {
       if (sub->count("--seed")) render.seed = render_seed.value("--seed");
       return rdsim::render_command(render);
     }
+    if (name == "serve") return rdsim::serve_command(serve);
+    if (name == "keygen") return rdsim::keygen_command(keygen);
+    if (name == "bench-remote") return rdsim::bench_remote_command(bench_remote);
   } catch (const rdsim::RankExit& e) {  // rank 0 reports this error
     return stop(e.code);
   } catch (const rdsim::Error& e) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs rdsim's libFuzzer targets (tests/fuzz/) for as long as asked.
-#   tools/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      targets: config urdf model (default: all)
+#   tools/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      targets: config urdf model request (default: all)
 # Builds build-fuzz/ with clang, ASan+UBSan and libFuzzer (RDSIM_FUZZ) if needed. Each target
 # starts from its seed corpus (tests/fuzz/corpus/<target>, copied to build-fuzz/corpus/<target>,
 # which keeps what the fuzzer adds) and writes crashes to build-fuzz/findings/<target>/.
@@ -11,7 +11,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(config urdf model)
+[ ${#targets[@]} -gt 0 ] || targets=(config urdf model request)
 build=${RDSIM_FUZZ_BUILD_DIR:-$root/build-fuzz}
 
 if [ ! -x "$build/fuzz_model" ] || [ -n "${RDSIM_FUZZ_REBUILD:-}" ]; then

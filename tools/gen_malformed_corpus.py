@@ -143,7 +143,7 @@ def gen_configs():
         ("renderer", "egl", "env.renderer: has no effect when nothing is drawn"),
         ("max_distance", 0, "env.max_distance: expected a number"),
         ("max_distance", 1e9, "env.max_distance: expected a number"),
-        ("action_step", 1, "env.action_step: expected a number"),
+        ("action_step", 5, "env.action_step: expected a number"),
         ("action_step", -0.01, "env.action_step: expected a number"),
         ("success_threshold", -1, "env.success_threshold: expected a number"),
         ("action_repeat", 0, "env.action_repeat: expected an integer"),

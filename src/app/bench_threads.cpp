@@ -176,8 +176,8 @@ int threads_command(const std::vector<Case>& cases, const BenchFpsOptions& o) {
     }
   }
   if (results.empty()) throw Error("bench-fps: nothing could be measured for the given --env/--mode");
-  print(table_stream(o), results, o);
-  emit_json(to_json(results, o), o);
+  print(table_stream(o.json_path), results, o);
+  write_bench_json(o.json_path, to_json(results, o));
   return 0;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rdsim/app/bench_fps.hpp"
+#include "rdsim/app/bench_run.hpp"
 #include "rdsim/envs/registry.hpp"
 
 #include "rdsim/core/env.hpp"
@@ -19,20 +20,11 @@ namespace rdsim::bench {
 
 using Clock = std::chrono::steady_clock;
 
-inline double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using rdsim::median;  // rdsim/app/bench_run.hpp
 
 inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-inline Action random_action(const ActionSpace& space, Rng& rng) {
-  if (space.discrete) return Action::discrete(static_cast<int>(rng.below(static_cast<std::uint64_t>(space.n))));
-  Eigen::VectorXf v(space.low.size());
-  for (int i = 0; i < v.size(); ++i) v[i] = static_cast<float>(rng.uniform(space.low[i], space.high[i]));
-  return Action::continuous(std::move(v));
-}
+using rdsim::random_action;
 
 // `count` random actions drawn before a clock starts, so that a row measures the env alone.
 inline std::vector<Action> random_actions(const ActionSpace& space, std::size_t count, std::uint64_t seed) {
@@ -50,10 +42,6 @@ struct Case {
   int image_size = 0;  // raw_pixels: square image side; 0 for ground truth
 };
 
-// stderr when the JSON goes to stdout (so it stays machine-readable), else stdout.
-std::FILE* table_stream(const BenchFpsOptions& o);
-// The JSON to stdout ("-") or a file (o.json_path), or nowhere.
-void emit_json(const nlohmann::json& j, const BenchFpsOptions& o);
 // "bench-fps: env / mode WxH ..." on stderr.
 void announce(const Case& c);
 

@@ -11,6 +11,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/run_files.hpp"
 
 namespace rdsim {
 namespace {
@@ -31,8 +32,7 @@ std::string holder_pid(int fd) {
 }  // namespace
 
 const std::vector<std::string>& RunFolder::run_files() {
-  static const std::vector<std::string> files = {"config.json", "progress.csv", "episodes.csv", "model.bin",
-                                                 "checkpoint.bin"};
+  static const std::vector<std::string> files(run_file_names.begin(), run_file_names.end());
   return files;
 }
 

@@ -14,14 +14,19 @@
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/checkpoint.hpp"
 #include "rdsim/app/data_parallel.hpp"
+#include "rdsim/app/dashboard.hpp"
+#include "rdsim/app/env_source.hpp"
 #include "rdsim/app/interrupt.hpp"
 #include "rdsim/app/memory_check.hpp"
 #include "rdsim/app/model_file.hpp"
+#include "rdsim/app/progress_display.hpp"
 #include "rdsim/app/run_folder.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/run_files.hpp"
+#include "rdsim/dashboard/dashboard_server.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
@@ -33,39 +38,6 @@ const std::vector<std::string> progress_head = {"timesteps", "updates", "episode
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
 const std::vector<std::string> progress_tail = {"steps_per_s", "wall_time"};
 
-// One line on a terminal (rewritten in place), plain periodic lines otherwise.
-class ProgressDisplay {
-public:
-  explicit ProgressDisplay(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO) == 1) {}
-
-  void show(long long t, long long total, const EpisodeStats& s, double sps, double wall, bool force = false) {
-    if (quiet_) return;
-    if (!force && wall - last_ < (tty_ ? 0.1 : 10.0)) return;
-    last_ = wall;
-    const double eta = sps > 0 ? static_cast<double>(total - t) / sps : 0.0;
-    char ret[64] = "-";
-    if (s.count > 0) std::snprintf(ret, sizeof ret, "%.1f", s.mean_return);
-    std::fprintf(stderr, "%s%lld/%lld steps (%3.0f%%)  return %s  success %.2f  %.0f steps/s  ETA %.0fs%s",
-                 tty_ ? "\r" : "", t, total, 100.0 * static_cast<double>(t) / static_cast<double>(total), ret,
-                 s.success_rate, sps, eta < 0 ? 0.0 : eta, tty_ ? "\x1b[K" : "\n");
-    std::fflush(stderr);
-    shown_ = true;
-  }
-  void finish() {
-    if (!quiet_ && tty_ && shown_) std::fputc('\n', stderr);
-  }
-
-private:
-  bool quiet_, tty_;
-  bool shown_ = false;
-  double last_ = -1e9;
-};
-
-std::vector<std::unique_ptr<Env>> make_envs(const TrainConfig& config) {
-  std::vector<std::unique_ptr<Env>> envs;
-  for (int i = 0; i < config.num_envs; ++i) envs.push_back(make_env(config.env));
-  return envs;
-}
 
 std::vector<std::string> episode_row(const EpisodeRecord& e) {
   return {CsvWriter::cell(e.episode), CsvWriter::cell(e.timesteps), CsvWriter::cell(e.episode_return),
@@ -114,7 +86,7 @@ RunStart start_run(const TrainOptions& o, Communicator& comm) {
     if (v.key == "log_dir") throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
   }
   if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
-  run.checkpoint_path = (std::filesystem::path(o.resume_dir) / "checkpoint.bin").string();
+  run.checkpoint_path = (std::filesystem::path(o.resume_dir) / checkpoint_file_name).string();
   if (root) {
     run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
     run.checkpoint = read_model_file(run.checkpoint_path);
@@ -162,13 +134,13 @@ int train_command(const TrainOptions& o) {
   const bool root = comm.rank() == 0;  // rank 0 holds and writes the run folder
   const int ranks = comm.size();
   RunStart run = start_run(o, comm);
-  const TrainConfig& config = run.config;
+  TrainConfig& config = run.config;  // open_envs records a remote env's resolved values in it
   const bool resume = !o.resume_dir.empty();
   const std::string& checkpoint_path = run.checkpoint_path;
   auto file = [&](const std::string& name) { return run.folder->file(name); };  // rank 0
 
   const std::uint64_t seed = rank_seed(config.seed, comm.rank());
-  VecEnv vec(make_envs(config), seed, config.stats_window, resolve_num_threads(config, comm.local_size()));
+  VecEnv vec(open_envs(config), seed, config.stats_window, resolve_num_threads(config, comm.local_size()));
   auto algo = make_algorithm(config.algorithm, seed, vec.spec());
   algo->set_communicator(comm);
   RunEpisodes run_episodes(comm, config.stats_window);
@@ -179,18 +151,21 @@ int train_command(const TrainOptions& o) {
                                checkpoint_path, root);
     run.checkpoint.payload.clear();
     if (root) {
-      check_log_rows(file("progress.csv"), state.progress_rows, checkpoint_path);
-      check_log_rows(file("episodes.csv"), state.episode_rows, checkpoint_path);
+      check_log_rows(file(progress_csv_name), state.progress_rows, checkpoint_path);
+      check_log_rows(file(episodes_csv_name), state.episode_rows, checkpoint_path);
     }
   } else {
     share_weights(comm, *algo);
   }
 
   const nlohmann::json resolved = to_json(config);
+  std::unique_ptr<DashboardServer> dashboard;  // rank 0, with --dashboard
   std::unique_ptr<CsvWriter> episodes, progress;  // rank 0; progress's columns are known after the first update
   if (root) {
-    write_file_atomic(file("config.json"), resolved.dump(2) + "\n");
-    episodes = std::make_unique<CsvWriter>(file("episodes.csv"), episode_columns, resume ? state.episode_rows : -1);
+    write_file_atomic(file(run_config_name), resolved.dump(2) + "\n");
+    // reads the run's files only
+    dashboard = start_run_dashboard(o.dashboard, run.folder->path().string(), o.quiet);
+    episodes = std::make_unique<CsvWriter>(file(episodes_csv_name), episode_columns, resume ? state.episode_rows : -1);
   }
 
   // Collective under MPI: every rank calls it, rank 0 writes the file.
@@ -222,8 +197,8 @@ int train_command(const TrainOptions& o) {
   // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
   auto save = [&] {
     schedule.start();
-    save_file("checkpoint.bin", ModelKind::Checkpoint);
-    save_file("model.bin", ModelKind::Model);
+    save_file(checkpoint_file_name, ModelKind::Checkpoint);
+    save_file(model_file_name, ModelKind::Model);
     schedule.done(run_timesteps());
   };
   if (!resume) save();  // from the start, `--resume` always finds something to continue
@@ -258,7 +233,7 @@ int train_command(const TrainOptions& o) {
         for (const auto& [name, value] : metrics) columns.push_back(name);
         if (ranks > 1) columns.push_back("allreduce_bytes");
         columns.insert(columns.end(), progress_tail.begin(), progress_tail.end());
-        progress = std::make_unique<CsvWriter>(file("progress.csv"), columns, resume ? state.progress_rows : -1);
+        progress = std::make_unique<CsvWriter>(file(progress_csv_name), columns, resume ? state.progress_rows : -1);
       }
       const EpisodeStats s = run_episodes.stats(vec);
       const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -290,15 +265,15 @@ int train_command(const TrainOptions& o) {
   display.finish();
   if (decision.signal) {
     std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
-                 run_timesteps(), total, file("checkpoint.bin").c_str(),
-                 file("model.bin").c_str(), run.folder->path().string().c_str());
+                 run_timesteps(), total, file(checkpoint_file_name).c_str(),
+                 file(model_file_name).c_str(), run.folder->path().string().c_str());
     return 128 + decision.signal;
   }
   if (!o.quiet) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
                 config.algorithm.name().c_str(), config.env.name.c_str(), run_timesteps(), run_episodes.episodes(vec),
-                s.count, s.mean_return, vec.wall_time(), file("model.bin").c_str());
+                s.count, s.mean_return, vec.wall_time(), file(model_file_name).c_str());
     if (ranks > 1) {
       const Communicator::Traffic& a = comm.allreduce_traffic();
       std::printf("rdsim train: %d MPI ranks x %d envs (%d threads each); rank 0 allreduced %lld bytes in %lld calls "

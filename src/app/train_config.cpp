@@ -60,6 +60,7 @@ TrainConfig parse_train_config(const nlohmann::json& json, const std::string& wh
   c.algorithm = read_algorithm_config(r);
   if (!r.has("env")) r.fail("env", "missing: expected an object such as {\"name\": \"cartpole\"}");
   ConfigReader env = r.child("env");
+  c.remote = read_remote_env_config(env);  // first: read_env_config's finish() rejects unread keys
   c.env = read_env_config(env);
   config::FieldReader run(r);
   describe(run, c);
@@ -109,6 +110,7 @@ Spec config_spec(const TrainConfig& config) {
 nlohmann::json to_json(const TrainConfig& c) {
   nlohmann::json j = config::write_fields(c);
   j["env"] = to_json(c.env);
+  write_remote_env_config(c.remote, j["env"]);
   write_algorithm_config(c.algorithm, j);
   return j;
 }

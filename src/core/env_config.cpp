@@ -10,10 +10,14 @@ const char* to_string(ObservationMode mode) {
 
 const char* to_string(RenderMode mode) { return mode == RenderMode::RgbArray ? "rgb_array" : "none"; }
 
+std::string repo_root() {
+  if (const char* root = std::getenv("RDSIM_ROOT"); root && *root) return root;
+  return RDSIM_SOURCE_DIR;
+}
+
 std::string asset_root(const EnvConfig& config) {
   if (!config.urdf_root.empty()) return config.urdf_root;
-  if (const char* root = std::getenv("RDSIM_ROOT"); root && *root) return std::string(root) + "/assets";
-  return std::string(RDSIM_SOURCE_DIR) + "/assets";
+  return repo_root() + "/assets";
 }
 
 }  // namespace rdsim

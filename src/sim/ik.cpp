@@ -130,6 +130,27 @@ IkResult solve_with_restarts(const KinematicChain& chain, const Eigen::Isometry3
 
 }  // namespace
 
+JointVector null_space_ik(const KinematicChain& chain, const Eigen::Vector3d& target, const JointVector& start,
+                          const JointVector& rest, const NullSpaceIkOptions& o) {
+  JointVector q = chain.clamp(start);
+  for (int it = 0; it < o.iterations; ++it) {
+    ChainJacobian jacobian;
+    const Eigen::Vector3d error = target - chain.forward(q, jacobian).translation();
+    if (error.norm() <= o.tolerance) break;
+    const auto j = jacobian.topRows<3>();
+    // J^T A^-1 e + (I - J^T A^-1 J) p  =  J^T A^-1 (e - J p) + p,  A = J J^T + damping^2 I: the DLS
+    // step towards what the pull p leaves of the error, plus the pull.
+    const JointVector pull = o.rest_gain * (rest - q);
+    const Eigen::Vector3d rest_error = error - j * pull;
+    JointVector dq = damped_least_squares_step(j, rest_error, o.damping) + pull;
+    double largest = 0.0;  // a plain loop, as in solve() (GCC 12 and Eigen's maxCoeff)
+    for (int i = 0; i < dq.size(); ++i) largest = std::max(largest, std::abs(dq[i]));
+    if (largest > o.max_joint_step) dq *= o.max_joint_step / largest;
+    q = chain.clamp(q + dq);
+  }
+  return q;
+}
+
 IkResult solve_ik(const KinematicChain& chain, const Eigen::Vector3d& target, const JointVector& start,
                   const IkOptions& options) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

@@ -359,6 +359,12 @@ Eigen::VectorXf Robot::joint_velocities() const {
   return v;
 }
 
+Eigen::VectorXf Robot::position_targets() const {
+  Eigen::VectorXf q(dof());
+  for (int i = 0; i < dof(); ++i) q[i] = dofs_[static_cast<size_t>(i)].target;
+  return q;
+}
+
 void Robot::reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q) {
   if (q.size() != dof())
     throw Error(model_.source + ": expected " + std::to_string(dof()) + " joint positions, got " + std::to_string(q.size()));

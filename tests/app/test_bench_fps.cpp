@@ -53,3 +53,24 @@ TEST_CASE("bench-fps: pixel rows default to 64 and 224, bad sizes are refused", 
   o.image_sizes = {0};
   CHECK_THROWS_WITH(bench_fps_command(o), Catch::Contains("--image-size") && Catch::Contains("0"));
 }
+
+TEST_CASE("bench-fps --paper: each mode's paper preset next to the defaults, with the work per step", "[bench]") {
+  BenchFpsOptions o;
+  o.envs = {"jaka_button"};
+  o.paper = true;
+  const nlohmann::json rows = run_bench(o).at("rows");
+  REQUIRE(rows.size() == 4);  // ground truth: paper, default; 224x224 pixels: paper, default
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const nlohmann::json& row = rows[i];
+    const bool paper = i % 2 == 0;
+    INFO(row.dump());
+    CHECK(row.at("preset") == (paper ? "paper" : "default"));
+    CHECK(row.at("observation") == (i < 2 ? "ground_truth" : "raw_pixels"));
+    if (i >= 2) CHECK(row.at("image_size") == 224);
+    CHECK(row.at("paper_steps_per_s") == (i < 2 ? 506.0 : 22.0));
+    CHECK(row.at("action_repeat") == (paper ? 2 : 1));
+    CHECK(row.at("solver_iterations") == (paper ? 150 : 10));
+    CHECK(row.at("ik_iterations") == (paper ? 20 : 1));
+    CHECK(row.at("steps_per_s").get<double>() > 0.0);
+  }
+}

@@ -1,10 +1,12 @@
 #pragma once
 #include <Eigen/Core>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
+#include "rdsim/core/files.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Helpers shared by the env tests.
@@ -14,6 +16,14 @@ inline EnvConfig env_config(const std::string& name, bool random_target = false)
   EnvConfig c = rdsim::default_env_config(name);
   c.random_target = random_target;
   return c;
+}
+
+// The "env" object of the paper preset configs/paper/<name>[_pixels].json, read as a config's.
+inline EnvConfig paper_env_config(const std::string& name, bool pixels = false) {
+  const std::string path = repo_root() + "/configs/paper/" + name + (pixels ? "_pixels" : "") + ".json";
+  const nlohmann::json env = nlohmann::json::parse(read_file(path)).at("env");
+  ConfigReader reader(env, path, "env");
+  return read_env_config(reader);
 }
 
 // The first three values of a reaching env's ground-truth observation: target - end effector.

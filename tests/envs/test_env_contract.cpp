@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "env_test_util.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
@@ -44,6 +45,14 @@ std::vector<Case> contract_cases() {
     cases.push_back({entry.name + ", raw_pixels", c});
     c.multi_view = true;
     cases.push_back({entry.name + ", raw_pixels, multi_view", c});
+  }
+  // The paper presets (configs/paper/): the same contract with RobotDrlSim's task semantics.
+  for (const char* name : {"jaka_button", "jaka_obstacle", "inmoov_tomato"}) {
+    cases.push_back({std::string(name) + ", paper preset", test::paper_env_config(name)});
+    EnvConfig c = test::paper_env_config(name, /*pixels=*/true);
+    c.image_width = 24;
+    c.image_height = 16;
+    cases.push_back({std::string(name) + ", paper preset, raw_pixels", c});
   }
   return cases;
 }

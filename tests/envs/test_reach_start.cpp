@@ -3,6 +3,8 @@
 // their limits and jitter there, which no policy asked for and which slows every physics step.
 #include <catch2/catch.hpp>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "env_test_util.hpp"
 #include "rdsim/envs/reach_env.hpp"
@@ -37,14 +39,20 @@ std::string joints_outside_limits(const ReachTask& task, float tolerance) {
 }  // namespace
 
 TEST_CASE("reaching envs: the robot starts clear of the scene and holds its pose inside its limits", "[envs]") {
+  // Each env with its defaults and with its paper preset (RobotDrlSim's rest pose, position motors).
+  std::vector<std::pair<std::string, EnvConfig>> cases;
   for (const std::string name : {"jaka_button", "jaka_obstacle", "inmoov_tomato"}) {
-    auto env = make_env(test::env_config(name, /*random_target=*/true));
+    cases.emplace_back(name, test::env_config(name, /*random_target=*/true));
+    cases.emplace_back(name + " paper preset", test::paper_env_config(name));
+  }
+  for (const auto& [label, config] : cases) {
+    auto env = make_env(config);
     auto& reach = dynamic_cast<ReachEnv&>(*env);
     const ReachTask& task = reach.task();
     for (std::uint64_t seed = 0; seed < 10; ++seed) {
-      INFO(name << " seed " << seed);
+      INFO(label << " seed " << seed);
       env->reset(seed);
-      for (int k = 0; k < 240; ++k) env->step_physics_only();  // one simulated second, holding still
+      for (int k = 0; k < 240; ++k) env->step_physics_only();  // one simulated second (or two), holding still
       for (int s = 0; s < static_cast<int>(task.spec().statics.size()); ++s) {
         INFO("static body " << task.spec().statics[static_cast<size_t>(s)].urdf);
         CHECK(links_touching(task, s) == "");

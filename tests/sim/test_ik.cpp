@@ -83,3 +83,35 @@ TEST_CASE("Unreachable targets end inside the joint limits, not converged", "[ik
   CHECK(r.position_error > 1.0);
   CHECK(within_limits(chain, r.q));
 }
+
+TEST_CASE("null-space IK (pybullet-style): 20 iterations close most of a 10 cm move; far targets stay in limits", "[ik]") {
+  const RobotModel m = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
+  const KinematicChain chain(m, "flange_link");
+  JointVector q(6), rest(6);
+  q << 0.0, 1.0, -1.8, 0.8, 1.5, 0.0;
+  rest << 0.0, 0.0, 1.0, 1.0, 1.0, 1.0;
+  const Eigen::Vector3d tip = chain.forward(q).translation();
+
+  // A reachable goal 10 cm away: damping 0.6 m makes each step short, 20 of them get close.
+  const Eigen::Vector3d near = tip + Eigen::Vector3d(0.1, 0.0, 0.0);
+  const JointVector solved = null_space_ik(chain, near, q, rest);
+  CHECK((chain.forward(solved).translation() - near).norm() < 0.01);
+  CHECK(within_limits(chain, solved));
+
+  // The goal where the tip already is: it stops at once (within 0.1 mm), the pull moves nothing.
+  CHECK(null_space_ik(chain, tip, q, rest) == q);
+
+  // RobotDrlSim's far targets (1 m along one axis): the tip heads that way, no joint leaves its
+  // limits, and no iteration moves a joint by more than 45 degrees.
+  for (int axis = 0; axis < 3; ++axis) {
+    Eigen::Vector3d far = tip;
+    far[axis] += 1.0;
+    NullSpaceIkOptions one_step;
+    one_step.iterations = 1;
+    const JointVector first = null_space_ik(chain, far, q, rest, one_step);
+    CHECK((first - q).cwiseAbs().maxCoeff() <= M_PI / 4.0 + 1e-12);
+    const JointVector r = null_space_ik(chain, far, q, rest);
+    CHECK(within_limits(chain, r));
+    CHECK(chain.forward(r).translation()[axis] > tip[axis] + 0.05);
+  }
+}

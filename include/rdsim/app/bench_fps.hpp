@@ -20,6 +20,10 @@ struct BenchFpsOptions {
   int threads = 0;                      // N; 0: not asked
   bool scaling = false;
   int num_envs = 0;                     // 0: 4 per thread of the largest count
+  // The like-for-like Table 3: for each reaching env, ground truth and 224x224 pixels, its paper
+  // preset (configs/paper/<env>.json, <env>_pixels.json: the original's per-step work) next to
+  // its defaults at the same image size. --env and --mode filter; --image-size does not apply.
+  bool paper = false;
 };
 int bench_fps_command(const BenchFpsOptions& options);
 

@@ -23,7 +23,8 @@ public:
   const std::filesystem::path& path() const { return dir_; }
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
 
-  // The files a run writes: config.json, progress.csv, episodes.csv, model.bin, checkpoint.bin.
+  // The files a run writes (named in core/run_files.hpp): config.json, progress.csv, episodes.csv,
+  // model.bin, checkpoint.bin.
   static const std::vector<std::string>& run_files();
 
 private:

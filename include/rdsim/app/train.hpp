@@ -24,6 +24,7 @@ struct TrainOptions {
   bool quiet = false;                       // no progress line
   std::optional<int> threads;               // overrides the config's num_threads
   Communicator* communicator = nullptr;     // the MPI job this process is a rank of; null: one process
+  std::string dashboard;                    // serve the live dashboard at HOST:PORT while training
 };
 int train_command(const TrainOptions& options);
 

@@ -7,6 +7,7 @@
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/core/config_fields.hpp"
 #include "rdsim/core/env_config.hpp"
+#include "rdsim/remote/remote_env_config.hpp"
 
 // The typed form of a training config (configs/*.json), read ONCE by read_train_config; nothing
 // downstream looks at JSON. It composes the env's options (EnvConfig, read over the env's own
@@ -19,6 +20,7 @@ struct TrainConfig {
   std::string source;  // the file it was read from (for messages)
   std::string name;    // the file's stem: "cartpole_ppo"
   EnvConfig env;
+  RemoteEnvConfig remote;  // the "env" object's link keys: where the env runs (app/env_source.hpp)
   AlgorithmConfig algorithm;
   // The run's settings (describe() below):
   std::uint64_t seed = 0;

@@ -49,13 +49,14 @@ OrbitView obstacle_main_view();
 ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config);
 
 // What makes jaka_obstacle a task on top of ReachEnv: the button is pressed, the column is
-// forbidden and observed.
-ReachTerms jaka_obstacle_terms();
+// forbidden and observed; config's reward rule, and the column random-walks with column_motion
+// random_walk.
+ReachTerms jaka_obstacle_terms(const EnvConfig& config);
 
 class JakaObstacle final : public ReachEnv {
 public:
   explicit JakaObstacle(const EnvConfig& config)
-      : ReachEnv(jaka_obstacle_spec(config), jaka_obstacle_terms(), config) {}
+      : ReachEnv(jaka_obstacle_spec(config), jaka_obstacle_terms(config), config) {}
 
   static constexpr int button_index = 1;  // in task().spec().statics
   static constexpr int column_index = 2;

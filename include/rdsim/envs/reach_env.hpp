@@ -8,27 +8,38 @@
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/robot_cameras.hpp"
 #include "rdsim/render/camera.hpp"
 
 // The one Env implementation of every reaching task (jaka_button, jaka_obstacle, inmoov_tomato):
 // ReachTask does the physics and IK moves; ReachTerms says what differs between tasks. A task file
 // only builds its ReachTaskSpec and ReachTerms.
 //
-// Episode rules, shared by all reaching tasks:
-//   observation   ground truth: target - end effector (3), end effector - landmark (3 per landmark),
-//                 end-effector position (3), then observed link - landmark (3 per observed link per
-//                 landmark; none unless a task asks); raw_pixels: the task's cameras (PixelView).
-//   reward        -|end effector - target| every step.
-//   collision     any robot link touching the forbidden body: reward = collision_reward, terminated,
-//                 info.collision.
+// Episode rules, shared by all reaching tasks (the env options named are EnvConfig's):
+//   observation   ground truth, observation_layout full: target - end effector (3), end effector -
+//                 landmark (3 per landmark), end-effector position (3), then observed link - landmark
+//                 (3 per observed link per landmark; none unless a task asks); relative: end effector
+//                 - target (3), end effector - landmark (3 per landmark). raw_pixels: the task's
+//                 cameras (PixelView).
+//   reward        negative_distance: -|end effector - target| every step; inverse_distance: see
+//                 ReachTerms::reward.
+//   collision     any robot link touching the forbidden body: info.collision; negative_distance:
+//                 reward = collision_reward and terminated.
 //   success       |end effector - target| < success threshold, or the end effector touching the press
-//                 body: terminated, info.success.
-//   out of bounds leaving the workspace box (plus margin) or farther than max_distance from the target:
-//                 terminated, info.out_of_bounds, reward -(max_distance x steps left), so that leaving
-//                 never pays more than staying.
+//                 body: terminated, info.success (end_on_success); without end_on_success the episode
+//                 goes on and info.success says on its last step whether this holds then.
+//   out of bounds (workspace_bounds) leaving the workspace box (plus margin) or farther than
+//                 max_distance from the target: terminated, info.out_of_bounds, reward
+//                 -(max_distance x steps left), so that leaving never pays more than staying.
 //   truncation    at the spec's max_steps.
+//   walking body  (ReachTerms::walking_body) before each step's move it moves by U(-walk_step,
+//                 walk_step) in x and y, staying within walk_range of its place; back there at reset.
+// Every reaching env is also a RobotControl (core/robot_control.hpp): move_effector and
+// set_joint_targets are env steps judged by the same rules; camera_image draws the terms' cameras
+// and "scene", the main view fixed in the world.
 namespace rdsim {
 
 struct ReachTerms {
@@ -45,11 +56,20 @@ struct ReachTerms {
   std::vector<Eigen::Vector3f> target_choices{};
   int default_choice = 0;
   OrbitView main_view{}, second_view{};  // raw-pixel cameras (second: multi_view)
+  // negative_distance: the rules above. inverse_distance (RobotDrlSim's obstacle env): reward
+  // 1/max(d, 1 cm) - 2 t / max_steps per step (d = |end effector - target| in m, t = steps taken),
+  // -10 on each step touching the forbidden body (the episode goes on), +10 on each step with d < 0.1 m.
+  RewardRule reward = RewardRule::NegativeDistance;
+  int walking_body = -1;      // index into ReachTaskSpec::statics of a body that random-walks (-1: none)
+  float walk_step = 0.003f;   // m, largest move per step and axis
+  float walk_range = 0.05f;   // m from its place, per axis
+  std::vector<CameraMount> cameras{};  // first-person cameras (RobotControl::camera_image; "scene" is added)
 };
 
-class ReachEnv : public Env, public EnvState {
+class ReachEnv : public Env, public EnvState, public RobotControl {
 public:
   ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config);
+  ~ReachEnv() override;
 
   const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
@@ -65,6 +85,12 @@ public:
   void load_state(const std::string& bytes, const std::string& source) override;
   void drop_caches() override { task_->drop_caches(); }
 
+  const RobotInfo& robot_info() const override { return robot_info_; }
+  RobotSnapshot robot_state() override;
+  StepResult move_effector(const Eigen::Vector3f& position) override;
+  StepResult set_joint_targets(const Eigen::VectorXf& targets) override;
+  void camera_image(int camera, int width, int height, Image& out) override;
+
   const ReachTask& task() const { return *task_; }
   ReachTask& task() { return *task_; }
   const ReachTerms& terms() const { return terms_; }
@@ -77,16 +103,31 @@ public:
 
 private:
   void observe(ObservationOut out) const;
+  // One env step: `set_targets` sets the joint targets, then physics, observation (into `out`)
+  // and judge().
+  template <class SetTargets>
+  StepOutcome control_step(ObservationOut out, SetTargets&& set_targets);
+  // control_step() with the observation in a StepResult (RobotControl's steps).
+  template <class SetTargets>
+  StepResult control_step_result(SetTargets&& set_targets);
   void judge(StepOutcome& r) const;
+  void walk();               // one random-walk step of the walking body
+  void place_walking_body();  // puts it at its place + walk_offset_
 
   Spec spec_;
   ReachTerms terms_;
   std::unique_ptr<ReachTask> task_;
   std::unique_ptr<PixelView> pixels_;  // raw_pixels only
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
+  std::unique_ptr<RobotCameras> cameras_;  // made on the first camera_image
+  std::string renderer_backend_;
+  RobotInfo robot_info_;
   std::vector<Eigen::Vector3f> landmark_points_;
   std::vector<int> observed_links_;  // RobotModel link indices of terms_.observed_links
   Rng rng_;
+  ObservationLayout layout_ = ObservationLayout::Full;
+  bool end_on_success_ = true;
+  Eigen::Vector2f walk_offset_ = Eigen::Vector2f::Zero();  // walking body from its place (x, y)
   bool random_target_ = false;
   int target_index_ = -1;
   int steps_ = 0;

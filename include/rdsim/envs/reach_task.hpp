@@ -37,8 +37,10 @@ struct ReachTaskSpec {
   // Joints the IK may move (names); empty = every movable joint between the root and ee_link. The
   // other joints on that path keep their home target (the IK sees them frozen at their home value).
   std::vector<std::string> ik_joints;
-  Eigen::VectorXf home;         // joint positions at reset, one per robot dof (Robot::dof order)
-  float home_noise = 0.0f;      // rad; uniform +-home_noise added to every IK-chain joint at reset
+  Eigen::VectorXf home;         // the task's working pose, one value per robot dof (Robot::dof order)
+  // RobotDrlSim's reset pose (one value per dof): where reset_to_rest episodes start and what the
+  // null_space IK pulls towards. Empty = home.
+  Eigen::VectorXf rest;
 
   std::vector<StaticBodySpec> statics;
   // Index into `statics` of the body that carries the target (moved with it), -1 for none; the
@@ -52,26 +54,34 @@ struct ReachTaskSpec {
   std::optional<Eigen::Vector3f> random_centre;
   Eigen::AlignedBox3f workspace;  // move targets are clipped into it; the ee leaving it ends an episode
 
-  // Task numbers, from the env's EnvConfig (apply_env_config):
+  // Task numbers, from the env's EnvConfig (apply_env_config; core/env_config.hpp says what each does):
   bool discrete = true;           // actions: Discrete(6) moves, else a continuous Box(3)
   float step = 0.0f;              // m per discrete move / largest continuous move
   float move_noise = 1.0f / 30.0f;  // Gaussian noise on each move component, sigma = move_noise * step
   float success_threshold = 0.0f;    // m
-  float max_distance = 0.0f;         // m from the target: farther ends the episode
+  float max_distance = 0.0f;         // m from the target: farther ends the episode (workspace_bounds)
   float workspace_margin = 0.03f;    // m the ee may lag outside `workspace` before it counts as out
+  bool workspace_bounds = true;      // goals clipped into `workspace`; leaving it or max_distance ends an episode
   int max_steps = 0;
   int action_repeat = 1;             // physics steps per env step
-  int ik_iterations = 1;             // damped least squares steps per move (one FK + Jacobian each), from the current joints
+  IkMethod ik_method = IkMethod::DampedLeastSquares;
+  int ik_iterations = 1;             // IK steps per move (one FK + Jacobian each), from the current joints
+  bool ik_all_joints = false;        // true: every joint on the path root -> ee_link, whatever ik_joints says
+  bool reset_to_rest = false;        // episodes start at `rest` instead of `home`
+  float reset_noise = 0.0f;          // rad; uniform +-reset_noise added to every IK-chain joint at reset
 
-  // The physics of every reaching task: 1/240 s per physics step, 10 solver iterations (they only
-  // resolve contacts: the ComputedTorque drive adds no solver rows, and without limit constraint
-  // rows the joint limits hold through the targets, which set_position_targets clamps).
+  // The physics (defaults: the env options' defaults): 1/240 s per physics step, 10 solver
+  // iterations (they only resolve contacts: the ComputedTorque drive adds no solver rows, and
+  // without limit constraint rows the joint limits hold through the targets, which
+  // set_position_targets clamps). drive position_motor: ConstraintMotor with limit constraints.
   WorldSettings world{.time_step = 1.0 / 240.0, .solver_iterations = 10};
   RobotOptions robot{.drive = JointDrive::ComputedTorque, .limit_constraints = false};
 };
 
-// Copies the task numbers of `config` (is_discrete, action_step, success_threshold, max_distance,
-// max_steps, action_repeat; checked by read_env_config / make_env) into `spec`.
+// Copies the task numbers and physics options of `config` (checked by read_env_config / make_env)
+// into `spec`: everything above from is_discrete, action_step, move_noise, success_threshold,
+// max_distance, workspace_bounds, max_steps, action_repeat, ik_method, ik_iterations, ik_joints,
+// reset_pose, reset_noise, solver_iterations, drive, position_gain and velocity_gain.
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec);
 
 class ReachTask {
@@ -81,7 +91,8 @@ public:
   ReachTask(const ReachTask&) = delete;
   ReachTask& operator=(const ReachTask&) = delete;
 
-  // Home pose (+ seeded noise), target at the nominal point or (random_target) drawn from the Rng.
+  // Reset pose (home or rest, + seeded noise), target at the nominal point or (random_target) drawn
+  // from the Rng.
   void reset(Rng& rng, bool random_target);
   // Puts the target at `point` (moving the target body, if any) and forgets its contacts.
   void set_target(const Eigen::Vector3f& point);
@@ -95,12 +106,19 @@ public:
   Eigen::Vector3f move_for(const Action& action) const;
 
   // Joint targets for "end effector + delta" (delta plus Gaussian move noise from `rng`, clipped into
-  // the workspace), by ik_iterations damped least squares steps (sim/ik.hpp
-  // damped_least_squares_step, damping 0.02 m) from the current joint angles, clamped to the joint
-  // limits; the joint step is scaled
-  // down as a whole when a joint would exceed its URDF speed limit over one control period (so the
-  // move is slowed, never bent). Does not step physics.
+  // the workspace with workspace_bounds), by ik_iterations IK steps from the current joint angles,
+  // clamped to the joint limits: damped_least_squares (sim/ik.hpp damped_least_squares_step, damping
+  // 0.02 m) or null_space (sim/ik.hpp null_space_ik towards the rest pose). With the ComputedTorque
+  // drive the joint step is scaled down as a whole when a joint would exceed its URDF speed limit
+  // over one control period (so the move is slowed, never bent); position motors get the IK
+  // solution as it is. Does not step physics.
   void apply_move(const Eigen::Vector3f& delta, Rng& rng);
+  // Joint targets that put the end effector at the absolute point `goal` (world frame, clipped
+  // into the workspace): damped least squares IK (sim/ik.hpp, up to 100 iterations, 0.1 mm) on the
+  // IK chain from the current joint angles, clamped to the limits. No move noise and no speed
+  // scaling: the joint drives' speed limits pace the motion over the following steps. Does not
+  // step physics. The caller checks that `goal` is finite.
+  void apply_effector_target(const Eigen::Vector3f& goal);
   // action_repeat physics steps, then refreshes the end-effector position.
   void step_physics();
 
@@ -108,7 +126,8 @@ public:
   const Eigen::Vector3f& target() const { return target_; }
   float distance() const { return (ee_ - target_).norm(); }
   bool reached() const { return distance() < spec_.success_threshold; }
-  // Outside the workspace box (plus margin) or farther than max_distance from the target.
+  // Outside the workspace box (plus margin) or farther than max_distance from the target; never
+  // without workspace_bounds.
   bool out_of_bounds() const;
   // Whether any robot link touches static body `index` (index into spec().statics).
   bool robot_touches(int static_index) const;
@@ -131,6 +150,8 @@ public:
   int static_body(int index) const { return static_ids_[static_cast<size_t>(index)]; }  // PhysicsWorld body id
   const RobotModel& static_model(int index) const { return static_models_[static_cast<size_t>(index)]; }
   const KinematicChain& chain() const { return *chain_; }
+  // The joint angles episodes start from (before reset noise): spec().home or spec().rest.
+  const Eigen::VectorXf& reset_pose() const { return spec_.reset_to_rest ? spec_.rest : spec_.home; }
 
 private:
   ReachTaskSpec spec_;
@@ -141,6 +162,7 @@ private:
   std::unique_ptr<KinematicChain> chain_;
   std::vector<int> chain_dofs_;  // robot dof of each chain joint
   JointVector max_joint_move_;   // per chain joint: URDF speed limit x control period
+  JointVector rest_chain_;       // the rest pose of the chain joints (null_space IK)
   int ee_link_ = -1;
   Eigen::Isometry3f base_inverse_;
   Eigen::VectorXf scratch_q_;    // reset pose, sized once

@@ -34,6 +34,10 @@ void add_robot(RobotScene& scene, const Robot& robot);
 // world.static_pose(body). `model` must be the model the body was created from.
 void add_static_body(RobotScene& scene, const PhysicsWorld& world, int body, const RobotModel& model);
 
+class ReachTask;
+// Adds the task's robot and every static body (what every camera of a reaching env draws).
+void add_task_bodies(RobotScene& scene, const ReachTask& task);
+
 // Writes every part's current world pose into the scene (after steps, resets, moved statics).
 void update_poses(RobotScene& scene, const PhysicsWorld& world);
 

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Cholesky>
+#include <cmath>
 
 #include "rdsim/sim/kinematics.hpp"
 
@@ -45,6 +46,26 @@ JointVector damped_least_squares_step(const Eigen::MatrixBase<Jacobian>& j, cons
   a.diagonal().array() += damping * damping;
   return j.transpose() * a.llt().solve(e);
 }
+
+// pybullet's calculateInverseKinematics with rest poses, as Bullet's source describes it (BussIK's
+// damped least squares with a null-space term): each iteration takes the DLS step with damping
+// 0.6 m plus a pull of rest_gain x (rest - q) projected into the Jacobian's null space, caps the
+// largest joint change at max_joint_step, and stops once the tip is within `tolerance`. Used by
+// the reaching envs' ik_method "null_space" (envs/reach_task.cpp). Differences from pybullet's: the
+// chain holds only the joints between the root and the tip (pybullet's Jacobian has zero columns
+// for the others, so they only feel the pull), and every iterate is clamped to the joint limits
+// (pybullet pushes joints back from beyond their limits through the null-space term instead).
+struct NullSpaceIkOptions {
+  int iterations = 20;                 // pybullet's maxNumIterations default
+  double damping = 0.6;                // m: BussIK's DefaultDampingLambda
+  double rest_gain = 0.001;            // Bullet's stayCloseToZeroGain, per iteration
+  double max_joint_step = M_PI / 4.0;  // rad per iteration: BussIK's MaxAngleDLS (45 deg)
+  double tolerance = 1e-4;             // m: pybullet's residualThreshold default
+};
+
+// Joint angles for the tip at `target` (root frame) from `start`, pulled towards `rest`.
+JointVector null_space_ik(const KinematicChain& chain, const Eigen::Vector3d& target, const JointVector& start,
+                          const JointVector& rest, const NullSpaceIkOptions& options = {});
 
 // Tip position at `target` (root frame), starting from `start`.
 IkResult solve_ik(const KinematicChain& chain, const Eigen::Vector3d& target, const JointVector& start,

@@ -83,6 +83,8 @@ public:
   void joint_positions(Eigen::Ref<Eigen::VectorXf> out) const;
   Eigen::VectorXf joint_positions() const;
   Eigen::VectorXf joint_velocities() const;
+  // The drive's current position targets (after clamping), one per dof.
+  Eigen::VectorXf position_targets() const;
 
   RobotState state() const;
   // Puts the joints exactly where state() found them (bit for bit) and refreshes link poses.

@@ -1,0 +1,40 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include "rdsim/core/run_files.hpp"
+
+// The data of a learning-curve figure, from the runs' progress.csv alone: each run's metric
+// against an x column, and per algorithm the mean and a band over its runs (its seeds).
+namespace rdsim {
+
+// One run's curve: the rows where both columns have a value, in file order.
+struct RunCurve {
+  RunInfo info;
+  std::vector<double> x, y;
+};
+
+// Reads <dir>/progress.csv. Throws rdsim::Error naming the file when it cannot be read, or naming the
+// column (and listing those there are) when it has no such column.
+RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column);
+
+enum class Band { StdDev, MinMax };
+
+// One algorithm's runs on a common grid of x: mean, and the band (mean ± one standard deviation over
+// runs, or min..max). The grid spans only the x every run reached (from the largest first x to the
+// smallest last x), so each point averages all runs; between rows a run is linearly interpolated.
+struct CurveBand {
+  std::string algorithm;  // config.json's algorithm ("ppo"); "" when unknown
+  int runs = 0;
+  std::vector<double> x, mean, low, high;
+};
+
+// Groups runs by algorithm (bands sorted by algorithm name) and averages each group on `points`
+// grid points. Throws rdsim::Error when a run has no values or a group's runs share no x range.
+std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band band = Band::StdDev, int points = 300);
+
+// A run's y at x by linear interpolation between the rows around it (x must lie in the run's range;
+// x ascending, as progress.csv is).
+double interpolate(const RunCurve& run, double x);
+
+}  // namespace rdsim

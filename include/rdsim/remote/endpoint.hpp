@@ -1,0 +1,14 @@
+#pragma once
+#include <string>
+
+// ZeroMQ endpoints ("tcp://127.0.0.1:7777") as the server and the client check them.
+namespace rdsim::remote {
+
+// True for tcp:// addresses on the loopback interface only: 127.x.x.x, localhost, [::1].
+// Plain text (no CurveZMQ) is allowed only there.
+bool is_loopback_endpoint(const std::string& endpoint);
+
+// rdsim::Error unless `endpoint` is tcp://HOST:PORT (PORT a number, or * for a server to pick).
+void check_tcp_endpoint(const std::string& endpoint, const std::string& what);
+
+}  // namespace rdsim::remote

@@ -1,0 +1,70 @@
+// `rdsim serve`: hosts environments for remote clients until SIGINT/SIGTERM.
+#include "rdsim/app/serve.hpp"
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+
+#include "rdsim/core/error.hpp"
+#include "rdsim/remote/curve_keys.hpp"
+#include "rdsim/remote/server.hpp"
+
+namespace rdsim {
+namespace {
+
+std::atomic<remote::Server*> running{nullptr};
+
+extern "C" void stop_on_signal(int) {
+  if (remote::Server* s = running.load()) s->stop();  // an atomic store: safe in a handler
+}
+
+// DIR/server.key_secret and the keys in DIR/clients/.
+void load_keys(const std::string& dir, remote::ServerOptions& o) {
+  namespace fs = std::filesystem;
+  o.keys = remote::read_secret_key((fs::path(dir) / "server.key_secret").string());
+  const fs::path clients = fs::path(dir) / "clients";
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(clients, ec))
+    if (entry.is_regular_file() && entry.path().extension() == ".key")
+      o.authorised.push_back(remote::read_public_key(entry.path().string()));
+  if (o.authorised.empty())
+    throw Error(clients.string() + ": no client public keys (*.key) in it: copy there the NAME.key of each client "
+                                   "allowed in (rdsim keygen NAME)");
+}
+
+}  // namespace
+
+int serve_command(const ServeOptions& options) {
+  remote::ServerOptions o;
+  o.bind = options.bind;
+  o.insecure = options.insecure;
+  o.max_sessions = options.max_sessions;
+  o.idle_timeout = options.idle_timeout;
+  if (!options.keys_dir.empty()) {
+    if (options.insecure) throw Error("serve: --keys and --insecure exclude each other");
+    load_keys(options.keys_dir, o);
+  }
+  const std::size_t clients = o.authorised.size();
+  remote::Server server(std::move(o));
+  if (options.keys_dir.empty())
+    std::fprintf(stderr, "rdsim serve: WARNING: --insecure: plain text, no authentication and no encryption "
+                         "(allowed on loopback addresses only)\n");
+  std::printf("rdsim serve: listening on %s (%s, at most %d sessions, idle timeout %g s)\n", server.endpoint().c_str(),
+              options.keys_dir.empty() ? "plain text"
+                                       : ("CurveZMQ, " + std::to_string(clients) + " authorised client key" +
+                                          (clients == 1 ? "" : "s")).c_str(),
+              options.max_sessions, options.idle_timeout);
+  std::fflush(stdout);
+  running.store(&server);
+  std::signal(SIGINT, stop_on_signal);
+  std::signal(SIGTERM, stop_on_signal);
+  server.run();
+  running.store(nullptr);
+  const remote::ServerStats s = server.stats();
+  std::fprintf(stderr, "rdsim serve: stopped after %lld requests (%lld errors), %lld sessions, %lld refused connections\n",
+               s.requests, s.errors, s.sessions_opened, s.refused);
+  return 0;
+}
+
+}  // namespace rdsim

@@ -1,0 +1,211 @@
+#include "rdsim/dashboard/dashboard_server.hpp"
+
+#include <atomic>
+#include <charconv>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+#include "bounded_server.hpp"
+#include "rdsim/core/csv_reader.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/dashboard/run_index.hpp"
+#include "web_assets.hpp"
+
+namespace rdsim {
+namespace {
+
+constexpr std::size_t max_request_bytes = 64 * 1024;  // request line + headers + body
+constexpr std::size_t max_body_bytes = 4 * 1024;      // GETs carry none
+constexpr std::size_t max_rows_bytes = 1024 * 1024;   // of CSV per /api/progress answer
+
+bool is_loopback(const std::string& host) {
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+void send_json(httplib::Response& res, int status, const nlohmann::json& body) {
+  res.status = status;
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(body.dump(), "application/json");
+}
+
+void send_error(httplib::Response& res, int status, const std::string& message) {
+  send_json(res, status, {{"error", message}});
+}
+
+// A byte offset from the query: digits only, below 2^62.
+bool parse_offset(const std::string& text, std::uint64_t& out) {
+  if (text.empty() || text.size() > 18) return false;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return ec == std::errc() && ptr == text.data() + text.size();
+}
+
+}  // namespace
+
+BindAddress parse_bind_address(const std::string& text) {
+  BindAddress a;
+  std::string port = text;
+  if (const auto colon = text.rfind(':'); colon != std::string::npos) {
+    std::string host = text.substr(0, colon);
+    port = text.substr(colon + 1);
+    if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+    if (!host.empty()) a.host = host;
+  }
+  int value = -1;
+  const auto [ptr, ec] = std::from_chars(port.data(), port.data() + port.size(), value);
+  if (port.empty() || ec != std::errc() || ptr != port.data() + port.size() || value < 0 || value > 65535) {
+    throw Error("--bind " + text + ": expected HOST:PORT with a port from 0 to 65535, e.g. 127.0.0.1:8097");
+  }
+  a.port = value;
+  return a;
+}
+
+struct DashboardServer::Impl {
+  DashboardOptions options;
+  RunIndex index;
+  BoundedServer server{max_request_bytes};
+  std::set<std::string> allowed_hosts;  // Host header values accepted when bound to loopback
+  int port = 0;
+  std::atomic<bool> listen_returned = false;
+  std::thread thread;
+
+  explicit Impl(DashboardOptions o) : options(std::move(o)), index(options.roots) {}
+
+  void routes();
+  void runs(httplib::Response& res);
+  void progress(const httplib::Request& req, httplib::Response& res);
+};
+
+void DashboardServer::Impl::routes() {
+  server.new_task_queue = [] { return new httplib::ThreadPool(4); };
+  server.set_payload_max_length(max_body_bytes);
+  // httplib's default also sets SO_REUSEPORT, which would let a second dashboard share the port
+  // silently: only SO_REUSEADDR (restart without waiting for TIME_WAIT).
+  server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+  server.set_read_timeout(5, 0);
+  server.set_write_timeout(5, 0);
+  server.set_keep_alive_max_count(1000);
+  server.set_keep_alive_timeout(5);
+  server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
+                              {"Content-Security-Policy",
+                               "default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:"}});
+
+  server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    if (req.method != "GET") {
+      send_error(res, 405, "only GET is served");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    // A page from another site reaching us through DNS rebinding names its own host.
+    if (is_loopback(options.bind.host) && req.has_header("Host") &&
+        !allowed_hosts.count(req.get_header_value("Host"))) {
+      send_error(res, 403, "unexpected Host header");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  auto asset = [](const std::string& path, httplib::Response& res) {
+    const web::Asset* a = web::find_asset(path);
+    if (!a) return send_error(res, 404, "no such file");
+    res.set_header("Cache-Control", "no-cache");
+    res.set_content(reinterpret_cast<const char*>(a->bytes), a->size, web::content_type(path));
+  };
+  server.Get("/", [asset](const httplib::Request&, httplib::Response& res) { asset("index.html", res); });
+  server.Get(R"(/assets/(.+))", [asset](const httplib::Request& req, httplib::Response& res) {
+    asset(req.matches[1].str(), res);  // looked up in the embedded table, never on disk
+  });
+  server.Get("/api/runs", [this](const httplib::Request&, httplib::Response& res) { runs(res); });
+  server.Get("/api/progress", [this](const httplib::Request& req, httplib::Response& res) { progress(req, res); });
+  server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (res.body.empty()) {
+      res.set_content(nlohmann::json{{"error", "HTTP " + std::to_string(res.status)}}.dump(), "application/json");
+    }
+  });
+  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+    send_error(res, 500, "internal error");
+  });
+}
+
+void DashboardServer::Impl::runs(httplib::Response& res) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& run : index.runs()) {
+    list.push_back({{"id", run.id},
+                    {"label", run.label},
+                    {"env", run.info.env},
+                    {"algorithm", run.info.algorithm},
+                    {"seed", run.info.seed ? nlohmann::json(*run.info.seed) : nlohmann::json()}});
+  }
+  send_json(res, 200, {{"poll_ms", options.poll_ms}, {"runs", list}});
+}
+
+void DashboardServer::Impl::progress(const httplib::Request& req, httplib::Response& res) {
+  std::uint64_t from = 0;
+  if (req.has_param("from") && !parse_offset(req.get_param_value("from"), from)) {
+    return send_error(res, 400, "from: expected a byte offset");
+  }
+  const auto run = index.find(req.get_param_value("run"));
+  if (!run) return send_error(res, 404, "no such run");
+  CsvRows rows;  // stays empty while the run has not written progress.csv yet
+  std::error_code ec;
+  if (std::filesystem::exists(run->progress_path, ec) || std::filesystem::is_symlink(run->progress_path, ec)) {
+    if (!index.inside_root(run->progress_path, run->root)) return send_error(res, 404, "no such run");
+    try {
+      rows = read_csv_rows(run->progress_path, from, max_rows_bytes);
+    } catch (const Error& e) {
+      return send_error(res, 422, e.what());
+    }
+  }
+  nlohmann::json body = {{"columns", rows.columns},
+                         {"rows", rows.rows},  // NaN (an empty cell) is written as null
+                         {"next", rows.next},
+                         {"skipped", rows.skipped},
+                         {"restarted", rows.restarted},
+                         {"more", rows.more}};
+  send_json(res, 200, body);
+}
+
+DashboardServer::DashboardServer(DashboardOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {
+  Impl& m = *impl_;
+  m.routes();
+  const std::string& host = m.options.bind.host;
+  if (m.options.bind.port == 0) {
+    m.port = m.server.bind_to_any_port(host);
+  } else {
+    m.port = m.server.bind_to_port(host, m.options.bind.port) ? m.options.bind.port : -1;
+  }
+  if (m.port <= 0) {
+    throw Error("dashboard: cannot listen on " + host + ":" + std::to_string(m.options.bind.port) +
+                " (is the port in use, or the address not one of this machine's?)");
+  }
+  for (std::string name : {host, std::string("localhost"), std::string("127.0.0.1"), std::string("[::1]")}) {
+    m.allowed_hosts.insert(name.append(":").append(std::to_string(m.port)));
+  }
+  m.thread = std::thread([&m] {
+    m.server.listen_after_bind();
+    m.listen_returned = true;
+  });
+  // Until the loop runs, httplib's stop() would not end it: wait for it (microseconds).
+  while (!m.server.is_running() && !m.listen_returned) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
+DashboardServer::~DashboardServer() { stop(); }
+
+void DashboardServer::stop() {
+  if (!impl_ || !impl_->thread.joinable()) return;
+  impl_->server.stop();
+  impl_->thread.join();
+}
+
+int DashboardServer::port() const { return impl_->port; }
+
+std::string DashboardServer::url() const {
+  const std::string& host = impl_->options.bind.host;
+  const bool v6 = host.find(':') != std::string::npos;
+  const std::string shown = host == "0.0.0.0" ? "127.0.0.1" : (v6 ? "[" + host + "]" : host);
+  return "http://" + shown + ":" + std::to_string(impl_->port) + "/";
+}
+
+}  // namespace rdsim

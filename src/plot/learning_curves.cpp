@@ -1,0 +1,95 @@
+#include "rdsim/plot/learning_curves.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include "rdsim/core/csv_reader.hpp"
+#include "rdsim/core/error.hpp"
+
+namespace rdsim {
+
+RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column) {
+  const std::string path = (std::filesystem::path(dir) / progress_csv_name).string();
+  const CsvRows table = read_csv_rows(path);
+  const int xi = csv_column(table.columns, x_column);
+  const int yi = csv_column(table.columns, y_column);
+  for (const auto& [index, name] : {std::pair{xi, x_column}, std::pair{yi, y_column}}) {
+    if (index >= 0) continue;
+    std::string known;
+    for (const auto& c : table.columns) known += (known.empty() ? "" : ", ") + c;
+    throw Error(path + ": no column \"" + name + "\" (it has: " + known + ")");
+  }
+  RunCurve run;
+  run.info = read_run_info(dir);
+  for (const auto& row : table.rows) {
+    const double x = row[static_cast<std::size_t>(xi)], y = row[static_cast<std::size_t>(yi)];
+    if (std::isfinite(x) && std::isfinite(y)) {
+      run.x.push_back(x);
+      run.y.push_back(y);
+    }
+  }
+  return run;
+}
+
+double interpolate(const RunCurve& run, double x) {
+  const auto upper = std::lower_bound(run.x.begin(), run.x.end(), x);
+  if (upper == run.x.begin()) return run.y.front();
+  if (upper == run.x.end()) return run.y.back();
+  const std::size_t i = static_cast<std::size_t>(upper - run.x.begin());
+  const double x0 = run.x[i - 1], x1 = run.x[i];
+  const double w = x1 > x0 ? (x - x0) / (x1 - x0) : 1.0;
+  return run.y[i - 1] + w * (run.y[i] - run.y[i - 1]);
+}
+
+std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band band, int points) {
+  std::map<std::string, std::vector<const RunCurve*>> groups;
+  for (const auto& run : runs) {
+    if (run.x.empty()) throw Error(run.info.dir + ": progress.csv has no row with both values yet");
+    groups[run.info.algorithm].push_back(&run);
+  }
+  std::vector<CurveBand> bands;
+  for (const auto& [algorithm, members] : groups) {
+    double first = -INFINITY, last = INFINITY;
+    for (const RunCurve* r : members) {
+      first = std::max(first, r->x.front());
+      last = std::min(last, r->x.back());
+    }
+    if (first > last) {
+      throw Error("the " + (algorithm.empty() ? std::string("unnamed") : algorithm) +
+                  " runs share no range of x (one ends before another starts)");
+    }
+    CurveBand b;
+    b.algorithm = algorithm;
+    b.runs = static_cast<int>(members.size());
+    const int n = first < last ? std::max(points, 2) : 1;
+    std::vector<double> ys(members.size());
+    for (int k = 0; k < n; ++k) {
+      const double x = n == 1 ? first : first + (last - first) * k / (n - 1);
+      for (std::size_t m = 0; m < members.size(); ++m) ys[m] = interpolate(*members[m], x);
+      double mean = 0;
+      for (double y : ys) mean += y;
+      mean /= static_cast<double>(ys.size());
+      double low = mean, high = mean;
+      if (band == Band::MinMax) {
+        low = *std::min_element(ys.begin(), ys.end());
+        high = *std::max_element(ys.begin(), ys.end());
+      } else if (ys.size() > 1) {
+        double ss = 0;
+        for (double y : ys) ss += (y - mean) * (y - mean);
+        const double sd = std::sqrt(ss / static_cast<double>(ys.size() - 1));  // sample standard deviation
+        low = mean - sd;
+        high = mean + sd;
+      }
+      b.x.push_back(x);
+      b.mean.push_back(mean);
+      b.low.push_back(low);
+      b.high.push_back(high);
+    }
+    bands.push_back(std::move(b));
+  }
+  return bands;
+}
+
+}  // namespace rdsim

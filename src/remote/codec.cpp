@@ -1,0 +1,263 @@
+#include "rdsim/remote/codec.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "rdsim/core/error.hpp"
+
+namespace rdsim::remote {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void bad(const std::string& what) { throw Error("bad reply from the server: " + what); }
+
+const json& member(const json& object, const char* key) {
+  if (!object.is_object()) bad("expected an object holding \"" + std::string(key) + "\"");
+  const auto it = object.find(key);
+  if (it == object.end()) bad("missing \"" + std::string(key) + "\"");
+  return *it;
+}
+
+bool get_bool(const json& object, const char* key) {
+  const json& v = member(object, key);
+  if (!v.is_boolean()) bad(std::string(key) + ": expected true or false");
+  return v.get<bool>();
+}
+
+double get_number(const json& object, const char* key) {
+  const json& v = member(object, key);
+  if (!v.is_number()) bad(std::string(key) + ": expected a number");
+  return v.get<double>();
+}
+
+long long get_integer(const json& object, const char* key, long long lo, long long hi) {
+  const json& v = member(object, key);
+  if (!v.is_number_integer() || v.get<long long>() < lo || v.get<long long>() > hi)
+    bad(std::string(key) + ": expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v.get<long long>();
+}
+
+std::string get_string(const json& object, const char* key) {
+  const json& v = member(object, key);
+  if (!v.is_string()) bad(std::string(key) + ": expected a string");
+  return v.get<std::string>();
+}
+
+const ArrayFrame& array(const Message& m, const std::string& name, DType dtype, std::size_t count) {
+  const ArrayFrame* a = m.find(name);
+  if (!a) bad("missing array \"" + name + "\"");
+  if (a->dtype != dtype || a->count() != count)
+    bad("array \"" + name + "\": expected " + to_string(dtype) + " x " + std::to_string(count) + ", got " +
+        to_string(a->dtype) + " x " + std::to_string(a->count()));
+  return *a;
+}
+
+Eigen::VectorXf floats(const Message& m, const std::string& name, std::size_t count) {
+  const ArrayFrame& a = array(m, name, DType::Float32, count);
+  Eigen::VectorXf v(static_cast<Eigen::Index>(count));
+  if (count) std::memcpy(v.data(), a.bytes.data(), count * sizeof(float));
+  return v;
+}
+
+void put_floats(Message& m, const std::string& name, const Eigen::VectorXf& v) {
+  m.arrays.push_back(ArrayFrame::float32(name, v.data(), {static_cast<int>(v.size())}));
+}
+
+}  // namespace
+
+void put_spec(Message& m, const Spec& spec) {
+  const ObservationSpace& o = spec.observation;
+  json action = {{"discrete", spec.action.discrete}};
+  if (spec.action.discrete) action["n"] = spec.action.n;
+  else action["dim"] = spec.action.dim();
+  m.header["spec"] = {{"env_name", spec.env_name},
+                      {"observation", {{"dtype", o.type == ObsType::UInt8 ? "uint8" : "float32"}, {"shape", o.shape}}},
+                      {"action", action},
+                      {"max_episode_steps", spec.max_episode_steps},
+                      {"control_dt", spec.control_dt}};
+  if (o.type == ObsType::Float32) {
+    put_floats(m, "observation_low", o.low);
+    put_floats(m, "observation_high", o.high);
+  }
+  if (!spec.action.discrete) {
+    put_floats(m, "action_low", spec.action.low);
+    put_floats(m, "action_high", spec.action.high);
+  }
+}
+
+Spec get_spec(const Message& m) {
+  const json& s = member(m.header, "spec");
+  Spec spec;
+  spec.env_name = get_string(s, "env_name");
+  const json& o = member(s, "observation");
+  const std::string dtype = get_string(o, "dtype");
+  if (dtype != "float32" && dtype != "uint8") bad("spec.observation.dtype: expected float32 or uint8");
+  spec.observation.type = dtype == "uint8" ? ObsType::UInt8 : ObsType::Float32;
+  const json& shape = member(o, "shape");
+  if (!shape.is_array() || shape.empty() || shape.size() > 3) bad("spec.observation.shape: expected 1 to 3 sizes");
+  long long count = 1;
+  for (const json& d : shape) {
+    if (!d.is_number_integer() || d.get<long long>() < 1 || d.get<long long>() > 65536)
+      bad("spec.observation.shape: expected sizes 1..65536");
+    count *= d.get<long long>();
+    spec.observation.shape.push_back(d.get<int>());
+  }
+  if (count > (1LL << 28)) bad("spec.observation.shape: too large");
+  if (spec.observation.type == ObsType::Float32) {
+    spec.observation.low = floats(m, "observation_low", static_cast<std::size_t>(count));
+    spec.observation.high = floats(m, "observation_high", static_cast<std::size_t>(count));
+  }
+  const json& a = member(s, "action");
+  spec.action.discrete = get_bool(a, "discrete");
+  if (spec.action.discrete) {
+    spec.action.n = static_cast<int>(get_integer(a, "n", 1, 1 << 20));
+  } else {
+    const auto dim = static_cast<std::size_t>(get_integer(a, "dim", 1, 1024));
+    spec.action.low = floats(m, "action_low", dim);
+    spec.action.high = floats(m, "action_high", dim);
+  }
+  spec.max_episode_steps = static_cast<int>(get_integer(s, "max_episode_steps", 0, std::numeric_limits<int>::max()));
+  spec.control_dt = get_number(s, "control_dt");
+  return spec;
+}
+
+void put_robot_info(Message& m, const RobotInfo* info) {
+  if (!info) {
+    m.header["robot"] = nullptr;
+    return;
+  }
+  json joints = json::array(), cameras = json::array();
+  const auto n = static_cast<Eigen::Index>(info->joints.size());
+  Eigen::VectorXf lower(n), upper(n), speed(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const JointInfo& j = info->joints[static_cast<std::size_t>(i)];
+    joints.push_back({{"name", j.name}, {"kind", to_string(j.kind)}});
+    lower[i] = j.lower;
+    upper[i] = j.upper;
+    speed[i] = j.max_velocity;
+  }
+  for (const CameraInfo& c : info->cameras) cameras.push_back({{"name", c.name}, {"link", c.link}, {"fov_deg", c.fov_deg}});
+  m.header["robot"] = {{"robot", info->robot}, {"effector_link", info->effector_link}, {"joints", joints}, {"cameras", cameras}};
+  put_floats(m, "joint_lower", lower);
+  put_floats(m, "joint_upper", upper);
+  put_floats(m, "joint_max_velocity", speed);
+  put_floats(m, "workspace_min", info->workspace.min());
+  put_floats(m, "workspace_max", info->workspace.max());
+}
+
+std::optional<RobotInfo> get_robot_info(const Message& m) {
+  const json& r = member(m.header, "robot");
+  if (r.is_null()) return std::nullopt;
+  RobotInfo info;
+  info.robot = get_string(r, "robot");
+  info.effector_link = get_string(r, "effector_link");
+  const json& joints = member(r, "joints");
+  if (!joints.is_array() || joints.size() > 4096) bad("robot.joints: expected a list");
+  const std::size_t n = joints.size();
+  const Eigen::VectorXf lower = floats(m, "joint_lower", n), upper = floats(m, "joint_upper", n),
+                        speed = floats(m, "joint_max_velocity", n);
+  for (std::size_t i = 0; i < n; ++i) {
+    JointInfo j;
+    j.name = get_string(joints[i], "name");
+    const std::string kind = get_string(joints[i], "kind");
+    j.kind = kind == "prismatic" ? JointKind::Prismatic : kind == "continuous" ? JointKind::Continuous : JointKind::Revolute;
+    const auto k = static_cast<Eigen::Index>(i);
+    j.lower = lower[k];
+    j.upper = upper[k];
+    j.max_velocity = speed[k];
+    info.joints.push_back(j);
+  }
+  const json& cameras = member(r, "cameras");
+  if (!cameras.is_array() || cameras.size() > 64) bad("robot.cameras: expected a list");
+  for (const json& c : cameras)
+    info.cameras.push_back({get_string(c, "name"), get_string(c, "link"), static_cast<float>(get_number(c, "fov_deg"))});
+  const Eigen::Vector3f lo = floats(m, "workspace_min", 3), hi = floats(m, "workspace_max", 3);
+  info.workspace = Eigen::AlignedBox3f(lo, hi);
+  return info;
+}
+
+void put_observation(Message& m, const Spec& spec, const Observation& o) {
+  if (spec.observation.type == ObsType::UInt8)
+    m.arrays.push_back(ArrayFrame::uint8("observation", o.pixels.data(), spec.observation.shape));
+  else
+    m.arrays.push_back(ArrayFrame::float32("observation", o.values.data(), {static_cast<int>(o.values.size())}));
+}
+
+Observation get_observation(const Message& m, const Spec& spec) {
+  const auto count = static_cast<std::size_t>(spec.observation.size());
+  Observation o;
+  if (spec.observation.type == ObsType::UInt8) {
+    const ArrayFrame& a = array(m, "observation", DType::UInt8, count);
+    o.pixels.assign(a.bytes.begin(), a.bytes.end());
+  } else {
+    o.values = floats(m, "observation", count);
+  }
+  return o;
+}
+
+void put_step_result(Message& m, const Spec& spec, const StepResult& r) {
+  m.header["reward"] = r.reward;
+  m.header["terminated"] = r.terminated;
+  m.header["truncated"] = r.truncated;
+  m.header["info"] = {{"success", r.info.success},
+                      {"collision", r.info.collision},
+                      {"out_of_bounds", r.info.out_of_bounds},
+                      {"distance", r.info.distance}};
+  put_observation(m, spec, r.observation);
+}
+
+StepResult get_step_result(const Message& m, const Spec& spec) {
+  StepResult r;
+  r.reward = static_cast<float>(get_number(m.header, "reward"));
+  r.terminated = get_bool(m.header, "terminated");
+  r.truncated = get_bool(m.header, "truncated");
+  const json& info = member(m.header, "info");
+  r.info.success = get_bool(info, "success");
+  r.info.collision = get_bool(info, "collision");
+  r.info.out_of_bounds = get_bool(info, "out_of_bounds");
+  r.info.distance = static_cast<float>(get_number(info, "distance"));
+  r.observation = get_observation(m, spec);
+  return r;
+}
+
+void put_robot_state(Message& m, const RobotSnapshot& s) {
+  m.header["steps"] = s.steps;
+  put_floats(m, "joint_positions", s.joint_positions);
+  put_floats(m, "joint_velocities", s.joint_velocities);
+  put_floats(m, "joint_targets", s.joint_targets);
+  put_floats(m, "effector_position", s.effector_position);
+  put_floats(m, "effector_orientation", s.effector_orientation.coeffs());  // x, y, z, w
+  put_floats(m, "target", s.target);
+}
+
+RobotSnapshot get_robot_state(const Message& m, int joints) {
+  const auto n = static_cast<std::size_t>(joints);
+  RobotSnapshot s;
+  s.steps = static_cast<int>(get_integer(m.header, "steps", 0, std::numeric_limits<int>::max()));
+  s.joint_positions = floats(m, "joint_positions", n);
+  s.joint_velocities = floats(m, "joint_velocities", n);
+  s.joint_targets = floats(m, "joint_targets", n);
+  s.effector_position = floats(m, "effector_position", 3);
+  s.effector_orientation.coeffs() = floats(m, "effector_orientation", 4);
+  s.target = floats(m, "target", 3);
+  return s;
+}
+
+void put_image(Message& m, const std::string& camera, const Image& image) {
+  m.arrays.push_back(ArrayFrame::uint8(camera, image.rgb.data(), {image.height, image.width, 3}));
+}
+
+Image get_image(const Message& m, const std::string& camera, int width, int height) {
+  const std::size_t count = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3;
+  const ArrayFrame& a = array(m, camera, DType::UInt8, count);
+  if (a.shape != std::vector<int>{height, width, 3}) bad("array \"" + camera + "\": expected shape [height, width, 3]");
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.rgb.assign(a.bytes.begin(), a.bytes.end());
+  return image;
+}
+
+}  // namespace rdsim::remote

@@ -1,0 +1,76 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "rdsim/core/error.hpp"
+#include "rdsim/plot/learning_curves.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("rdsim_plot_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+rdsim::RunCurve curve(const std::string& algorithm, std::vector<double> x, std::vector<double> y) {
+  rdsim::RunCurve c;
+  c.info.algorithm = algorithm;
+  c.x = std::move(x);
+  c.y = std::move(y);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("learning curves: mean and standard deviation over seeds on their common range", "[plot]") {
+  // Two PPO seeds, y = x and y = x + 2, rows at different x; one A2C run.
+  const auto bands = rdsim::mean_over_runs({curve("ppo", {0, 10, 20}, {0, 10, 20}),
+                                            curve("ppo", {5, 15, 25}, {7, 17, 27}),
+                                            curve("a2c", {0, 100}, {1, 1})},
+                                           rdsim::Band::StdDev, 16);
+  REQUIRE(bands.size() == 2);
+  CHECK(bands[0].algorithm == "a2c");  // sorted by name
+  const rdsim::CurveBand& ppo = bands[1];
+  CHECK(ppo.runs == 2);
+  REQUIRE(ppo.x.size() == 16);
+  CHECK(ppo.x.front() == 5);  // both seeds have rows from 5 ...
+  CHECK(ppo.x.back() == 20);  // ... to 20
+  for (std::size_t i = 0; i < ppo.x.size(); ++i) {
+    CHECK(ppo.mean[i] == Approx(ppo.x[i] + 1));
+    CHECK(ppo.high[i] - ppo.mean[i] == Approx(std::sqrt(2.0)));  // sample std of {x, x + 2}
+    CHECK(ppo.mean[i] - ppo.low[i] == Approx(std::sqrt(2.0)));
+  }
+  CHECK(bands[0].low == bands[0].mean);  // one run: no band
+
+  const auto range = rdsim::mean_over_runs({curve("ppo", {0, 10}, {0, 0}), curve("ppo", {0, 10}, {1, 4})},
+                                           rdsim::Band::MinMax, 3);
+  CHECK(range[0].low == std::vector<double>{0, 0, 0});
+  CHECK(range[0].high == std::vector<double>{1, 2.5, 4});
+}
+
+TEST_CASE("learning curves: runs that share no range or have no values are errors", "[plot]") {
+  CHECK_THROWS_WITH(rdsim::mean_over_runs({curve("ppo", {0, 1}, {0, 0}), curve("ppo", {2, 3}, {0, 0})}),
+                    Catch::Contains("share no range"));
+  CHECK_THROWS_WITH(rdsim::mean_over_runs({curve("ppo", {}, {})}), Catch::Contains("no row"));
+}
+
+TEST_CASE("learning curves: a run's curve from progress.csv, skipping empty and malformed rows", "[plot]") {
+  const fs::path dir = scratch_dir("curve");
+  std::ofstream(dir / "config.json") << R"({"algorithm": "a2c", "env": {"name": "cartpole"}, "seed": 4})";
+  std::ofstream(dir / "progress.csv") << "timesteps,success_rate,mean_return\n100,,-5\n200,0.5,-4\nbroken\n300,0.75,-3\n";
+  const rdsim::RunCurve c = rdsim::read_run_curve(dir.string(), "timesteps", "success_rate");
+  CHECK(c.info.algorithm == "a2c");
+  CHECK(c.info.env == "cartpole");
+  CHECK(c.x == std::vector<double>{200, 300});
+  CHECK(c.y == std::vector<double>{0.5, 0.75});
+  CHECK(rdsim::interpolate(c, 250) == Approx(0.625));
+  CHECK_THROWS_WITH(rdsim::read_run_curve(dir.string(), "timesteps", "loss"),
+                    Catch::Contains("no column \"loss\" (it has: timesteps, success_rate, mean_return)"));
+  CHECK_THROWS_AS(rdsim::read_run_curve((dir / "absent").string(), "timesteps", "success_rate"), rdsim::Error);
+}

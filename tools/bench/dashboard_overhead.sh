@@ -1,0 +1,133 @@
+#!/usr/bin/env bash
+# Benchmark (not a unit test): how much does serving the live dashboard slow training?
+# Trains CONFIG with one seed REPEATS times without and REPEATS times with `--dashboard`
+# (alternating, so drifts of the machine's load hit both alike); during the dashboard runs the page
+# is open in headless Chromium (opened before the run starts), polling every 500 ms as a user's
+# browser does. For each run it
+# prints steps/s (timesteps / wall time of the last progress.csv row) and the CPU seconds of the
+# rdsim process (user + system: the dashboard's threads included), then the medians and ratios.
+#
+# CLIENT=http replaces the browser by curl making the page's requests at its rate (progress rows
+# since the last answer every 500 ms, the list of runs every 5 s): the server's cost alone, without
+# a browser competing for the same cores.
+#
+#   tools/bench/dashboard_overhead.sh [CONFIG]        (default: configs/jaka_button.json)
+#   RDSIM_BIN=build/rdsim REPEATS=5 TIMESTEPS=300000 CLIENT=chromium|http tools/bench/dashboard_overhead.sh
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+bin=${RDSIM_BIN:-build/rdsim}
+config=${1:-configs/jaka_button.json}
+repeats=${REPEATS:-5}
+timesteps=${TIMESTEPS:-300000}
+client=${CLIENT:-chromium}
+chromium=${RDSIM_CHROMIUM:-/usr/bin/chromium}
+out=${OUT:-$(mktemp -d /tmp/rdsim_dashboard_overhead.XXXXXX)}
+mkdir -p "$out"
+cd "$root"
+
+ticks=$(getconf CLK_TCK)
+
+# "steps/s cpu_s main_thread_s other_threads_s" of a finished run.
+measure() {
+  local sps cpu
+  sps=$(tail -n 1 "$1/progress.csv" | awk -F, '{ printf "%.1f", $1 / $NF }')
+  cpu=$(awk '{ printf "%.2f", $2 + $3 }' "$1.time")
+  echo "$sps $cpu $(awk -v t="$ticks" '{ printf "%.3f %.3f", $1 / t, $2 / t }' "$1.threads")"
+}
+
+# Samples, every 0.1 s until the process ends, the CPU ticks (user + system) of its main thread
+# (the training loop) and of all its other threads (the dashboard's server, if any): the last
+# sample is the whole run's but for its last moments.
+watch_threads() {
+  local pid="" main other fields f
+  for _ in $(seq 1000); do pid=$(pgrep -P "$1" || true); [ -n "$pid" ] && break; sleep 0.01; done
+  echo "0 0" >"$2"
+  [ -n "$pid" ] || return 0
+  while kill -0 "$pid" 2>/dev/null; do
+    main=0 other=0
+    for f in /proc/"$pid"/task/*/stat; do
+      fields=$(sed 's/.*) //' "$f" 2>/dev/null) || continue
+      read -r -a a <<<"$fields"
+      if [ "$f" = "/proc/$pid/task/$pid/stat" ]; then main=$((a[11] + a[12])); else other=$((other + a[11] + a[12])); fi
+    done
+    echo "$main $other" >"$2.tmp" && mv "$2.tmp" "$2"
+    sleep 0.1
+  done
+}
+
+run_plain() {
+  /usr/bin/time -f "%e %U %S" -o "$1.time" "$bin" train --quiet --config "$config" --seed 1 \
+    --timesteps "$timesteps" --log-dir "$1" &
+  local train=$!
+  watch_threads "$train" "$1.threads"
+  wait "$train"
+}
+
+# What the page does, with curl: the rows written since the last answer every 500 ms, the list of
+# runs every 5 s, until the server goes away.
+http_client() {
+  local base="http://127.0.0.1:$1" next=0 tick=0 answer
+  until curl -s -o /dev/null "$base/api/runs"; do sleep 0.05; done
+  while answer=$(curl -s "$base/api/progress?run=0:.&from=$next"); do
+    next=$(grep -o '"next":[0-9]*' <<<"$answer" | cut -d: -f2)
+    next=${next:-0}
+    if [ $((tick++ % 10)) -eq 0 ]; then curl -s -o /dev/null "$base/api/runs" || break; fi
+    sleep 0.5
+  done
+}
+
+# The browser is opened before training starts, on a page that waits for the dashboard and then
+# loads it, so the run pays for an open page (polling, drawing), not for Chromium starting up.
+run_with_dashboard() {
+  local port=$((20000 + RANDOM % 20000)) profile train client_pid
+  profile=$(mktemp -d /tmp/rdsim_overhead_profile.XXXXXX)
+  if [ "$client" = http ]; then
+    http_client "$port" &
+    client_pid=$!
+  else
+    cat >"$out/wait.html" <<HTML
+<script>
+const url = 'http://127.0.0.1:$port/';
+(function poll() { fetch(url, {mode: 'no-cors'}).then(() => { location = url; }, () => setTimeout(poll, 50)); })();
+</script>
+HTML
+    "$chromium" --headless --no-sandbox --disable-gpu --disable-quic --no-first-run --disable-background-networking \
+      --disable-component-update --disable-sync --user-data-dir="$profile" "file://$out/wait.html" >/dev/null 2>&1 &
+    client_pid=$!
+    sleep 5
+  fi
+  /usr/bin/time -f "%e %U %S" -o "$1.time" "$bin" train --quiet --config "$config" --seed 1 \
+    --timesteps "$timesteps" --log-dir "$1" --dashboard "127.0.0.1:$port" &
+  train=$!
+  watch_threads "$train" "$1.threads"
+  wait "$train"
+  kill "$client_pid" 2>/dev/null || true
+  wait "$client_pid" 2>/dev/null || true
+  rm -rf "$profile"
+}
+
+echo "config: $config   timesteps: $timesteps   repeats: $repeats   client: $client   binary: $bin   output: $out"
+without=() with=() cpu_without=() cpu_with=() share=()
+for i in $(seq "$repeats"); do
+  run_plain "$out/without_$i"
+  read -r sps cpu main other < <(measure "$out/without_$i")
+  without+=("$sps") cpu_without+=("$cpu")
+  echo "run $i without dashboard: $sps steps/s, $cpu CPU s (training thread $main s, other threads $other s)"
+  run_with_dashboard "$out/with_$i"
+  read -r sps cpu main other < <(measure "$out/with_$i")
+  with+=("$sps") cpu_with+=("$cpu")
+  if awk -v m="$main" 'BEGIN { exit !(m > 0) }'; then
+    share+=("$(awk -v m="$main" -v o="$other" 'BEGIN { printf "%.3f", 100 * o / m }')")
+    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (training thread $main s, dashboard threads $other s)"
+  else  # the thread sampler did not find the process (a loaded machine): no share from this run
+    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (threads not sampled)"
+  fi
+done
+median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print (NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2) }'; }
+m0=$(median "${without[@]}") m1=$(median "${with[@]}")
+c0=$(median "${cpu_without[@]}") c1=$(median "${cpu_with[@]}")
+sh=$(median "${share[@]:-0}")
+awk -v a="$m0" -v b="$m1" -v c="$c0" -v d="$c1" -v s="$sh" 'BEGIN {
+  printf "median CPU time of the dashboard threads: %.2f%% of the training thread'"'"'s\n", s
+  printf "median steps/s: %.1f without, %.1f with the dashboard and its client: %+.2f%%\n", a, b, (b / a - 1) * 100
+  printf "median CPU seconds of rdsim: %.2f without, %.2f with: %+.2f%%\n", c, d, (d / c - 1) * 100 }'
