@@ -66,7 +66,7 @@ TEST_CASE("train --dashboard serves the run being trained from the same process"
   CHECK(http_get(port, "/api/runs").empty());  // it stopped with the training
 }
 
-TEST_CASE("rdsim dashboard serves folders for a while; bad addresses fail clearly", "[cli][dashboard]") {
+TEST_CASE("rdsim dashboard serves folders for a while, bad addresses fail clearly", "[cli][dashboard]") {
   rltest::ScratchDir dir("cli_dashboard");
   std::filesystem::create_directories(dir.path / "runs");
   const auto r = rltest::run_rdsim("dashboard " + dir / "runs" + " --bind 127.0.0.1:0 --for 0.5", dir);

@@ -9,7 +9,7 @@
 
 using Catch::Matchers::Contains;
 
-TEST_CASE("replay --video films the episodes with a caption; GIF always, MP4 with FFmpeg", "[cli][video]") {
+TEST_CASE("replay --video films the episodes with a caption, GIF always, MP4 with FFmpeg", "[cli][video]") {
   rltest::ScratchDir dir("cli_video");
   const std::string run = dir / "run";
   auto r = rltest::run_rdsim("train --quiet --config configs/jaka_button.json --timesteps 1024 --log-dir " + run, dir);

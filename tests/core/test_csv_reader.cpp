@@ -112,7 +112,7 @@ TEST_CASE("CSV reader starts over when the file was rewritten shorter", "[csv]")
   REQUIRE(r.rows.size() == 1);
 }
 
-TEST_CASE("CSV reader: no header yet is no rows; a file that is not a CSV log is an error", "[csv]") {
+TEST_CASE("CSV reader: no header yet is no rows, a file that is not a CSV log is an error", "[csv]") {
   const std::string path = scratch("header.csv");
   write(path, "timesteps,mean_re");
   CHECK(rdsim::read_csv_rows(path).columns.empty());

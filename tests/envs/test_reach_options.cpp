@@ -43,7 +43,7 @@ TEST_CASE("observation_layout relative: end effector - target, then end effector
   CHECK((o.values.tail<3>() - (t.ee_position() - column_position(reach(*obstacle)))).norm() < 1e-6f);
 }
 
-TEST_CASE("end_on_success false: success does not end an episode; info.success is its last step's", "[envs][paper]") {
+TEST_CASE("end_on_success false: success does not end an episode, info.success is its last step's", "[envs][paper]") {
   EnvConfig c = env_config("jaka_button");
   c.success_threshold = 10.0;  // every step is within the threshold
   c.max_steps = 5;

@@ -95,7 +95,7 @@ TEST_CASE("robot control: move_effector brings the flange to an absolute point b
   }
 }
 
-TEST_CASE("robot control: a point outside the workspace is clipped into it; reaching the button is a success",
+TEST_CASE("robot control: a point outside the workspace is clipped into it, reaching the button is a success",
           "[envs][robot_control]") {
   auto env = make_env(env_config("jaka_button"));
   RobotControl& c = control(*env);

@@ -69,7 +69,7 @@ TEST_CASE("figure: a PNG with each algorithm's line and band in its colour", "[p
   cairo_surface_destroy(png);
 }
 
-TEST_CASE("figure: an SVG of the same drawing; other extensions are refused", "[plot]") {
+TEST_CASE("figure: an SVG of the same drawing, other extensions are refused", "[plot]") {
   const std::string path = scratch("curves.svg");
   rdsim::write_figure(two_algorithms(), {"title", "timesteps", "success rate", ""}, path);
   std::ifstream in(path);

@@ -313,7 +313,7 @@ TEST_CASE("server: plain text only with --insecure and only on loopback", "[remo
   CHECK_THROWS_WITH(read_remote_env_config(r), Contains("c.json: env.server_key: needed for tcp://10.0.0.5:7777"));
 }
 
-TEST_CASE("server: sessions end on close, on disconnect, after the idle timeout; the cap holds", "[remote][server]") {
+TEST_CASE("server: sessions end on close, on disconnect, after the idle timeout, the cap holds", "[remote][server]") {
   remote::ServerOptions o = plain_options();
   o.idle_timeout = 0.5;
   o.max_sessions = 2;
@@ -351,7 +351,7 @@ TEST_CASE("server: sessions end on close, on disconnect, after the idle timeout;
   CHECK_THAT(c.call(hello_jaka)["error"].get<std::string>(), Contains("the server is full (2 sessions"));
 }
 
-TEST_CASE("server: hostile frames get error replies or a dropped connection; others are served", "[remote][server]") {
+TEST_CASE("server: hostile frames get error replies or a dropped connection, others are served", "[remote][server]") {
   ServerThread server(plain_options());
   RawClient good(server.endpoint());
   CHECK(good.call(hello_jaka)["reply"] == "hello");

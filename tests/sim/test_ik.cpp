@@ -84,7 +84,7 @@ TEST_CASE("Unreachable targets end inside the joint limits, not converged", "[ik
   CHECK(within_limits(chain, r.q));
 }
 
-TEST_CASE("null-space IK (pybullet-style): 20 iterations close most of a 10 cm move; far targets stay in limits", "[ik]") {
+TEST_CASE("null-space IK (pybullet-style): 20 iterations close most of a 10 cm move, far targets stay in limits", "[ik]") {
   const RobotModel m = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
   const KinematicChain chain(m, "flange_link");
   JointVector q(6), rest(6);
