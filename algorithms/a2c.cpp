@@ -32,19 +32,28 @@ protected:
     const Eigen::VectorXf d_value = diff * (2.0f * static_cast<float>(cfg_.vf_coef) * inv_b);
     const Eigen::VectorXf d_entropy = Eigen::VectorXf::Constant(B, -static_cast<float>(cfg_.ent_coef) * inv_b);
 
+    const double policy_loss = -(adv.array() * ev.log_probs.array()).cast<double>().mean();
+    const double entropy = ev.entropy.cast<double>().mean();
     policy_->zero_grad();
     policy_->backward(d_log_prob, d_entropy, d_value);
+    const double demo_loss = add_demonstration_gradient(B);  // 0 without demonstrations.bc_weight
     const nn::ParamList params = policy_->params();
     average_gradients(params);
     const float norm = nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm));
     optimizer_->step();
 
-    return {{"policy_loss", -(adv.array() * ev.log_probs.array()).cast<double>().mean()},
+    // (The cloning term's evaluate() replaces ev's numbers: the RL ones were read before it.)
+    Metrics metrics = {{"policy_loss", policy_loss},
             {"value_loss", diff.cast<double>().squaredNorm() / B},
-            {"entropy", ev.entropy.cast<double>().mean()},
+            {"entropy", entropy},
             {"explained_variance", explained_variance(rollout_.values, rollout_.returns)},
             {"grad_norm", norm},
             {"learning_rate", lr}};
+    if (demonstration_term()) {
+      metrics.push_back({"demo_bc_loss", demo_loss});
+      metrics.push_back({"demo_bc_weight", demonstration_weight()});
+    }
+    return metrics;
   }
 
 private:

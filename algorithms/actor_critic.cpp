@@ -185,4 +185,49 @@ Action ActorCritic::env_action(const Eigen::Ref<const Eigen::VectorXf>& column) 
   return Action::continuous(std::move(v));
 }
 
+namespace {
+void require_separate(bool shared) {
+  if (shared) throw Error("ActorCritic: the policy on its own needs separate actor and critic networks (network.shared false, no CNN)");
+}
+}  // namespace
+
+nn::ParamList ActorCritic::policy_params() {
+  require_separate(trunk_ != nullptr);
+  nn::ParamList list;
+  nn::append_params(list, policy_.params(), "policy.");
+  if (!discrete_) list.push_back(nn::param_of(log_std_, "log_std"));
+  return list;
+}
+
+nn::ParamList ActorCritic::value_params() {
+  nn::ParamList list;
+  nn::append_params(list, value_.params(), "value.");
+  return list;
+}
+
+ActorCritic::Distributions ActorCritic::distributions() const {
+  if (discrete_) return {eval_categorical_->log_probs(), {}};  // log-softmax: the same distribution as the logits
+  return {eval_gaussian_->mean(), eval_gaussian_->log_std()};
+}
+
+double ActorCritic::mean_kl(const Distributions& old) const {
+  if (discrete_) return nn::Categorical(old.head).kl_divergence(*eval_categorical_).cast<double>().mean();
+  return nn::DiagGaussian(old.head, old.log_std).kl_divergence(*eval_gaussian_).cast<double>().mean();
+}
+
+Eigen::VectorXf ActorCritic::fisher_vector_product(const Eigen::VectorXf& direction) {
+  require_separate(trunk_ != nullptr);
+  const Eigen::Index head_params = nn::parameter_count(policy_.params());
+  const Eigen::MatrixXf tangent = policy_.jvp(direction.head(head_params));
+  const float inv_b = 1.0f / static_cast<float>(tangent.cols());
+  // J^T (F J v) / batch through the policy head; F of a Gaussian w.r.t. log std is 2 per sample.
+  const Eigen::MatrixXf f = discrete_ ? eval_categorical_->fisher_product(tangent) : eval_gaussian_->fisher_product_mean(tangent);
+  policy_.zero_grad();
+  policy_.backward(f * inv_b, false);
+  Eigen::VectorXf out(direction.size());
+  out.head(head_params) = nn::flatten_grads(policy_.params());
+  if (!discrete_) out.tail(action_dim_) = 2.0f * direction.tail(action_dim_);
+  return out;
+}
+
 }  // namespace rdsim

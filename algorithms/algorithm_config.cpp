@@ -8,7 +8,7 @@ namespace rdsim {
 namespace {
 
 // The name of each AlgorithmParams alternative in configs, in the variant's order.
-constexpr const char* kNames[] = {"ppo", "a2c", "dqn"};
+constexpr const char* kNames[] = {"ppo", "a2c", "dqn", "sac", "td3", "ddpg", "trpo", "ars", "cma_es", "random", "bc"};
 static_assert(std::size(kNames) == std::variant_size_v<AlgorithmParams>, "one name per AlgorithmParams alternative");
 
 template <std::size_t I = 0>
@@ -25,6 +25,27 @@ std::string known_names() {
   std::string known;
   for (const char* n : kNames) known += (known.empty() ? "" : ", ") + ("\"" + std::string(n) + "\"");
   return known;
+}
+
+// Whether `algorithm` uses the "demonstrations" key `key` (demonstrations.hpp says who uses what).
+bool uses_demonstrations_key(const std::string& algorithm, const std::string& key) {
+  if (key == "demo_fraction" || key == "large_margin" || key == "margin" || key == "margin_weight") return algorithm == "dqn";
+  if (key == "fit_critic" || key == "bc_weight" || key == "bc_weight_decay") return algorithm != "dqn" && algorithm != "bc";
+  return true;
+}
+
+// "demonstrations": read when present; keys the algorithm would ignore are errors.
+void read_demonstrations(ConfigReader& r, const std::string& name, AlgorithmConfig& c) {
+  if (!r.has("demonstrations")) {
+    if (name == "bc") r.fail("demonstrations", "missing: bc learns from demonstrations (expected {\"file\": \"F.demo\"})");
+    return;
+  }
+  ConfigReader section = r.child("demonstrations");
+  for (const std::string& key : section.keys())
+    if (!uses_demonstrations_key(name, key)) section.fail(key, "has no effect with \"algorithm\": \"" + name + "\"");
+  DemonstrationsConfig demos;
+  config::read_fields(section, demos);
+  c.demonstrations = demos;
 }
 
 }  // namespace
@@ -57,6 +78,7 @@ AlgorithmConfig read_algorithm_config(ConfigReader& r) {
     if (other != name && r.has(other))
       r.fail(other, "has no effect with \"algorithm\": \"" + name + "\" (expected a \"" + name + "\" object, or none)");
   }
+  read_demonstrations(r, name, c);
   return c;
 }
 
@@ -64,6 +86,13 @@ void write_algorithm_config(const AlgorithmConfig& c, nlohmann::json& out) {
   out["algorithm"] = c.name();
   out["network"] = config::write_fields(c.network);
   std::visit([&](const auto& params) { out[c.name()] = config::write_fields(params); }, c.params);
+  if (c.demonstrations) {
+    const nlohmann::json all = config::write_fields(*c.demonstrations);
+    nlohmann::json demos = nlohmann::json::object();
+    for (const auto& [key, value] : all.items())
+      if (uses_demonstrations_key(c.name(), key)) demos[key] = value;
+    out["demonstrations"] = std::move(demos);
+  }
 }
 
 std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_t seed, const Spec& spec) {
@@ -74,6 +103,14 @@ std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_
     std::unique_ptr<Algorithm> operator()(const PpoConfig& p) const { return make_ppo(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const A2cConfig& p) const { return make_a2c(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const DqnConfig& p) const { return make_dqn(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const SacConfig& p) const { return make_sac(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const Td3Config& p) const { return make_td3(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const DdpgConfig& p) const { return make_ddpg(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const TrpoConfig& p) const { return make_trpo(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const ArsConfig& p) const { return make_ars(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const CmaEsConfig& p) const { return make_cma_es(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const RandomConfig& p) const { return make_random(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const BcConfig& p) const { return make_bc(p, c.network, seed, spec, c.source); }
   };
   return std::visit(Make{c, seed, spec}, c.params);
 }

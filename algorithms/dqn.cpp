@@ -2,14 +2,18 @@
 // network refreshed every target_update_interval env steps (hard copy, or Polyak with tau < 1),
 // linear epsilon-greedy exploration, Huber TD loss, optional double Q-learning (van Hasselt et
 // al. 2016), global grad-norm clipping, train_freq env steps per env between training phases
-// of gradient_steps minibatch updates, and no learning before learning_starts.
+// of gradient_steps minibatch updates, and no learning before learning_starts. With
+// demonstrations (demonstrations.hpp): a demonstration buffer that is never overwritten, a share of
+// every minibatch from it, pre-training on it, and optionally DQfD's large-margin loss.
 #include "rdsim/algorithms/dqn.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
@@ -17,6 +21,7 @@
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/demos/demo_file.hpp"
 #include "rdsim/nn/nn.hpp"
 
 namespace rdsim {
@@ -54,6 +59,32 @@ TdLoss squared_loss(const Eigen::VectorXf& prediction, const Eigen::VectorXf& ta
   const Eigen::VectorXf d = prediction - target;
   const float inv_b = 1.0f / static_cast<float>(d.size());
   return {0.5f * d.squaredNorm() * inv_b, d * inv_b};
+}
+
+TdLoss large_margin_loss(const Eigen::MatrixXf& q, const Eigen::VectorXi& demo_actions, float margin) {
+  const Eigen::Index n = demo_actions.size();
+  TdLoss out;
+  out.grad = Eigen::VectorXf::Zero(q.rows() * n);  // actions x n, column-major
+  if (n == 0) return out;
+  const float inv = 1.0f / static_cast<float>(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const int demo = demo_actions[j];
+    Eigen::Index best = 0;
+    float best_value = -std::numeric_limits<float>::infinity();
+    for (Eigen::Index a = 0; a < q.rows(); ++a) {
+      const float v = q(a, j) + (a == demo ? 0.0f : margin);
+      if (v > best_value) {
+        best_value = v;
+        best = a;
+      }
+    }
+    out.loss += (best_value - q(demo, j)) * inv;
+    if (best != demo) {
+      out.grad[j * q.rows() + best] += inv;
+      out.grad[j * q.rows() + demo] -= inv;
+    }
+  }
+  return out;
 }
 
 double epsilon_at(long long timesteps, long long total_timesteps, double fraction, double initial,
@@ -141,14 +172,24 @@ public:
   }
 
   std::string name() const override { return "dqn"; }
+  // Every learner gradient step averages its gradients over the ranks (train_on).
+  bool data_parallel() const override { return true; }
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
+  std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
+                                                 bool pretrain) override;
 
 private:
+  struct StepStats {
+    double loss = 0, margin = 0, q = 0, norm = 0;
+  };
   void collect_step(VecEnv& envs, double epsilon, bool warmup);
-  void gradient_step(double& loss_sum, double& q_sum, double& norm_sum);
+  // A minibatch from the replay buffer (and the demonstration buffer, if any), then train_on().
+  void gradient_step(StepStats& stats);
+  // One gradient step on batch_, whose first `demo_count` columns are demonstrated transitions.
+  void train_on(int demo_count, StepStats& stats);
 
   DqnConfig cfg_;
   Spec spec_;
@@ -166,6 +207,10 @@ private:
   std::vector<float> gradient_buffer_;
   std::vector<Action> actions_;
   ReplayBatch batch_;
+  // Demonstrations: their own buffer, never overwritten (empty without demonstrations).
+  std::unique_ptr<ReplayBuffer> demo_buffer_;
+  DemonstrationsConfig demo_cfg_;
+  ReplayBatch demo_batch_;
 };
 
 void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
@@ -201,39 +246,110 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
   }
 }
 
-void Dqn::gradient_step(double& loss_sum, double& q_sum, double& norm_sum) {
-  buffer_.sample(cfg_.batch_size, replay_rng_, batch_);
+void Dqn::gradient_step(StepStats& stats) {
+  const int b = cfg_.batch_size;
+  const int demo_count =
+      demo_buffer_ ? (buffer_.size() == 0 ? b : static_cast<int>(std::lround(demo_cfg_.demo_fraction * b))) : 0;
+  if (demo_count == 0) {
+    buffer_.sample(b, replay_rng_, batch_);
+    train_on(0, stats);
+    return;
+  }
+  // Demonstrated transitions first, then the env's: one batch.
+  demo_buffer_->sample(demo_count, replay_rng_, demo_batch_);
+  if (demo_count < b) buffer_.sample(b - demo_count, replay_rng_, batch_);
+  const int env_count = b - demo_count;
+  auto join = [&](Eigen::MatrixXf& env_part, const Eigen::MatrixXf& demo_part) {
+    Eigen::MatrixXf joined(demo_part.rows(), b);
+    joined.leftCols(demo_count) = demo_part.leftCols(demo_count);
+    if (env_count > 0) joined.rightCols(env_count) = env_part.leftCols(env_count);
+    env_part = std::move(joined);
+  };
+  auto join_vector = [&](auto& env_part, const auto& demo_part) {
+    std::remove_reference_t<decltype(env_part)> joined(b);
+    joined.head(demo_count) = demo_part.head(demo_count);
+    if (env_count > 0) joined.tail(env_count) = env_part.head(env_count);
+    env_part = std::move(joined);
+  };
+  join(batch_.observations, demo_batch_.observations);
+  join(batch_.next_observations, demo_batch_.next_observations);
+  join_vector(batch_.actions, demo_batch_.actions);
+  join_vector(batch_.rewards, demo_batch_.rewards);
+  join_vector(batch_.terminated, demo_batch_.terminated);
+  train_on(demo_count, stats);
+}
+
+void Dqn::train_on(int demo_count, StepStats& stats) {
   const Eigen::MatrixXf& next_q_target = target_.infer(batch_.next_observations);
   const Eigen::MatrixXf* next_q_online = cfg_.double_q ? &q_.infer(batch_.next_observations) : nullptr;
   const Eigen::VectorXf targets =
       dqn::td_targets(batch_.rewards, batch_.terminated, next_q_target, next_q_online, static_cast<float>(cfg_.gamma));
 
   const Eigen::MatrixXf& q = q_.forward(batch_.observations);
-  const int b = cfg_.batch_size;
+  const int b = static_cast<int>(batch_.actions.size());
   Eigen::VectorXf chosen(b);
   for (int j = 0; j < b; ++j) chosen[j] = q(batch_.actions[j], j);
   const dqn::TdLoss loss = cfg_.huber ? dqn::huber_loss(chosen, targets) : dqn::squared_loss(chosen, targets);
 
-  // Only the Q-value of the action taken receives a gradient.
+  // Only the Q-value of the action taken receives the TD gradient.
   grad_q_.setZero(num_actions_, b);
   for (int j = 0; j < b; ++j) grad_q_(batch_.actions[j], j) = loss.grad[j];
+  if (demo_count > 0 && demo_cfg_.large_margin) {
+    const dqn::TdLoss margin = dqn::large_margin_loss(q.leftCols(demo_count), batch_.actions.head(demo_count),
+                                                      static_cast<float>(demo_cfg_.margin));
+    const float w = static_cast<float>(demo_cfg_.margin_weight);
+    grad_q_.leftCols(demo_count) += w * Eigen::Map<const Eigen::MatrixXf>(margin.grad.data(), num_actions_, demo_count);
+    stats.margin += margin.loss;
+  }
   q_.zero_grad();
   q_.backward(grad_q_);
   const nn::ParamList params = optimizer_->params();
   average_gradients(communicator(), params, gradient_buffer_);
-  norm_sum += cfg_.max_grad_norm > 0 ? nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm))
-                                     : nn::global_grad_norm(params);
+  stats.norm += cfg_.max_grad_norm > 0 ? nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm))
+                                       : nn::global_grad_norm(params);
   optimizer_->step();
   ++gradient_steps_;
-  loss_sum += loss.loss;
-  q_sum += chosen.cast<double>().mean();
+  stats.loss += loss.loss;
+  stats.q += chosen.cast<double>().mean();
+}
+
+std::vector<Metrics> Dqn::learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
+                                                    bool pretrain) {
+  long long transitions = 0;
+  for (const DemoEpisode& e : demos.episodes) transitions += e.steps();
+  if (transitions == 0) throw Error(demos.path + ": holds no demonstrated step to learn from");
+  demo_cfg_ = config;
+  demo_buffer_ = std::make_unique<ReplayBuffer>(transitions, spec_.observation);
+  for (const DemoEpisode& e : demos.episodes) {
+    for (int t = 0; t < e.steps(); ++t) {
+      const auto i = static_cast<std::size_t>(t);
+      // The last step of an episode the env did not end (truncated, or stopped by a person) bootstraps.
+      const bool terminated = e.terminated && t == e.steps() - 1;
+      demo_buffer_->add(e.observations[i], e.actions[i].index, e.rewards[i], e.observations[i + 1], terminated);
+    }
+  }
+  std::vector<Metrics> rows;
+  if (!pretrain) return rows;
+  // Pre-training on the demonstrations alone (DQfD's first phase), the target refreshed every epoch.
+  const long long steps_per_epoch = std::max<long long>(1, (transitions + cfg_.batch_size - 1) / cfg_.batch_size);
+  optimizer_->set_learning_rate(static_cast<float>(config.learning_rate));
+  for (int epoch = 1; epoch <= config.bc_epochs; ++epoch) {
+    StepStats stats;
+    for (long long k = 0; k < steps_per_epoch; ++k) {
+      demo_buffer_->sample(cfg_.batch_size, rng, batch_);
+      train_on(cfg_.batch_size, stats);
+    }
+    target_.copy_values_from(q_);
+    const double m = static_cast<double>(steps_per_epoch);
+    rows.push_back({{"epoch", epoch}, {"td_loss", stats.loss / m}, {"margin_loss", stats.margin / m}, {"q_mean", stats.q / m}});
+  }
+  gradient_steps_ = 0;  // the training schedule counts RL steps only
+  return rows;
 }
 
 Metrics Dqn::update(VecEnv& envs, const TrainProgress& progress) {
   const int n = envs.size();
-  // The last phase stops at the run's goal instead of overshooting by up to train_freq steps.
-  const long long left = progress.total_timesteps - envs.timesteps();
-  const long long calls = left > 0 ? std::min<long long>(cfg_.train_freq, (left + n - 1) / n) : cfg_.train_freq;
+  const long long calls = progress.phase_steps(cfg_.train_freq, n);
   double epsilon = 0.0;
   for (long long c = 0; c < calls; ++c) {
     epsilon = dqn::epsilon_at(envs.timesteps(), progress.total_timesteps, cfg_.exploration_fraction,
@@ -243,19 +359,21 @@ Metrics Dqn::update(VecEnv& envs, const TrainProgress& progress) {
 
   const double lr = cfg_.anneal_lr ? cfg_.learning_rate * progress.remaining(envs.timesteps()) : cfg_.learning_rate;
   optimizer_->set_learning_rate(static_cast<float>(lr));
-  double loss_sum = 0, q_sum = 0, norm_sum = 0;
+  StepStats stats;
   int trained = 0;
   if (envs.timesteps() > cfg_.learning_starts) {
-    for (; trained < cfg_.gradient_steps; ++trained) gradient_step(loss_sum, q_sum, norm_sum);
+    for (; trained < cfg_.gradient_steps; ++trained) gradient_step(stats);
   }
   const double m = std::max(trained, 1);
-  return {{"loss", loss_sum / m},
-          {"q_mean", q_sum / m},
-          {"grad_norm", norm_sum / m},
+  Metrics metrics = {{"loss", stats.loss / m},
+          {"q_mean", stats.q / m},
+          {"grad_norm", stats.norm / m},
           {"epsilon", epsilon},
           {"learning_rate", lr},
           {"gradient_steps", static_cast<double>(gradient_steps_)},
           {"buffer_size", static_cast<double>(buffer_.size())}};
+  if (demo_buffer_ && demo_cfg_.large_margin) metrics.push_back({"margin_loss", stats.margin / m});
+  return metrics;
 }
 
 Action Dqn::act(const Observation& observation, bool deterministic, Rng& rng) {

@@ -1,6 +1,7 @@
 // What an algorithm will allocate, from its config alone (estimate_algorithm_memory in
 // algorithm_config.hpp). Counts floats of 4 bytes; rounded up where the code keeps extra copies.
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <variant>
 #include <vector>
@@ -104,6 +105,38 @@ void on_policy(const NetworkConfig& n, const Spec& spec, int num_envs, int n_ste
   e.add("checkpoint writing (in-memory copies of weights and optimiser state)", 2.0 * 3.0 * kFloat * f.params);
 }
 
+// SAC, TD3, DDPG: an actor (policy_out outputs), two critics on (observation, action), their target
+// copies, Adam state, a replay buffer of Box actions, training passes over batch_size samples.
+void actor_critics(const NetworkConfig& n, const Spec& spec, int num_envs, long long buffer_size, int batch_size,
+                   double policy_out, bool target_actor, const char* algo, MemoryEstimate& e) {
+  const double obs = observation_input_size(spec.observation);
+  const double act = spec.action.dim();
+  const Footprint actor = mlp(obs, n.hidden_sizes, policy_out);
+  const Footprint critic = mlp(obs + act, n.hidden_sizes, 1.0);
+  // Weights, gradient, two Adam moments (+ a target copy): 4 or 5 floats per parameter.
+  const double weights = (target_actor ? 5.0 : 4.0) * actor.params + 2.0 * 5.0 * critic.params;
+  e.add("actor and critic networks, targets, gradients and optimiser state (network.hidden_sizes)", weights * kFloat);
+  const double replay = static_cast<double>(buffer_size) * (2.0 * obs + act + 2.0) * kFloat;
+  e.add(std::string("replay buffer (") + algo + ".buffer_size)", replay);
+  // Actor pass, online and target critic passes on both critics, their gradients.
+  e.add(std::string("training activations (") + algo + ".batch_size)",
+        static_cast<double>(batch_size) * (3.0 * actor.activations + 8.0 * critic.activations + 4.0 * (obs + act)) * kFloat +
+            num_envs * (actor.activations + obs) * kFloat);
+  e.add("checkpoint writing (in-memory copies of the networks and the replay buffer)", 2.0 * (weights * kFloat + replay));
+}
+
+// ARS, CMA-ES: one flat policy, `copies` parameter vectors (perturbations, candidates) and,
+// for CMA-ES, the covariance and its eigenvectors (doubles, parameters squared).
+void policy_search(const NetworkConfig& n, const Spec& spec, int num_envs, double copies, bool covariance,
+                   const char* keys, MemoryEstimate& e) {
+  const double obs = observation_input_size(spec.observation);
+  const double out = spec.action.discrete ? spec.action.n : spec.action.dim();
+  const Footprint f = mlp(obs, n.hidden_sizes, out);
+  e.add("policy parameters and candidates (network.hidden_sizes, " + std::string(keys) + ")",
+        (copies + 4.0) * f.params * 8.0 + num_envs * (f.activations + obs) * kFloat);
+  if (covariance) e.add("CMA-ES covariance and eigenvectors (network.hidden_sizes)", 3.0 * f.params * f.params * 8.0);
+}
+
 }  // namespace
 
 void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
@@ -119,6 +152,14 @@ void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int n
     void operator()(const A2cConfig& p) const {
       on_policy(c.network, spec, num_envs, p.n_steps, static_cast<double>(p.n_steps) * num_envs, "a2c", c.source, e);
     }
+    // BC: an actor-critic run n_steps x num_envs per update; its training passes (on the
+    // demonstrations, batch_size samples) happen before. The demonstrations themselves are bounded by
+    // the demo file's reader, not estimated here.
+    void operator()(const BcConfig& p) const {
+      const double rollout = static_cast<double>(p.n_steps) * num_envs;
+      const double batch = c.demonstrations ? std::max<double>(c.demonstrations->batch_size, rollout) : rollout;
+      on_policy(c.network, spec, num_envs, p.n_steps, batch, "bc", c.source, e);
+    }
     void operator()(const DqnConfig& p) const {
       const Footprint f = q_network(c.network, spec, c.source);
       const double obs = observation_input_size(spec.observation);
@@ -132,6 +173,29 @@ void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int n
       e.add("checkpoint writing (in-memory copies of the networks and the replay buffer)",
             2.0 * (4.0 * kFloat * f.params + replay));
     }
+    void operator()(const SacConfig& p) const {
+      actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, 2.0 * spec.action.dim(), false, "sac", e);
+    }
+    void operator()(const Td3Config& p) const {
+      actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, spec.action.dim(), true, "td3", e);
+    }
+    void operator()(const DdpgConfig& p) const {
+      actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, spec.action.dim(), true, "ddpg", e);
+    }
+    void operator()(const TrpoConfig& p) const {
+      // The whole rollout in one pass (the natural-gradient step), plus conjugate-gradient vectors.
+      on_policy(c.network, spec, num_envs, p.n_steps, static_cast<double>(p.n_steps) * num_envs, "trpo", c.source, e);
+    }
+    void operator()(const ArsConfig& p) const {
+      policy_search(c.network, spec, num_envs, 2.0 * p.n_delta, false, "ars.n_delta", e);
+    }
+    void operator()(const CmaEsConfig& p) const {
+      const double params = mlp(observation_input_size(spec.observation), c.network.hidden_sizes,
+                                spec.action.discrete ? spec.action.n : spec.action.dim()).params;
+      const double lambda = p.population_size > 0 ? p.population_size : 4.0 + std::floor(3.0 * std::log(std::max(params, 1.0)));
+      policy_search(c.network, spec, num_envs, lambda, true, "cma_es.population_size", e);
+    }
+    void operator()(const RandomConfig&) const {}  // no network, no buffer
   };
   std::visit(Visit{c, spec, num_envs, e}, c.params);
 }

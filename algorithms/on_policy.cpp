@@ -1,8 +1,11 @@
 #include "rdsim/algorithms/on_policy.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "rdsim/algorithms/advantage.hpp"
+#include "rdsim/algorithms/behavior_cloning.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
@@ -69,6 +72,38 @@ void OnPolicy::load(std::istream& in, bool training_state, const std::string& so
   const std::uint64_t updates = read_u64(in, source);
   if (updates > (1ull << 50)) throw Error(source + ": checkpoint holds an update count out of range (damaged file?)");
   updates_ = static_cast<long long>(updates);
+}
+
+std::vector<Metrics> OnPolicy::learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
+                                                         Rng& rng, bool pretrain) {
+  DemoSplit data = split_demonstrations(demos, spec_.observation, config.validation_fraction, settings_.gamma, rng);
+  demo_weight_ = config.bc_weight;
+  demo_decay_ = config.bc_weight_decay;
+  std::vector<Metrics> rows;
+  // A resumed run keeps only the demonstrations for the cloning term: its checkpoint holds the
+  // pre-trained weights.
+  if (pretrain) rows = fit_to_demonstrations(*policy_, data, config, config.fit_critic, rng);
+  if (demo_weight_ > 0.0) demo_steps_ = std::move(data.train);
+  return rows;
+}
+
+double OnPolicy::demonstration_weight() const {
+  return demo_weight_ * std::pow(demo_decay_, static_cast<double>(std::max<long long>(updates_ - 1, 0)));
+}
+
+double OnPolicy::add_demonstration_gradient(int batch) {
+  if (!demonstration_term()) return 0.0;
+  const float w = static_cast<float>(demonstration_weight());
+  Eigen::MatrixXf obs(demo_steps_.observations.rows(), batch), actions(demo_steps_.actions.rows(), batch);
+  for (int j = 0; j < batch; ++j) {
+    const auto i = static_cast<Eigen::Index>(shuffle_rng_.below(static_cast<std::uint64_t>(demo_steps_.size())));
+    obs.col(j) = demo_steps_.observations.col(i);
+    actions.col(j) = demo_steps_.actions.col(i);
+  }
+  const PolicyEval& ev = policy_->evaluate(obs, actions);
+  policy_->backward(Eigen::VectorXf::Constant(batch, -w / static_cast<float>(batch)), Eigen::VectorXf(),
+                    Eigen::VectorXf::Zero(batch));
+  return -ev.log_probs.cast<double>().mean();
 }
 
 }  // namespace rdsim

@@ -67,7 +67,7 @@ Metrics Ppo::train(double remaining) {
 
   const int n = rollout_.size();
   order_.resize(static_cast<std::size_t>(n));
-  double sum_pg = 0, sum_v = 0, sum_ent = 0, sum_kl = 0, sum_clipped = 0, sum_norm = 0;
+  double sum_pg = 0, sum_v = 0, sum_ent = 0, sum_kl = 0, sum_clipped = 0, sum_norm = 0, sum_demo = 0;
   long long minibatches = 0, samples = 0;
   bool stop = false;
   for (int epoch = 0; epoch < cfg_.n_epochs && !stop; ++epoch) {
@@ -123,15 +123,16 @@ Metrics Ppo::train(double remaining) {
       }
       const Eigen::VectorXf d_entropy = Eigen::VectorXf::Constant(B, -static_cast<float>(cfg_.ent_coef) * inv_b);
 
+      sum_ent += ev.entropy.cast<double>().mean();  // before the cloning term's evaluate() replaces ev
       policy_->zero_grad();
       policy_->backward(d_log_prob, d_entropy, d_value);
+      sum_demo += add_demonstration_gradient(B);  // 0 without demonstrations.bc_weight
       average_gradients(params);
       sum_norm += nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm));
       optimizer_->step();
 
       sum_pg += pg_loss / B;
       sum_v += v_loss / B;
-      sum_ent += ev.entropy.cast<double>().mean();
       sum_kl += approx_kl;
       sum_clipped += clipped;
       samples += B;
@@ -139,7 +140,7 @@ Metrics Ppo::train(double remaining) {
     }
   }
   const double m = std::max<long long>(minibatches, 1);
-  return {{"policy_loss", sum_pg / m},
+  Metrics metrics = {{"policy_loss", sum_pg / m},
           {"value_loss", sum_v / m},
           {"entropy", sum_ent / m},
           {"approx_kl", sum_kl / m},
@@ -149,6 +150,11 @@ Metrics Ppo::train(double remaining) {
           {"learning_rate", lr},
           {"clip_range", clip},
           {"minibatches", static_cast<double>(minibatches)}};
+  if (demonstration_term()) {
+    metrics.push_back({"demo_bc_loss", sum_demo / m});
+    metrics.push_back({"demo_bc_weight", demonstration_weight()});
+  }
+  return metrics;
 }
 
 }  // namespace

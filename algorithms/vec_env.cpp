@@ -53,6 +53,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
       start_(std::chrono::steady_clock::now()) {
   batch_.resize(spec().observation, size());
   results_.resize(envs_.size());
+  all_active_.assign(envs_.size(), true);
   // The first reset on the owning worker too: a pixel env's renderer binds its context there.
   for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
 }
@@ -97,11 +98,23 @@ void VecEnv::step_env(int i, const Action& action) {
 }
 
 const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions) {
-  if (actions.size() != envs_.size()) throw Error("VecEnv::step: one action per env expected");
-  timesteps_ += size();
-  for_each_env([&](int i) { step_env(i, actions[static_cast<std::size_t>(i)]); });
+  return step(actions, all_active_);
+}
+
+const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, const std::vector<bool>& active) {
+  if (actions.size() != envs_.size() || active.size() != envs_.size())
+    throw Error("VecEnv::step: one action and one active flag per env expected");
+  for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
+  // The workers only read `active` and write their own envs' results.
+  for_each_env([&](int i) {
+    if (active[static_cast<std::size_t>(i)])
+      step_env(i, actions[static_cast<std::size_t>(i)]);
+    else
+      results_[static_cast<std::size_t>(i)] = EnvStep{};
+  });
   double now = -1.0;  // read the clock only when an episode ended (it costs as much as a cartpole step)
   for (int i = 0; i < size(); ++i) {
+    if (!active[static_cast<std::size_t>(i)]) continue;
     const EnvStep& s = results_[static_cast<std::size_t>(i)];
     if (s.done() && now < 0.0) now = wall_time();
     tracker_.on_step(i, s.reward, s.info, s.done(), timesteps_, now);

@@ -42,6 +42,11 @@ ReachTerms jaka_obstacle_terms(const EnvConfig& config) {
   t.collision_reward = JakaObstacle::collision_reward;
   t.landmarks = {JakaObstacle::column_index};
   t.observed_links = {"wrist_2_link", "wrist_3_link"};
+  // The scripted expert: round the column's near side (flange between column and base, as the header
+  // says), then down onto the button from 6 cm above it (arriving sideways at button height the wrist
+  // can meet the table).
+  t.expert_route = {Eigen::Vector3f(0.22f, -0.05f, 0.15f)};
+  t.expert_approach = Eigen::Vector3f(0.0f, 0.0f, 0.06f);
   t.main_view = obstacle_main_view();
   t.second_view = reach_second_view();
   t.cameras = {jaka_wrist_camera()};

@@ -8,6 +8,7 @@
 #include "rdsim/envs/inmoov_tomato.hpp"
 #include "rdsim/envs/jaka_button.hpp"
 #include "rdsim/envs/jaka_obstacle.hpp"
+#include "rdsim/envs/pendulum.hpp"
 
 namespace rdsim {
 namespace {
@@ -43,6 +44,8 @@ const std::vector<EnvEntry>& env_registry() {
   static const std::vector<EnvEntry> entries = {
       {"cartpole", "Classic cart-pole balancing (Gym CartPole-v1 dynamics), Discrete(2)", false, cartpole_defaults,
        {"observation", "is_discrete", "max_steps"}, make_cartpole},
+      {"pendulum", "Inverted pendulum swing-up (Gymnasium Pendulum-v1 dynamics), Box(1) torque", false,
+       pendulum_defaults, {"observation", "is_discrete", "max_steps"}, make_pendulum},
       {"jaka_button", "JAKA Zu 7 moves its flange to a button on a table by IK moves (RobotDrlSim 4.1)", true,
        jaka_button_defaults, reach_keys(), make_jaka_button},
       {"jaka_obstacle", "jaka_button with a column to go around; -200 for touching it (RobotDrlSim 4.2)", true,

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rdsim/app/bench_fps.hpp"
+#include "rdsim/app/demos.hpp"
 #include "rdsim/app/bench_remote.hpp"
 #include "rdsim/app/config_reference.hpp"
 #include "rdsim/app/dashboard.hpp"
@@ -24,6 +25,7 @@
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
 #include "rdsim/app/serve.hpp"
+#include "rdsim/app/teleop.hpp"
 #include "rdsim/app/train.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
@@ -156,6 +158,27 @@ void add_render(CLI::App& app, rdsim::RenderOptions& o, SeedOption& seed) {
   cmd->add_flag("--random-target", o.random_target, "Randomise the target at reset (env.random_target)");
 }
 
+void add_demos(CLI::App& app, std::string& info_path, rdsim::DemosRecordOptions& o) {
+  auto* cmd = app.add_subcommand("demos", "Demonstration files: what one holds, recording the scripted expert");
+  cmd->require_subcommand(1);
+  auto* info = cmd->add_subcommand("info", "Print a demonstration file's env, episodes, steps, success rate and mean return");
+  info->add_option("file", info_path, "Demonstration file")->required();
+  auto* record = cmd->add_subcommand("record", "Record episodes of the scripted expert (privileged state, the env's own actions)");
+  record->add_flag("--expert", o.expert, "Use the scripted expert (the only recorder here; people record with `rdsim teleop --record`)")
+      ->required();
+  auto* env = record->add_option("--env", o.env, "Env name (its default options, random targets)");
+  auto* config = record->add_option("--config", o.config_path, "Or take the \"env\" object of this training config");
+  env->excludes(config);
+  record->add_option("-n,--episodes", o.episodes, "Episodes to write")->check(CLI::Range(1, 1000000))->capture_default_str();
+  record->add_option("--out", o.out_path, "Demonstration file to write")->required();
+  record->add_option("--seed", o.seed, "Episode k starts from reset(seed + k)")->capture_default_str();
+  record->add_flag("--append", o.append, "Add to an existing file of the same env");
+  record->add_flag("--fixed-target", o.fixed_target, "--env: keep the default target (no random_target)");
+  record->add_flag("--continuous", o.continuous, "--env: Box(3) actions instead of Discrete(6)");
+  record->add_flag("--only-successes", o.only_successes, "Write successful episodes only");
+  record->add_flag("-q,--quiet", o.quiet, "No line per episode");
+}
+
 void add_serve(CLI::App& app, rdsim::ServeOptions& o) {
   auto* cmd = app.add_subcommand("serve", "Host environments for remote clients (docs/protocol.md; "
                                           "tools/rdsim_client.py, or \"remote\" in a config's env) until Ctrl-C");
@@ -186,6 +209,28 @@ void add_bench_remote(CLI::App& app, rdsim::BenchRemoteOptions& o) {
   cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_flag("--insecure", o.insecure, "Plain text instead of CurveZMQ (to see what encryption costs)");
   cmd->add_option("--json", o.json_path, "Also write the results as JSON to this file ('-' = stdout)");
+}
+
+void add_teleop(CLI::App& app, rdsim::TeleopOptions& o) {
+  auto* cmd = app.add_subcommand("teleop", "Drive an env's robot by hand in a window (keys: the env's actions; sliders: "
+                                           "effector target and joints) and record demonstrations");
+  auto* env = cmd->add_option("--env", o.env, "Env name (its default options, random targets)");
+  auto* config = cmd->add_option("--config", o.config_path, "Or the \"env\" object of this training config");
+  env->excludes(config);
+  cmd->add_option("--connect", o.connect, "Drive the env of an `rdsim serve` at tcp://HOST:PORT instead of one in this process");
+  cmd->add_option("--server-key", o.server_key, "--connect: the server's public key file (rdsim keygen NAME.key)");
+  cmd->add_option("--client-key", o.client_key, "--connect: this client's secret key file (NAME.key_secret)");
+  cmd->add_option("--record", o.record_path, "Demonstration file the recorded episodes are appended to (created when missing)");
+  cmd->add_option("--seed", o.seed, "Episode k starts from reset(seed + k)")->capture_default_str();
+  cmd->add_flag("--fixed-target", o.fixed_target, "--env: keep the default target (no random_target)");
+  cmd->add_flag("--continuous", o.continuous, "--env: Box(3) actions instead of Discrete(6)");
+  cmd->add_option("--screenshot", o.window.screenshot_path, "PNG file the P key writes")->capture_default_str();
+  cmd->add_option("--width", o.window.width, "Window width")->check(CLI::Range(640, 8192))->capture_default_str();
+  cmd->add_option("--height", o.window.height, "Window height")->check(CLI::Range(480, 8192))->capture_default_str();
+  cmd->add_option("--renderer", o.window.renderer, "Renderer of the 3D view: osmesa, egl or auto")
+      ->check(CLI::IsMember({"osmesa", "egl", "auto"}))
+      ->capture_default_str();
+  cmd->add_option("--frames", o.window.max_frames, "Close after this many frames (0: when closed)")->capture_default_str();
 }
 
 // Levenshtein distance, for "did you mean".
@@ -259,19 +304,24 @@ int main(int argc, char** argv) {
   add_bench(app, bench);
   add_render(app, render, render_seed);
   app.add_subcommand("envs", "List the available environments");
+  std::string demos_info_path;
+  rdsim::DemosRecordOptions demos_record;
+  add_demos(app, demos_info_path, demos_record);
   app.add_subcommand("config-reference",
                      "Print every config key with its type, default (per env), range and meaning "
                      "(markdown; docs/config.md is its output)");
-  rdsim::DashboardCommandOptions dashboard;
-  add_dashboard(app, dashboard);
-  rdsim::PlotOptions plot;
-  add_plot(app, plot);
   rdsim::ServeOptions serve;
   add_serve(app, serve);
   rdsim::KeygenOptions keygen;
   add_keygen(app, keygen);
   rdsim::BenchRemoteOptions bench_remote;
   add_bench_remote(app, bench_remote);
+  rdsim::TeleopOptions teleop;
+  add_teleop(app, teleop);
+  rdsim::DashboardCommandOptions dashboard;
+  add_dashboard(app, dashboard);
+  rdsim::PlotOptions plot;
+  add_plot(app, plot);
 
   // The MPI job this process is a rank of (train only); after an error on one rank the others
   // are stopped instead of waiting for it in a collective.
@@ -320,9 +370,14 @@ int main(int argc, char** argv) {
       if (sub->count("--seed")) render.seed = render_seed.value("--seed");
       return rdsim::render_command(render);
     }
+    if (name == "demos") {
+      if (sub->get_subcommands().front()->get_name() == "info") return rdsim::demos_info_command(demos_info_path);
+      return rdsim::demos_record_command(demos_record);
+    }
     if (name == "serve") return rdsim::serve_command(serve);
     if (name == "keygen") return rdsim::keygen_command(keygen);
     if (name == "bench-remote") return rdsim::bench_remote_command(bench_remote);
+    if (name == "teleop") return rdsim::teleop_command(teleop);
   } catch (const rdsim::RankExit& e) {  // rank 0 reports this error
     return stop(e.code);
   } catch (const rdsim::Error& e) {

@@ -98,7 +98,9 @@ std::string config_reference() {
       row({"`algorithm`", "string", "`\"" + algorithm_names().front() + "\"`", quoted_list(algorithm_names()),
            "the learner; its hyperparameters are the object of the same name below"}) +
       row({"`env`", "object", "", "", "the environment: `name` and its options (below)"}) +
-      row({"`network`", "object", "", "", "the networks (below)"});
+      row({"`network`", "object", "", "", "the networks (below)"}) +
+      row({"`demonstrations`", "object", "", "",
+           "learning from a demonstration file (below; needed by `\"bc\"`, optional for ppo, a2c and dqn)"});
   for (const auto& name : algorithm_names())
     doc += row({code(name), "object", "", "", name + "'s hyperparameters (below; only with `\"algorithm\": \"" + name + "\"`)"});
   for (const auto& r : config::document_fields(TrainConfig{})) doc += row(key_cells(r));
@@ -113,6 +115,12 @@ std::string config_reference() {
     std::visit([&](const auto& params) { doc += table(config::document_fields(params)); },
                default_algorithm_params(name));
   }
+  doc += "\n## `demonstrations`\n\n"
+         "Absent by default. `file` (a `.demo` file of the config's env) is required; a key the algorithm\n"
+         "does not use is an error: `fit_critic`, `bc_weight` and `bc_weight_decay` are for ppo and a2c,\n"
+         "`demo_fraction`, `large_margin`, `margin` and `margin_weight` for dqn\n"
+         "(`include/rdsim/algorithms/demonstrations.hpp` says what each algorithm does with them).\n\n" +
+         table(config::document_fields(DemonstrationsConfig{}));
   return doc;
 }
 

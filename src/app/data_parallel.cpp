@@ -1,5 +1,6 @@
 #include "rdsim/app/data_parallel.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <sstream>
@@ -17,7 +18,7 @@ constexpr std::size_t kTrailerSize = 8 + sizeof kTrailerMagic;  // u64 extension
 
 std::string weights_of(const Algorithm& algo) {
   std::ostringstream out;
-  algo.save(out, false);
+  algo.save_all_weights(out);
   return out.str();
 }
 
@@ -34,7 +35,23 @@ void share_weights(Communicator& comm, Algorithm& algo) {
   comm.broadcast(weights, 0);
   if (comm.rank() == 0) return;
   std::istringstream in(weights);
-  algo.load(in, false, "rank 0's weights");
+  algo.load_all_weights(in, "rank 0's weights");
+}
+
+void check_data_parallel(Communicator& comm, const Algorithm& algo) {
+  if (comm.size() == 1 || algo.data_parallel()) return;
+  if (comm.rank() != 0) {
+    // Open MPI ends this rank with SIGTERM when rank 0 aborts: die quietly, not with the
+    // interrupt handler's "stopping after this update" (interrupt.cpp), so the report is rank 0's.
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+    std::string never;
+    comm.broadcast(never, 0);  // rank 0 throws instead of joining: its abort ends this rank here
+    throw RankExit{2};
+  }
+  throw Error("mpi: algorithm \"" + algo.name() + "\" does not train data-parallel yet (under mpirun: ppo, a2c, dqn, "
+              "sac, td3, ddpg, bc, random); run it as one process (without mpirun) and give it more cores "
+              "with num_envs and num_threads");
 }
 
 void check_same_weights(Communicator& comm, const Algorithm& algo, long long updates) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/checkpoint.hpp"
 #include "rdsim/app/data_parallel.hpp"
@@ -27,6 +28,8 @@
 #include "rdsim/core/files.hpp"
 #include "rdsim/core/run_files.hpp"
 #include "rdsim/dashboard/dashboard_server.hpp"
+#include "rdsim/demos/demo_file.hpp"
+#include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
@@ -38,6 +41,32 @@ const std::vector<std::string> progress_head = {"timesteps", "updates", "episode
 // Last, so that comparing two runs can simply drop them: they are the only non-reproducible columns.
 const std::vector<std::string> progress_tail = {"steps_per_s", "wall_time"};
 
+// The config's "demonstrations": the file read and checked against the env, then handed to the
+// algorithm (pre-training on a fresh run; pretrain.csv gets one row per epoch).
+void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const Spec& spec, bool resume,
+                               const std::filesystem::path& dir, bool quiet) {
+  const DemonstrationsConfig& dc = *config.algorithm.demonstrations;
+  const DemoFile demos = read_demo_file(dc.file);
+  check_demos_fit(demos, to_json(config.env), spec);
+  if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
+  Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);
+  const std::vector<Metrics> rows = algo.learn_from_demonstrations(demos, dc, rng, !resume);
+  if (rows.empty() || dir.empty()) return;  // dir: empty on MPI ranks other than 0
+  std::vector<std::string> columns;
+  for (const auto& [name, value] : rows.front()) columns.push_back(name);
+  CsvWriter log((dir / pretrain_csv_name).string(), columns);
+  for (const Metrics& row : rows) {
+    std::vector<std::string> cells;
+    for (const auto& [name, value] : row) cells.push_back(CsvWriter::cell(value));
+    log.write_row(cells);
+  }
+  if (!quiet) {
+    long long steps = 0;
+    for (const DemoEpisode& e : demos.episodes) steps += e.steps();
+    std::fprintf(stderr, "rdsim train: learnt from %zu demonstrated episodes (%lld steps) of %s: %zu epochs -> %s\n",
+                 demos.episodes.size(), steps, dc.file.c_str(), rows.size(), (dir / pretrain_csv_name).string().c_str());
+  }
+}
 
 std::vector<std::string> episode_row(const EpisodeRecord& e) {
   return {CsvWriter::cell(e.episode), CsvWriter::cell(e.timesteps), CsvWriter::cell(e.episode_return),
@@ -143,6 +172,7 @@ int train_command(const TrainOptions& o) {
   VecEnv vec(open_envs(config), seed, config.stats_window, resolve_num_threads(config, comm.local_size()));
   auto algo = make_algorithm(config.algorithm, seed, vec.spec());
   algo->set_communicator(comm);
+  check_data_parallel(comm, *algo);
   RunEpisodes run_episodes(comm, config.stats_window);
   TrainerState state;
   if (resume) {
@@ -154,9 +184,13 @@ int train_command(const TrainOptions& o) {
       check_log_rows(file(progress_csv_name), state.progress_rows, checkpoint_path);
       check_log_rows(file(episodes_csv_name), state.episode_rows, checkpoint_path);
     }
-  } else {
-    share_weights(comm, *algo);
   }
+  // Under MPI every rank learns from the demonstrations (the same draws: the stream is the run's,
+  // not the rank's) and rank 0 writes pretrain.csv.
+  if (config.algorithm.demonstrations)
+    learn_from_demonstrations(config, *algo, vec.spec(), resume, root ? run.folder->path() : std::filesystem::path(),
+                              o.quiet || !root);
+  if (!resume) share_weights(comm, *algo);
 
   const nlohmann::json resolved = to_json(config);
   std::unique_ptr<DashboardServer> dashboard;  // rank 0, with --dashboard

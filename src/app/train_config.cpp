@@ -42,12 +42,16 @@ void check_combination(ConfigReader& r, const TrainConfig& c) {
                                             ", got " + std::to_string(ppo->batch_size) +
                                             " (larger minibatches are cut to the rollout)");
   }
-  if (const auto* dqn = std::get_if<DqnConfig>(&c.algorithm.params)) {
-    if (dqn->learning_starts >= c.total_timesteps)
-      r.child("dqn").fail("learning_starts", "expected fewer than total_timesteps (" + std::to_string(c.total_timesteps) +
-                                                 "), got " + std::to_string(dqn->learning_starts) +
-                                                 " (the run would never learn)");
-  }
+  // Off-policy algorithms learn only after learning_starts steps.
+  const auto check_learning_starts = [&](const char* algo, long long learning_starts) {
+    if (learning_starts >= c.total_timesteps)
+      r.child(algo).fail("learning_starts", "expected fewer than total_timesteps (" + std::to_string(c.total_timesteps) +
+                                                "), got " + std::to_string(learning_starts) + " (the run would never learn)");
+  };
+  if (const auto* dqn = std::get_if<DqnConfig>(&c.algorithm.params)) check_learning_starts("dqn", dqn->learning_starts);
+  if (const auto* sac = std::get_if<SacConfig>(&c.algorithm.params)) check_learning_starts("sac", sac->learning_starts);
+  if (const auto* td3 = std::get_if<Td3Config>(&c.algorithm.params)) check_learning_starts("td3", td3->learning_starts);
+  if (const auto* ddpg = std::get_if<DdpgConfig>(&c.algorithm.params)) check_learning_starts("ddpg", ddpg->learning_starts);
 }
 
 }  // namespace

@@ -79,6 +79,32 @@ Eigen::MatrixXf Mlp::backward(const Eigen::MatrixXf& grad_output, bool need_inpu
   return grad;
 }
 
+Eigen::MatrixXf Mlp::jvp(const Eigen::Ref<const Eigen::VectorXf>& direction) const {
+  if (train_acts_.empty()) throw Error("nn::Mlp: jvp() called before forward()");
+  Eigen::Index count = 0;
+  for (const Dense& layer : layers_) count += layer.weight.value.size() + layer.bias.value.size();
+  if (direction.size() != count)
+    throw Error("nn::Mlp: jvp() direction has " + std::to_string(direction.size()) + " entries, expected " +
+                std::to_string(count));
+  // z_i = W_i a_i + b_i, so dz_i = dW_i a_i + W_i da_i + db_i, and da_{i+1} = act'(z_i) dz_i.
+  Eigen::MatrixXf da, dz;
+  Eigen::Index at = 0;
+  for (size_t i = 0; i < layers_.size(); ++i) {
+    const Dense& layer = layers_[i];
+    const Eigen::Index rows = layer.out_size(), cols = layer.in_size();
+    const Eigen::Map<const Eigen::MatrixXf> dw(direction.data() + at, rows, cols);
+    at += rows * cols;
+    const Eigen::Map<const Eigen::VectorXf> db(direction.data() + at, rows);
+    at += rows;
+    dz.noalias() = dw * train_acts_[i];
+    if (i > 0) dz.noalias() += layer.weight.value * da;
+    dz.colwise() += db;
+    if (i + 1 < layers_.size()) activation_backward(dz, train_acts_[i + 1], shape_.activation);
+    da.swap(dz);
+  }
+  return da;
+}
+
 ParamList Mlp::params() {
   ParamList list;
   append_layer_params(list, layers_, "layer");

@@ -1,4 +1,4 @@
-#include "gl_api.hpp"
+#include "rdsim/render/gl_api.hpp"
 
 #include <string>
 

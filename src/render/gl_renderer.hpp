@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "gl_api.hpp"
+#include "rdsim/render/gl_api.hpp"
 #include "gl_scene_drawer.hpp"
 #include "rdsim/render/renderer.hpp"
 

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gl_api.hpp"
+#include "rdsim/render/gl_api.hpp"
 #include "rdsim/render/camera.hpp"
 #include "rdsim/render/scene.hpp"
 #include "unit_meshes.hpp"

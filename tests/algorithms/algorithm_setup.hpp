@@ -16,14 +16,34 @@ struct Setup {
   rdsim::PpoConfig ppo;
   rdsim::A2cConfig a2c;
   rdsim::DqnConfig dqn;
+  rdsim::SacConfig sac;
+  rdsim::Td3Config td3;
+  rdsim::DdpgConfig ddpg;
+  rdsim::TrpoConfig trpo;
+  rdsim::ArsConfig ars;
+  rdsim::CmaEsConfig cma_es;
+  rdsim::RandomConfig random;
 };
 
 inline std::unique_ptr<rdsim::Algorithm> make_algorithm(const Setup& s, const rdsim::Spec& spec) {
   rdsim::AlgorithmConfig c;
   c.network = s.network;
   c.source = s.source;
-  if (s.algorithm == "ppo") c.params = s.ppo;
-  if (s.algorithm == "a2c") c.params = s.a2c;
-  if (s.algorithm == "dqn") c.params = s.dqn;
+  c.params = rdsim::default_algorithm_params(s.algorithm);
+  std::visit(
+      [&](auto& p) {
+        using P = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<P, rdsim::PpoConfig>) p = s.ppo;
+        if constexpr (std::is_same_v<P, rdsim::A2cConfig>) p = s.a2c;
+        if constexpr (std::is_same_v<P, rdsim::DqnConfig>) p = s.dqn;
+        if constexpr (std::is_same_v<P, rdsim::SacConfig>) p = s.sac;
+        if constexpr (std::is_same_v<P, rdsim::Td3Config>) p = s.td3;
+        if constexpr (std::is_same_v<P, rdsim::DdpgConfig>) p = s.ddpg;
+        if constexpr (std::is_same_v<P, rdsim::TrpoConfig>) p = s.trpo;
+        if constexpr (std::is_same_v<P, rdsim::ArsConfig>) p = s.ars;
+        if constexpr (std::is_same_v<P, rdsim::CmaEsConfig>) p = s.cma_es;
+        if constexpr (std::is_same_v<P, rdsim::RandomConfig>) p = s.random;
+      },
+      c.params);
   return rdsim::make_algorithm(c, s.seed, spec);
 }

@@ -2,6 +2,7 @@
 // communicator; the real MPI runs are in tests/app and tests/mpi).
 #include <catch2/catch.hpp>
 #include <sstream>
+#include <utility>
 
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
@@ -12,10 +13,11 @@
 
 namespace {
 
-// The weights (a training state also holds Rng bytes with padding, so it is not compared whole).
+// The weights the ranks share (a training state also holds Rng bytes with padding, so it is not
+// compared whole).
 std::string weights(const rdsim::Algorithm& algo) {
   std::ostringstream out;
-  algo.save(out, false);
+  algo.save_all_weights(out);
   return out.str();
 }
 
@@ -32,6 +34,15 @@ Setup small(const std::string& algorithm) {
   c.dqn.buffer_size = 500;
   c.dqn.batch_size = 16;
   c.dqn.train_freq = 2;
+  auto off_policy = [](auto& o) {
+    o.learning_starts = 20;
+    o.buffer_size = 500;
+    o.batch_size = 16;
+    o.train_freq = 2;
+  };
+  off_policy(c.sac);
+  off_policy(c.td3);
+  off_policy(c.ddpg);
   return c;
 }
 
@@ -108,10 +119,13 @@ TEST_CASE("VecEnv: an env's error on a worker thread reaches the caller", "[vec_
   CHECK_THROWS_WITH(vec.step(actions), "picky: action 9");
 }
 
-TEST_CASE("PPO, A2C and DQN train identically on 1 and 3 VecEnv threads", "[vec_env][threads]") {
-  for (const char* name : {"ppo", "a2c", "dqn"}) {
+TEST_CASE("every algorithm trains identically on 1 and 3 VecEnv threads", "[vec_env][threads]") {
+  const std::pair<const char*, bool> algorithms[] = {{"ppo", true},  {"a2c", true},  {"dqn", true},    {"trpo", true},
+                                                     {"ars", true},  {"cma_es", true}, {"random", true}, {"sac", false},
+                                                     {"td3", false}, {"ddpg", false}};
+  for (const auto& [name, discrete] : algorithms) {
     const Setup s = small(name);
-    rdsim::VecEnv v1(toy::make_envs(6, true, 8), 3, 20, 1), v3(toy::make_envs(6, true, 8), 3, 20, 3);
+    rdsim::VecEnv v1(toy::make_envs(6, discrete, 8), 3, 20, 1), v3(toy::make_envs(6, discrete, 8), 3, 20, 3);
     auto a1 = make_algorithm(s, v1.spec()), a3 = make_algorithm(s, v3.spec());
     for (int u = 0; u < 6; ++u) {
       const rdsim::Metrics m1 = a1->update(v1, {v1.timesteps(), 2000});
@@ -153,5 +167,43 @@ TEST_CASE("data-parallel PPO, A2C and DQN: ranks with the same gradients train l
     }
     CHECK(weights(*alone) == weights(*ranked));
     CHECK(comm.allreduce_traffic().calls > 0);  // every minibatch / gradient step
+  }
+}
+
+TEST_CASE("data-parallel SAC and TD3: every optimiser step averages, critics and targets shared", "[data_parallel]") {
+  for (const char* name : {"sac", "td3"}) {
+    INFO(name);
+    const Setup s = small(name);
+    rdsim::VecEnv v1(toy::make_envs(2, false, 8), 9), v2(toy::make_envs(2, false, 8), 9);
+    auto alone = make_algorithm(s, v1.spec()), ranked = make_algorithm(s, v2.spec());
+    REQUIRE(ranked->data_parallel());
+    toy::FakeCommunicator comm(2);  // the other rank has this rank's gradients: their mean is this rank's
+    ranked->set_communicator(comm);
+    for (int u = 0; u < 40; ++u) {
+      alone->update(v1, {v1.timesteps(), 2000});
+      ranked->update(v2, {v2.timesteps(), 2000});
+    }
+    CHECK(weights(*alone) == weights(*ranked));
+    CHECK(comm.allreduce_traffic().calls > 0);
+    // save_all_weights holds more than the model (the critics), and loads back into another copy.
+    std::ostringstream model;
+    alone->save(model, false);
+    CHECK(weights(*alone).size() > model.str().size());
+    Setup other = s;
+    other.seed = 77;
+    auto copy = make_algorithm(other, v1.spec());
+    std::istringstream in(weights(*alone));
+    copy->load_all_weights(in, "test");
+    CHECK(weights(*copy) == weights(*alone));
+  }
+}
+
+TEST_CASE("the algorithms not wired for MPI say so (the training loop refuses them under mpirun)", "[data_parallel]") {
+  rdsim::VecEnv discrete(toy::make_envs(2, true, 8), 1), box(toy::make_envs(2, false, 8), 1);
+  for (const char* name : {"ppo", "a2c", "dqn", "random"}) CHECK(make_algorithm(small(name), discrete.spec())->data_parallel());
+  for (const char* name : {"sac", "td3", "ddpg"}) CHECK(make_algorithm(small(name), box.spec())->data_parallel());
+  for (const char* name : {"trpo", "ars", "cma_es"}) {
+    INFO(name);
+    CHECK_FALSE(make_algorithm(small(name), discrete.spec())->data_parallel());
   }
 }

@@ -303,3 +303,45 @@ TEST_CASE("DQN network.input_scale: the Q-network sees the observations times th
   }
   CHECK(differ_unscaled > 0);  // the check above can tell scaled from unscaled inputs
 }
+
+TEST_CASE("replay buffer stores Box actions and carries them through save/load", "[replay]") {
+  ReplayBuffer buffer(4, 2, 3);
+  CHECK(buffer.action_dim() == 3);
+  for (int t = 0; t < 6; ++t)
+    buffer.add(VectorXf::Constant(2, float(t)), VectorXf::Constant(3, 0.1f * t), float(t), VectorXf::Constant(2, t + 1.0f),
+               t == 5);
+  CHECK_THROWS_AS(buffer.add(VectorXf::Zero(2), 1, 0.0f, VectorXf::Zero(2), false), Error);  // not an index buffer
+  CHECK_THROWS_AS(buffer.add(VectorXf::Zero(2), VectorXf::Zero(2), 0.0f, VectorXf::Zero(2), false), Error);  // 2 values
+  Rng rng(1);
+  ReplayBatch batch;
+  buffer.sample(200, rng, batch);
+  REQUIRE(batch.action_values.rows() == 3);
+  REQUIRE(batch.action_values.cols() == 200);
+  for (int j = 0; j < 200; ++j) {
+    const float t = batch.observations(0, j);
+    CHECK(t >= 2.0f);  // 0 and 1 were overwritten
+    CHECK(batch.action_values.col(j).isApprox(VectorXf::Constant(3, 0.1f * t)));
+    CHECK(batch.rewards[j] == t);
+    CHECK(batch.terminated[j] == (t == 5.0f ? 1.0f : 0.0f));
+  }
+
+  std::stringstream bytes;
+  buffer.save(bytes);
+  ReplayBuffer copy(4, 2, 3);
+  copy.load(bytes, "ckpt.bin");
+  Rng a(3), b(3);
+  ReplayBatch ba, bb;
+  buffer.sample(20, a, ba);
+  copy.sample(20, b, bb);
+  CHECK(ba.action_values == bb.action_values);
+  CHECK(ba.observations == bb.observations);
+
+  std::stringstream again;
+  buffer.save(again);
+  ReplayBuffer discrete(4, 2);
+  CHECK_THROWS_WITH(discrete.load(again, "ckpt.bin"), Catch::Contains("ckpt.bin") && Catch::Contains("Box actions"));
+  std::stringstream third;
+  buffer.save(third);
+  ReplayBuffer wider(4, 2, 4);
+  CHECK_THROWS_WITH(wider.load(third, "ckpt.bin"), Catch::Contains("action values"));
+}

@@ -140,3 +140,21 @@ TEST_CASE("VecEnv save/load continues identically", "[vec_env]") {
     CHECK(ea[k].length == eb[k].length);
   }
 }
+
+TEST_CASE("VecEnv steps only the active envs when asked", "[vec_env]") {
+  using namespace rdsim;
+  const int threads = GENERATE(1, 2);
+  VecEnv vec(toy::make_envs(3, true, 4), 8, 20, threads);
+  const Observation before = vec.observation(1);
+  const std::vector<Action> actions(3, Action::discrete(1));
+  const auto& steps = vec.step(actions, {true, false, true});
+  CHECK(vec.timesteps() == 2);
+  CHECK(steps[1].reward == 0.0f);
+  CHECK_FALSE(steps[1].done());
+  CHECK(vec.observation(1).values == before.values);  // untouched
+  for (int k = 0; k < 3; ++k) vec.step(actions, {true, false, true});
+  CHECK(vec.episodes().episodes() == 2);  // envs 0 and 2 finished their 4-step episodes
+  vec.step(actions, {false, true, false});
+  CHECK(vec.timesteps() == 9);
+  CHECK_THROWS_AS(vec.step(actions, {true, true}), Error);
+}

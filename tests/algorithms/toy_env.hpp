@@ -4,6 +4,7 @@
 // 1 for s > 0 and 0 for s < 0; continuous: reward 1 - (a - 0.5 s)^2 with a in [-1, 1].
 // Episodes are truncated after `length` steps, or terminated at step `terminate_at` (> 0).
 #include <cstring>
+#include <initializer_list>
 #include <string>
 
 #include "rdsim/core/env.hpp"
@@ -13,6 +14,15 @@
 #include "rdsim/core/rng_bytes.hpp"
 
 namespace toy {
+
+// A dynamic-size vector from values (fixed-size temporaries assigned to VectorXf trip GCC 12's
+// -Warray-bounds in Eigen's SSE copies).
+inline Eigen::VectorXf vec(std::initializer_list<float> values) {
+  Eigen::VectorXf v(static_cast<Eigen::Index>(values.size()));
+  Eigen::Index i = 0;
+  for (float x : values) v[i++] = x;
+  return v;
+}
 
 class SignEnv final : public rdsim::Env, public rdsim::EnvState {
 public:
@@ -87,6 +97,17 @@ private:
   int t_ = 0;
   float sign_ = 1.0f;
 };
+
+// The observation (s, t / length) of SignEnv.
+inline rdsim::Observation observation(float s, float time = 0.5f) {
+  rdsim::Observation o;
+  o.values = vec({s, time});
+  return o;
+}
+// A random one: s = +-1, time in [0, 1).
+inline rdsim::Observation random_observation(rdsim::Rng& rng) {
+  return observation(rng.uniform() < 0.5 ? -1.0f : 1.0f, static_cast<float>(rng.uniform()));
+}
 
 inline std::vector<std::unique_ptr<rdsim::Env>> make_envs(int n, bool discrete = true, int length = 10,
                                                           int terminate_at = 0) {

@@ -22,7 +22,7 @@ TEST_CASE("rdsim config-reference prints the reference, with every env's default
   REQUIRE(r.exit_code == 0);
   CHECK(r.out == rdsim::config_reference());
   for (const auto& e : rdsim::env_registry()) CHECK_THAT(r.out, Catch::Contains("| " + e.name + " |"));
-  // jaka_button's own action_step, not a generic one, and keys cartpole does not read marked.
-  CHECK_THAT(r.out, Catch::Contains("`action_step` | number | 0.0001 … 2 | — | `0.015` | `0.015` | `0.004` |"));
+  // jaka_button's own action_step, not a generic one, and keys cartpole and pendulum do not read marked.
+  CHECK_THAT(r.out, Catch::Contains("`action_step` | number | 0.0001 … 2 | — | — | `0.015` | `0.015` | `0.004` |"));
   CHECK_THAT(r.out, Catch::Contains("## `ppo`") && Catch::Contains("## `a2c`") && Catch::Contains("## `dqn`"));
 }

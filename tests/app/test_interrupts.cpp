@@ -47,7 +47,7 @@ bool same_logs(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-TEST_CASE("SIGINT saves checkpoint.bin and model.bin after the update in progress and exits 130, and resuming loses nothing",
+TEST_CASE("SIGINT saves checkpoint.bin and model.bin after the update in progress and exits 130, resuming loses nothing",
           "[interrupt]") {
   rltest::ScratchDir dir("sigint");
   const std::string config = long_config(dir, "c", 60000, 0.0);

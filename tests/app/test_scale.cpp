@@ -216,4 +216,26 @@ TEST_CASE("mpirun -np 2: --resume continues exactly like an uninterrupted run", 
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains("resume it with mpirun -np 2"));
 }
+
+TEST_CASE("mpirun -np 2: SAC trains data-parallel, and an algorithm not wired for MPI is refused once", "[cli][mpi]") {
+  ScratchDir dir("mpi_algorithms");
+  rltest::spit(dir / "sac.json", R"({
+    "algorithm": "sac", "env": {"name": "pendulum"}, "seed": 1, "total_timesteps": 800, "num_envs": 2,
+    "sync_check_interval": 1, "network": {"hidden_sizes": [16, 16]},
+    "sac": {"learning_starts": 100, "batch_size": 32, "buffer_size": 1000}
+  })");
+  auto r = rltest::run_rdsim_mpi(2, "train --quiet --config " + (dir / "sac.json") + " --log-dir " + (dir / "sac"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);  // the critics' weights too are compared across the ranks every update
+  const auto progress = rltest::lines(rltest::slurp(dir / "sac/progress.csv"));
+  CHECK_THAT(progress.front(), Contains("allreduce_bytes"));
+  CHECK(progress.back().rfind("800,", 0) == 0);
+
+  rltest::spit(dir / "trpo.json", R"({"algorithm": "trpo", "env": {"name": "cartpole"}, "total_timesteps": 1000})");
+  r = rltest::run_rdsim_mpi(2, "train --quiet --config " + (dir / "trpo.json") + " --log-dir " + (dir / "trpo"), dir);
+  CHECK(r.exit_code != 0);
+  const std::string refusal = "algorithm \"trpo\" does not train data-parallel yet";
+  CHECK_THAT(r.err, Contains(refusal));
+  CHECK(r.err.find(refusal) == r.err.rfind(refusal));  // rank 0 reports it, once
+}
 #endif

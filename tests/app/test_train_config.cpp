@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "rdsim/app/memory_check.hpp"
@@ -44,6 +45,23 @@ TEST_CASE("the shipped CartPole configs parse with the documented values", "[tra
   CHECK(dqn.algorithm.name() == "dqn");
 }
 
+TEST_CASE("every shipped config parses, and its resolved form reads back to itself", "[train_config]") {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator("configs")) {
+    if (entry.path().extension() != ".json") continue;
+    INFO(entry.path());
+    const auto c = rdsim::read_train_config(entry.path().string());
+    const nlohmann::json j = rdsim::to_json(c);
+    CHECK(rdsim::to_json(rdsim::parse_train_config(j, "resolved", c.name)) == j);
+    ++count;
+  }
+  CHECK(count >= 20);
+  const auto ddpg = rdsim::read_train_config("configs/pendulum_ddpg.json");
+  CHECK(ddpg.algorithm.name() == "ddpg");
+  CHECK_FALSE(std::get<rdsim::DdpgConfig>(ddpg.algorithm.params).twin_q);  // DDPG's defaults, not TD3's
+  CHECK(ddpg.env.max_steps == 200);
+}
+
 TEST_CASE("the resolved config has every default and reads back to itself", "[train_config]") {
   rltest::ScratchDir dir("config_roundtrip");
   rltest::spit(dir / "tiny.json", R"({"env": {"name": "cartpole"}})");
@@ -77,7 +95,10 @@ TEST_CASE("config errors name the file and the key", "[train_config]") {
   check(R"({"env": {"name": "cartpole"}, "total_timesteps": 0})", "total_timesteps");
   check(R"({"env": {"name": "cartpole"}, "algorithm": "a2c", "a2c": {"optimizer": "sgd"}})", "a2c.optimizer");
   check(R"({"env": {"name": "cartpole"}, "a2c": {"optimizer": "adam"}})", "a2c: has no effect with \"algorithm\": \"ppo\"");
-  check(R"({"env": {"name": "cartpole"}, "algorithm": "sac"})", "algorithm: expected one of");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "sax"})", "algorithm: expected one of");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "ddpg", "td3": {"tau": 0.1}})", "td3: has no effect with \"algorithm\": \"ddpg\"");
+  check(R"({"env": {"name": "pendulum"}, "algorithm": "td3", "td3": {"action_noise": "pink"}})", "td3.action_noise");
+  check(R"({"env": {"name": "cartpole"}, "algorithm": "ars", "ars": {"n_delta": 4, "n_top": 5}})", "ars.n_top: expected at most n_delta");
   check(R"({"seed": 1})", "env: missing");
   check(R"({"env": {"name": "cartpole"}, "network": {"hidden_sizes": [64, -1]}})", "network.hidden_sizes");
   check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "dqn": {"batch_size": 0}})", "dqn.batch_size");
@@ -132,6 +153,9 @@ TEST_CASE("keys without effect and contradicting keys are errors naming why", "[
   check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "dqn": {"exploration_initial_eps": 0.1, "exploration_final_eps": 0.5}})",
         "dqn.exploration_final_eps: expected at most exploration_initial_eps");
   check(R"({"env": {"name": "cartpole"}, "algorithm": "dqn", "total_timesteps": 50})", "dqn.learning_starts: expected fewer than total_timesteps");
+  check(R"({"env": {"name": "pendulum"}, "algorithm": "sac", "total_timesteps": 50})", "sac.learning_starts: expected fewer than total_timesteps");
+  check(R"({"env": {"name": "pendulum"}, "algorithm": "td3", "td3": {"buffer_size": 100, "batch_size": 256}})",
+        "td3.batch_size: expected at most buffer_size");
   check(R"({"env": {"name": "jaka_button", "multi_view": true}})", "env.multi_view: has no effect without");
   check(R"({"env": {"name": "jaka_button", "image_width": 128}})", "env.image_width: has no effect without");
   check(R"({"env": {"name": "cartpole", "urdf_root": "x"}})", "env.urdf_root: has no effect on cartpole");
@@ -161,6 +185,15 @@ TEST_CASE("the memory a config implies is estimated before anything is allocated
   const rdsim::MemoryEstimate p = rdsim::estimate_training_memory(pixels, rdsim::config_spec(pixels));
   CHECK(p.total() > 30e9);
   CHECK_THAT(p.summary(10), Contains("env.image_width x image_height x num_envs"));
+  // Every algorithm has its estimate: SAC's replay buffer, CMA-ES's covariance.
+  j = {{"env", {{"name", "pendulum"}}}, {"algorithm", "sac"}, {"sac", {{"buffer_size", 100000000}}}};
+  const auto sac = rdsim::parse_train_config(j, "sac.json", "sac");
+  const rdsim::MemoryEstimate se = rdsim::estimate_training_memory(sac, rdsim::config_spec(sac));
+  CHECK(se.total() > 3e9);  // 1e8 transitions of 2 x 3 observation values, 1 action, reward and flag
+  CHECK_THAT(se.summary(3), Contains("replay buffer (sac.buffer_size)"));
+  j = {{"env", {{"name", "cartpole"}}}, {"algorithm", "cma_es"}, {"network", {{"hidden_sizes", {40}}}}};
+  const auto cma = rdsim::parse_train_config(j, "cma.json", "cma");
+  CHECK_THAT(rdsim::estimate_training_memory(cma, rdsim::config_spec(cma)).summary(10), Contains("CMA-ES covariance"));
 }
 
 TEST_CASE("a run folder is locked by one run at a time, naming the holder", "[run_folder]") {

@@ -238,15 +238,17 @@ TEST_CASE("env contract: each env publishes the spec its header documents", "[en
   struct Published {
     const char* name;
     int observation_size;  // ground truth
-    int actions;           // Discrete(n) by default
+    int actions;           // Discrete(n) by default; a Box's size when !discrete
     int max_steps;
     double control_dt;     // s
+    bool discrete = true;
   };
   const Published table[] = {
       {"cartpole", 4, 2, 500, 0.02},
       {"jaka_button", 6, 6, 200, 1.0 / 240.0},
       {"jaka_obstacle", 15, 6, 300, 1.0 / 240.0},
       {"inmoov_tomato", 6, 6, 400, 1.0 / 240.0},
+      {"pendulum", 3, 1, 200, 0.05, false},
   };
   CHECK(std::size(table) == env_registry().size());  // a new env adds its row
   for (const Published& p : table) {
@@ -254,8 +256,8 @@ TEST_CASE("env contract: each env publishes the spec its header documents", "[en
     const auto env = make_env(default_env_config(p.name));
     const Spec& s = env->spec();
     CHECK(s.observation.shape == std::vector<int>{p.observation_size});
-    CHECK(s.action.discrete);
-    CHECK(s.action.n == p.actions);
+    CHECK(s.action.discrete == p.discrete);
+    CHECK((p.discrete ? s.action.n : s.action.dim()) == p.actions);
     CHECK(s.max_episode_steps == p.max_steps);
     CHECK(s.control_dt == Approx(p.control_dt));
   }

@@ -183,3 +183,129 @@ TEST_CASE("DiagGaussian samples have the right mean and spread", "[nn]") {
   CHECK(std::abs(var[1] / 4.0 - 1.0) < 0.1);
   CHECK(dist.mode() == mean);
 }
+
+namespace {
+
+// KL(p || q) of two categoricals given by logits, and of two diagonal Gaussians, in double.
+double categorical_kl(const MatrixXd& p_logits, const MatrixXd& q_logits) {
+  const MatrixXd lp = log_softmax(p_logits), lq = log_softmax(q_logits);
+  return (lp.array().exp() * (lp - lq).array()).sum();
+}
+
+double gaussian_kl(const MatrixXd& mp, const VectorXd& sp, const MatrixXd& mq, const VectorXd& sq) {
+  double kl = 0.0;
+  for (int j = 0; j < mp.cols(); ++j)
+    for (int d = 0; d < mp.rows(); ++d) {
+      const double vp = std::exp(2 * sp[d]), vq = std::exp(2 * sq[d]);
+      kl += sq[d] - sp[d] + (vp + std::pow(mp(d, j) - mq(d, j), 2)) / (2 * vq) - 0.5;
+    }
+  return kl;
+}
+
+// Second derivative of f along (u, v) at m: (f(m + e(u+v)) - f(m + e(u-v)) - f(m - e(u-v)) + f(m - e(u+v))) / (4 e^2).
+double mixed_second_derivative(const MatrixXd& m, const MatrixXd& u, const MatrixXd& v,
+                               const std::function<double(const MatrixXd&)>& f) {
+  const double e = 1e-4;
+  return (f(m + e * (u + v)) - f(m + e * (u - v)) - f(m - e * (u - v)) + f(m - e * (u + v))) / (4 * e * e);
+}
+
+}  // namespace
+
+TEST_CASE("KL divergences match their definitions", "[nn]") {
+  Rng rng(11);
+  const MatrixXf a = random_matrix(4, 3, rng, 1.5), b = random_matrix(4, 3, rng, 1.5);
+  const VectorXf kl = nn::Categorical(a).kl_divergence(nn::Categorical(b));
+  CHECK(kl.sum() == Approx(categorical_kl(a.cast<double>(), b.cast<double>())).epsilon(1e-4));
+  CHECK(kl[1] == Approx(categorical_kl(a.col(1).cast<double>(), b.col(1).cast<double>())).epsilon(1e-4));
+  CHECK(nn::Categorical(a).kl_divergence(nn::Categorical(a)).cwiseAbs().maxCoeff() < 1e-6f);
+
+  const MatrixXf ma = random_matrix(2, 5, rng), mb = random_matrix(2, 5, rng);
+  const VectorXf sa = (VectorXf(2) << -0.3f, 0.2f).finished(), sb = (VectorXf(2) << 0.1f, -0.5f).finished();
+  const VectorXf gkl = nn::DiagGaussian(ma, sa).kl_divergence(nn::DiagGaussian(mb, sb));
+  CHECK(gkl.sum() == Approx(gaussian_kl(ma.cast<double>(), sa.cast<double>(), mb.cast<double>(), sb.cast<double>())).epsilon(1e-4));
+  CHECK(gkl.minCoeff() >= 0.0f);
+}
+
+TEST_CASE("Fisher products are the Hessians of the KL divergence at equality", "[nn]") {
+  Rng rng(12);
+  // Categorical: d^2/dq^2 KL(p || q) at q = p, along (u, v), against (diag p - p p^T) v.
+  const MatrixXf logits = random_matrix(4, 3, rng);
+  const MatrixXf u = random_matrix(4, 3, rng), v = random_matrix(4, 3, rng);
+  const nn::Categorical dist(logits);
+  const double analytic = u.cwiseProduct(dist.fisher_product(v)).cast<double>().sum();
+  const MatrixXd ld = logits.cast<double>();
+  const double numeric = mixed_second_derivative(ld, u.cast<double>(), v.cast<double>(),
+                                                 [&](const MatrixXd& q) { return categorical_kl(ld, q); });
+  CHECK(analytic == Approx(numeric).epsilon(1e-3));
+
+  // Gaussian means: d^2/dmean_q^2 KL = 1 / sigma^2.
+  const MatrixXf mean = random_matrix(2, 3, rng), um = random_matrix(2, 3, rng), vm = random_matrix(2, 3, rng);
+  const VectorXf log_std = (VectorXf(2) << -0.4f, 0.3f).finished();
+  const nn::DiagGaussian g(mean, log_std);
+  const double ga = um.cwiseProduct(g.fisher_product_mean(vm)).cast<double>().sum();
+  const MatrixXd md = mean.cast<double>();
+  const VectorXd sd = log_std.cast<double>();
+  const double gn = mixed_second_derivative(md, um.cast<double>(), vm.cast<double>(),
+                                            [&](const MatrixXd& q) { return gaussian_kl(md, sd, q, sd); });
+  CHECK(ga == Approx(gn).epsilon(1e-3));
+  // Log std: d^2/dlog_std_q^2 KL = 2 per sample and dim at equality.
+  const double e = 1e-4;
+  const auto kl_ls = [&](double delta) {
+    VectorXd s = sd;
+    s[0] += delta;
+    return gaussian_kl(md, sd, md, s);
+  };
+  CHECK((kl_ls(e) - 2 * kl_ls(0) + kl_ls(-e)) / (e * e) == Approx(2.0 * 3).epsilon(1e-3));
+}
+
+namespace {
+
+// Reference TanhGaussian in double: actions and sum_j [sum_d ga a + gl log pi].
+struct TanhRef {
+  MatrixXd noise;
+  MatrixXd actions(const MatrixXd& mean, const MatrixXd& log_std) const {
+    return (mean.array() + log_std.array().exp() * noise.array()).tanh().matrix();
+  }
+  VectorXd log_probs(const MatrixXd& mean, const MatrixXd& log_std) const {
+    const MatrixXd u = mean.array() + log_std.array().exp() * noise.array();
+    VectorXd out(mean.cols());
+    for (int j = 0; j < mean.cols(); ++j) {
+      double lp = 0.0;
+      for (int d = 0; d < mean.rows(); ++d)
+        lp += -0.5 * noise(d, j) * noise(d, j) - log_std(d, j) - 0.5 * std::log(2 * M_PI) -
+              std::log(1.0 - std::pow(std::tanh(u(d, j)), 2));
+      out[j] = lp;
+    }
+    return out;
+  }
+  double objective(const MatrixXd& mean, const MatrixXd& log_std, const MatrixXd& ga, const VectorXd& gl) const {
+    return actions(mean, log_std).cwiseProduct(ga).sum() + log_probs(mean, log_std).dot(gl);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("TanhGaussian: squashed actions, change-of-variables log-density, reparameterised gradients", "[nn]") {
+  Rng rng(13);
+  const MatrixXf mean = random_matrix(2, 5, rng), log_std = random_matrix(2, 5, rng, 0.5), noise = random_matrix(2, 5, rng);
+  const nn::TanhGaussian dist(mean, log_std, noise);
+  const TanhRef ref{noise.cast<double>()};
+  const MatrixXd md = mean.cast<double>(), sd = log_std.cast<double>();
+  CHECK((dist.actions().cast<double>() - ref.actions(md, sd)).cwiseAbs().maxCoeff() < 1e-6);
+  CHECK((dist.log_probs().cast<double>() - ref.log_probs(md, sd)).cwiseAbs().maxCoeff() < 1e-4);
+  CHECK(dist.actions().cwiseAbs().maxCoeff() < 1.0f);
+  CHECK(nn::TanhGaussian::mode(mean) == MatrixXf(mean.array().tanh()));
+
+  const MatrixXf ga = random_matrix(2, 5, rng);
+  const VectorXf gl = random_matrix(5, 1, rng);
+  const nn::TanhGaussian::Grad g = dist.backward(ga, gl);
+  const MatrixXd gad = ga.cast<double>();
+  const VectorXd gld = gl.cast<double>();
+  check_close(g.mean, numeric_gradient(md, [&](const MatrixXd& m) { return ref.objective(m, sd, gad, gld); }));
+  check_close(g.log_std, numeric_gradient(sd, [&](const MatrixXd& s) { return ref.objective(md, s, gad, gld); }));
+
+  // Far in the tails the stable form keeps the log-density finite (1 - tanh^2 underflows in float).
+  const nn::TanhGaussian tail(MatrixXf::Constant(1, 1, 30.0f), MatrixXf::Zero(1, 1), MatrixXf::Zero(1, 1));
+  CHECK(std::isfinite(tail.log_probs()[0]));
+  CHECK(tail.log_probs()[0] == Approx(-0.5 * std::log(2 * M_PI) - 2.0 * (std::log(2.0) - 30.0 - std::log1p(std::exp(-60.0)))));
+}

@@ -158,3 +158,48 @@ TEST_CASE("copy_values_from and blend_values_from", "[nn]") {
   nn::Mlp other({3, {5}, 2, nn::Activation::ReLU}, 1.0f, rng);
   CHECK_THROWS_AS(b.copy_values_from(other), Error);
 }
+
+TEST_CASE("Mlp jvp is the directional derivative of the output along a parameter direction", "[nn]") {
+  for (auto activation : {nn::Activation::Tanh, nn::Activation::ReLU}) {
+    Rng rng(21);
+    nn::Mlp net({3, {6, 5}, 2, activation}, 1.0f, rng);
+    for (auto& layer : net.layers()) layer.bias.value = 0.3f * random_matrix(layer.out_size(), 1, rng);
+    const MatrixXf x = random_matrix(3, 4, rng);
+    const nn::ParamList params = net.params();
+    const Eigen::VectorXf theta = nn::flatten_values(params);
+    const Eigen::VectorXf dir = random_matrix(static_cast<int>(theta.size()), 1, rng);
+    // A double reference: d/de net_{theta + e dir}(x) by central differences.
+    ReferenceNet ref(net);
+    const double h = 1e-6;
+    const auto shifted = [&](double e) {
+      ReferenceNet r = ref;
+      Eigen::Index at = 0;
+      for (auto& t : r.tensors) {
+        t += e * Eigen::Map<const Eigen::MatrixXf>(dir.data() + at, t.rows(), t.cols()).cast<double>();
+        at += t.size();
+      }
+      return r.forward(x.cast<double>());
+    };
+    const MatrixXd numeric = (shifted(h) - shifted(-h)) / (2 * h);
+    net.forward(x);
+    const MatrixXf jvp = net.jvp(dir);
+    CHECK((jvp.cast<double>() - numeric).cwiseAbs().maxCoeff() < 1e-4 * std::max(1.0, numeric.cwiseAbs().maxCoeff()));
+    CHECK_THROWS_AS(net.jvp(dir.head(3)), Error);
+  }
+}
+
+TEST_CASE("parameters flatten to one vector and back", "[nn]") {
+  Rng rng(22);
+  nn::Mlp net({2, {3}, 2, nn::Activation::Tanh}, 1.0f, rng);
+  const nn::ParamList params = net.params();
+  const Eigen::VectorXf flat = nn::flatten_values(params);
+  CHECK(flat.size() == nn::parameter_count(params));
+  CHECK(flat[0] == (*params[0].value)(0, 0));
+  CHECK(flat[1] == (*params[0].value)(1, 0));  // column-major within a tensor
+  CHECK(flat[6] == (*params[1].value)(0, 0));  // then the next tensor
+  nn::assign_values(params, 2.0f * flat);
+  CHECK(nn::flatten_values(params) == 2.0f * flat);
+  for (const auto& p : params) p.grad->setConstant(0.5f);
+  CHECK(nn::flatten_grads(params) == Eigen::VectorXf::Constant(flat.size(), 0.5f));
+  CHECK_THROWS_AS(nn::assign_values(params, flat.head(4)), Error);
+}

@@ -41,7 +41,7 @@ std::string error_of(const std::string& xml) {
 
 }  // namespace
 
-TEST_CASE("URDF: a well-formed robot loads, and massless fixed decorations are fine", "[urdf][physics]") {
+TEST_CASE("URDF: a well-formed robot loads, massless fixed decorations are fine", "[urdf][physics]") {
   CHECK(error_of(robot(inertial("1"))).empty());
   CHECK(error_of(robot(inertial("1"), "lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"1\"", "revolute", inertial("0", "0", "0", "0")))
             .empty());

@@ -70,6 +70,24 @@ public:
   int action_dim() const { return action_dim_; }
   bool discrete() const { return discrete_; }
 
+  // ---- TRPO: the policy on its own, over the last evaluate() batch. Needs separate actor and
+  // critic networks (rdsim::Error with a shared trunk or a CNN). ----
+  // The policy's parameters (policy head, then log std for Box actions) and the value head's.
+  nn::ParamList policy_params();
+  nn::ParamList value_params();
+  // The action distributions of the last evaluate() batch: logits (or Gaussian means) and log std.
+  struct Distributions {
+    Eigen::MatrixXf head;
+    Eigen::VectorXf log_std;
+  };
+  Distributions distributions() const;
+  // Mean over the batch of KL(old || the last evaluate()'s distributions).
+  double mean_kl(const Distributions& old) const;
+  // The Fisher information of the batch's action distributions w.r.t. policy_params() (the
+  // Hessian of mean_kl at old == current), times `direction` (laid out as flatten_values(policy_params())).
+  // Overwrites the policy head's gradients.
+  Eigen::VectorXf fisher_vector_product(const Eigen::VectorXf& direction);
+
 private:
   const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
 

@@ -10,7 +10,7 @@
 #include "rdsim/parallel/communicator.hpp"
 
 // The interface between the training loop (src/app/train.cpp) and a learning algorithm
-// (PPO, A2C, DQN). The loop owns the environments (a VecEnv, which also counts timesteps and
+// (PPO, A2C, DQN, SAC, TD3/DDPG, TRPO, ARS, CMA-ES, random). The loop owns the environments (a VecEnv, which also counts timesteps and
 // tracks episodes), the log files and the model/checkpoint files; an algorithm owns its
 // networks, optimiser and random streams, and decides how many env steps one update takes.
 //
@@ -22,13 +22,17 @@
 //   }
 //   model.bin <- algo->save(out, /*training_state=*/false)
 //
-// Writing a new algorithm (e.g. off-policy DQN): step the envs ONLY through VecEnv::step (so
-// timesteps and episode statistics stay right), use VecEnv::step results' `final_observation`
-// to bootstrap on truncation (never on termination), draw all randomness from Rng streams
-// derived with Rng::derive(config.seed, rng_stream::...) and save them in save(.., true).
+// Writing a new algorithm: step the envs ONLY through VecEnv::step (so timesteps and episode
+// statistics stay right), use VecEnv::step results' `final_observation` to bootstrap on
+// truncation (never on termination), draw all randomness from Rng streams derived with
+// Rng::derive(config.seed, rng_stream::...) and save them in save(.., true). Start from what a
+// family shares: OnPolicy (rollouts + GAE: PPO, A2C, TRPO), OffPolicy (replay of Box
+// transitions: SAC, TD3/DDPG) or PolicySearch (candidates judged by whole episodes: ARS, CMA-ES).
 namespace rdsim {
 
-class VecEnv;  // vec_env.hpp
+class VecEnv;                 // vec_env.hpp
+struct DemoFile;              // demos/demo_file.hpp
+struct DemonstrationsConfig;  // demonstrations.hpp
 
 // Named scalar statistics of one update, in a FIXED order for a given algorithm and config:
 // they become the algorithm's columns of progress.csv (the first update fixes the header).
@@ -46,13 +50,20 @@ struct TrainProgress {
     const double r = 1.0 - static_cast<double>(at_timesteps) / static_cast<double>(total_timesteps);
     return r < 0.0 ? 0.0 : (r > 1.0 ? 1.0 : r);
   }
+
+  // VecEnv steps of `num_envs` envs in a collection phase that wants `wanted` of them, starting
+  // at `timesteps`: the last phase stops at the run's goal instead of overshooting it.
+  long long phase_steps(long long wanted, int num_envs) const {
+    const long long left = total_timesteps - timesteps;
+    return left > 0 && (left + num_envs - 1) / num_envs < wanted ? (left + num_envs - 1) / num_envs : wanted;
+  }
 };
 
 class Algorithm {
 public:
   virtual ~Algorithm() = default;
 
-  // "ppo", "a2c", "dqn".
+  // The algorithm's name in configs: "ppo", "a2c", "dqn", "sac", "td3", "ddpg", "trpo", "ars", "cma_es", "random".
   virtual std::string name() const = 0;
 
   // Collects experience by stepping `envs` (as many steps as the algorithm's update needs,
@@ -70,13 +81,31 @@ public:
   virtual void save(std::ostream& out, bool training_state) const = 0;
   virtual void load(std::istream& in, bool training_state, const std::string& source) = 0;
 
+  // Learning from demonstrations (the config's "demonstrations" object; what each algorithm does:
+  // demonstrations.hpp). The training loop calls it once before the first update with `pretrain`
+  // true, or on a resumed run with `pretrain` false (then an algorithm only takes back what it
+  // uses during training, e.g. DQN's demonstration buffer). `demos` fit the env (demo_fit.hpp);
+  // `rng` is the run's demonstrations stream. Returns one row per pre-training epoch
+  // (-> pretrain.csv). The default: rdsim::Error, the algorithm cannot learn from demonstrations.
+  virtual std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
+                                                         Rng& rng, bool pretrain);
+
   // Data-parallel training (`mpirun -np K rdsim train`): every rank runs this algorithm on its
   // own envs with the same initial weights, and the algorithm keeps the weights identical on all
   // ranks through `comm` (communicator.hpp): gradient methods average every gradient over the
   // ranks before their optimiser step (average_gradients, gradient_averaging.hpp); population
-  // methods spread their evaluations with allgather. Per-rank quantities (n_steps, buffer sizes,
+  // methods would spread their evaluations with allgather. Per-rank quantities (n_steps, buffer sizes,
   // learning_starts) stay per rank. Set before the first update; default: one process.
   void set_communicator(Communicator& comm) { comm_ = &comm; }
+  // Whether the algorithm keeps the ranks identical through `comm` (above). The training loop
+  // refuses an MPI run of one that does not (TRPO, ARS, CMA-ES so far) rather than letting the
+  // ranks drift apart. Default: no (a new algorithm opts in once it is wired).
+  virtual bool data_parallel() const { return false; }
+  // Every weight the ranks must share: rank 0 broadcasts them before the first update, and the
+  // loop compares their hash across ranks. Default: the model (save/load without training state);
+  // an algorithm whose model leaves out trained networks (critics, targets) adds them.
+  virtual void save_all_weights(std::ostream& out) const { save(out, false); }
+  virtual void load_all_weights(std::istream& in, const std::string& source) { load(in, false, source); }
   Communicator& communicator() const { return comm_ ? *comm_ : single_process_communicator(); }
 
 private:

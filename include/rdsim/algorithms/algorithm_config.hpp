@@ -2,15 +2,24 @@
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "rdsim/algorithms/a2c.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/ars.hpp"
+#include "rdsim/algorithms/cma_es.hpp"
+#include "rdsim/algorithms/bc.hpp"
+#include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/ppo.hpp"
+#include "rdsim/algorithms/random.hpp"
+#include "rdsim/algorithms/sac.hpp"
+#include "rdsim/algorithms/td3.hpp"
+#include "rdsim/algorithms/trpo.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/memory_estimate.hpp"
 
@@ -20,14 +29,16 @@
 // AlgorithmParams and one row in algorithm_config.cpp's table.
 namespace rdsim {
 
-using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig>;
+using AlgorithmParams = std::variant<PpoConfig, A2cConfig, DqnConfig, SacConfig, Td3Config, DdpgConfig, TrpoConfig,
+                                     ArsConfig, CmaEsConfig, RandomConfig, BcConfig>;
 
 struct AlgorithmConfig {
   NetworkConfig network;
   AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
+  std::optional<DemonstrationsConfig> demonstrations;  // "demonstrations": learning from a demo file
   std::string source;      // the config file, for messages
 
-  std::string name() const;  // "ppo", "a2c", "dqn"
+  std::string name() const;  // "ppo", "a2c", "dqn", "sac", ..., "bc"
 };
 
 // Every algorithm name, in registry order.
@@ -36,12 +47,13 @@ std::vector<std::string> algorithm_names();
 // The algorithm's default hyperparameters; rdsim::Error listing the names for an unknown one.
 AlgorithmParams default_algorithm_params(const std::string& name);
 
-// Reads "algorithm", "network" and the chosen algorithm's object from the top level of a
-// training config (`reader`, which keeps checking the other keys). The object of another
-// algorithm is an error: it would have no effect.
+// Reads "algorithm", "network", the chosen algorithm's object and "demonstrations" from the top
+// level of a training config (`reader`, which keeps checking the other keys). The object of another
+// algorithm is an error: it would have no effect; so are demonstrations keys the chosen algorithm
+// does not use, and bc without demonstrations.
 AlgorithmConfig read_algorithm_config(ConfigReader& reader);
 
-// Writes the same three keys, every value resolved, into `out` (a JSON object).
+// Writes the same keys, every value resolved, into `out` (a JSON object).
 void write_algorithm_config(const AlgorithmConfig& config, nlohmann::json& out);
 
 // Adds what the algorithm of `config` will allocate for `num_envs` envs of `spec` to `estimate`
@@ -53,7 +65,7 @@ void estimate_algorithm_memory(const AlgorithmConfig& config, const Spec& spec, 
 
 // Creates the algorithm for envs described by `spec`, with fresh weights drawn from
 // Rng::derive(seed, rng_stream::network_init). rdsim::Error when the algorithm cannot handle the
-// spec (e.g. DQN with a Box action space).
+// spec (e.g. DQN with a Box action space, SAC with a Discrete one).
 std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& config, std::uint64_t seed, const Spec& spec);
 
 }  // namespace rdsim

@@ -89,6 +89,11 @@ TdLoss huber_loss(const Eigen::VectorXf& prediction, const Eigen::VectorXf& targ
 // 0.5 d^2 everywhere (so both losses agree for small errors).
 TdLoss squared_loss(const Eigen::VectorXf& prediction, const Eigen::VectorXf& target);
 
+// DQfD's large-margin loss (Hester et al. 2018) on demonstrated transitions: the mean over columns j
+// of max_a [Q(a, j) + margin if a != a_j] - Q(a_j, j), which is 0 once the demonstrated action a_j
+// leads every other by `margin`. `q` is actions x n; `grad` is d loss / d q, actions x n column-major.
+TdLoss large_margin_loss(const Eigen::MatrixXf& q, const Eigen::VectorXi& demo_actions, float margin);
+
 // Linear exploration schedule: `initial` at step 0 falling to `final` at fraction * total steps,
 // `final` afterwards (Stable-Baselines3's).
 double epsilon_at(long long timesteps, long long total_timesteps, double fraction, double initial,

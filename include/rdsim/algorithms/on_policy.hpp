@@ -3,6 +3,7 @@
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/behavior_cloning.hpp"
 #include "rdsim/algorithms/rollout.hpp"
 #include "rdsim/nn/nn.hpp"
 
@@ -14,8 +15,13 @@ class OnPolicy : public Algorithm {
 public:
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  // PPO and A2C average every minibatch's gradients over the ranks (average_gradients below).
+  bool data_parallel() const override { return true; }
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
+  // Pre-trains the actor (and with fit_critic the critic) on the demonstrations (behavior_cloning.hpp).
+  std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
+                                                 bool pretrain) override;
 
   ActorCritic& policy() { return *policy_; }
 
@@ -39,6 +45,15 @@ protected:
   // happens in one process). Between backward() and gradient clipping.
   void average_gradients(const nn::ParamList& params);
 
+  // demonstrations.bc_weight (demonstrations.hpp): whether the cloning term is on, and its weight
+  // in this update.
+  bool demonstration_term() const { return demo_weight_ > 0.0 && demo_steps_.size() > 0; }
+  double demonstration_weight() const;
+  // Accumulates (after the RL loss's backward, before clipping) the gradient of
+  // demonstration_weight() x mean -log pi(a | s) over `batch` demonstrated steps drawn with
+  // shuffle_rng_; returns that mean (0 when the term is off).
+  double add_demonstration_gradient(int batch);
+
   Spec spec_;
   RolloutSettings settings_;
   std::unique_ptr<ActorCritic> policy_;
@@ -48,6 +63,10 @@ protected:
   RolloutBuffer rollout_;
   long long updates_ = 0;
   std::vector<float> gradient_buffer_;
+
+private:
+  DemoTransitions demo_steps_;  // the demonstrations' training episodes (bc_weight > 0)
+  double demo_weight_ = 0.0, demo_decay_ = 1.0;
 };
 
 }  // namespace rdsim

@@ -64,6 +64,10 @@ public:
 
   // Steps env i with actions[i] for every i; resets the envs whose episode ended.
   const std::vector<EnvStep>& step(const std::vector<Action>& actions);
+  // Steps only the envs with active[i] (population methods, whose envs finish their share of
+  // episodes at different times): the others keep their observation and episode, their action
+  // is not used, their EnvStep is all zero, and they add no timesteps.
+  const std::vector<EnvStep>& step(const std::vector<Action>& actions, const std::vector<bool>& active);
 
   long long timesteps() const { return timesteps_; }
   EpisodeTracker& episodes() { return tracker_; }
@@ -93,6 +97,7 @@ private:
   WorkerPool pool_;
   ObservationBatch batch_;
   std::vector<EnvStep> results_;
+  std::vector<bool> all_active_;
   EpisodeTracker tracker_;
   std::uint64_t seed_;
   long long timesteps_ = 0;

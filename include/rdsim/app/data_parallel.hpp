@@ -26,7 +26,12 @@ std::uint64_t rank_seed(std::uint64_t seed, int rank);
 // Makes every rank's weights rank 0's (a fresh run: whatever each rank's seed drew).
 void share_weights(Communicator& comm, Algorithm& algo);
 
-// Compares a hash of the weights (Algorithm::save without training state) across the ranks.
+// Refuses an MPI run (more than one rank) of an algorithm that does not keep the ranks identical
+// (Algorithm::data_parallel): rdsim::Error on rank 0, while the other ranks wait in a collective
+// that rank 0 never joins, until its report ends the job (main.cpp aborts it): one message.
+void check_data_parallel(Communicator& comm, const Algorithm& algo);
+
+// Compares a hash of the weights (Algorithm::save_all_weights) across the ranks.
 // On a mismatch rank 0 throws rdsim::Error naming the first rank that differs and the update;
 // the other ranks throw RankExit (rank 0 reports it).
 void check_same_weights(Communicator& comm, const Algorithm& algo, long long updates);

@@ -24,7 +24,7 @@ public:
   std::string file(const std::string& name) const { return (dir_ / name).string(); }
 
   // The files a run writes (named in core/run_files.hpp): config.json, progress.csv, episodes.csv,
-  // model.bin, checkpoint.bin.
+  // model.bin, checkpoint.bin, pretrain.csv (a run with demonstrations).
   static const std::vector<std::string>& run_files();
 
 private:

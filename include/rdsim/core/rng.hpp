@@ -83,8 +83,11 @@ inline constexpr std::uint64_t network_init = 1;
 inline constexpr std::uint64_t action_sampling = 2;
 inline constexpr std::uint64_t minibatch_shuffle = 3;
 inline constexpr std::uint64_t replay_sampling = 4;   // off-policy replay buffers
-inline constexpr std::uint64_t exploration = 5;       // epsilon-greedy draws
+inline constexpr std::uint64_t exploration = 5;       // epsilon-greedy draws, warm-up actions, action noise
 inline constexpr std::uint64_t evaluation = 6;        // `rdsim replay --stochastic`
+inline constexpr std::uint64_t training_noise = 7;    // noise inside gradient steps (SAC actions, TD3 smoothing)
+inline constexpr std::uint64_t perturbations = 8;     // ARS directions, CMA-ES candidates
+inline constexpr std::uint64_t demonstrations = 9;    // demonstration splits, pre-training minibatches
 inline constexpr std::uint64_t env_base = 1000;
 inline constexpr std::uint64_t mpi_rank_base = 1'000'000;  // rank r > 0 of an MPI job: its seed
 }  // namespace rng_stream

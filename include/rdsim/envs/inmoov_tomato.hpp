@@ -46,6 +46,9 @@
 //                    palm centre cannot come closer than its radius (0.035 m); 0.06 = palm within 2.5 cm
 //                    of the skin. Terminated, info.success.
 //   truncation       max_steps (default 400).
+//   scripted expert  (reach_expert.hpp) to 10 cm in front of and 5 cm below the tomato, then to it:
+//                    success 1.00 over 200 episodes with Discrete and with Box actions
+//                    (`rdsim demos record --expert --env inmoov_tomato -n 200 --seed 3000 [--continuous]`).
 //   raw_pixels       UInt8 image_height x image_width x 3 (x 6 with multi_view) from
 //                    inmoov_main_view() / inmoov_second_view() below: tree, tomatoes, right arm.
 namespace rdsim {

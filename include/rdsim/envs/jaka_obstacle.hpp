@@ -37,6 +37,9 @@
 //                    terminated, info.collision.
 //   truncation       max_steps, default 300 (the way round is about twice as long as jaka_button's).
 //   max_distance     default 0.9 m (the home flange is up to 0.68 m from a random button).
+//   scripted expert  (reach_expert.hpp) via (0.22, -0.05, 0.15), the near side, then to 6 cm above the
+//                    button, then down: success 1.00 over 200 episodes with Discrete and with Box actions
+//                    (`rdsim demos record --expert --env jaka_obstacle -n 200 [--continuous]`).
 //   success, workspace, out-of-bounds, physics, actions: as jaka_button.
 namespace rdsim {
 

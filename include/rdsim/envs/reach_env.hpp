@@ -55,6 +55,12 @@ struct ReachTerms {
   // uniformly at each reset with random_target. Otherwise ReachTaskSpec's nominal point / box decides.
   std::vector<Eigen::Vector3f> target_choices{};
   int default_choice = 0;
+  // The scripted expert's way to the target (reach_expert.hpp): world points it passes in order
+  // before heading straight for the target; empty = straight there.
+  std::vector<Eigen::Vector3f> expert_route{};
+  // Then, when not zero, the point target + expert_approach (a pre-grasp point: the side the end
+  // effector should arrive from), then the target.
+  Eigen::Vector3f expert_approach = Eigen::Vector3f::Zero();
   OrbitView main_view{}, second_view{};  // raw-pixel cameras (second: multi_view)
   // negative_distance: the rules above. inverse_distance (RobotDrlSim's obstacle env): reward
   // 1/max(d, 1 cm) - 2 t / max_steps per step (d = |end effector - target| in m, t = steps taken),

@@ -51,6 +51,11 @@ public:
   int output_size() const override { return shape_.output_size; }
   std::unique_ptr<Network> clone() const override { return std::make_unique<Mlp>(*this); }
 
+  // Forward-mode derivative of the LAST forward() output along a direction in parameter space,
+  // the input held fixed: sum_k d output / d theta_k * direction_k (output_size x batch), where
+  // `direction` is laid out as flatten_values(params()). TRPO's Fisher-vector products use it.
+  Eigen::MatrixXf jvp(const Eigen::Ref<const Eigen::VectorXf>& direction) const;
+
   const MlpShape& shape() const { return shape_; }
   const std::vector<Dense>& layers() const { return layers_; }
   std::vector<Dense>& layers() { return layers_; }

@@ -55,6 +55,14 @@ long long parameter_count(const ParamList& params);
 // sqrt(sum of every squared gradient entry).
 float global_grad_norm(const ParamList& params);
 
+// Every value (or gradient) of the list as one vector: tensors in list order, each column-major.
+// Search methods (ARS, CMA-ES) and trust-region steps (TRPO) work on parameters in this form.
+Eigen::VectorXf flatten_values(const ParamList& params);
+Eigen::VectorXf flatten_grads(const ParamList& params);
+// Writes a vector of that layout back into the values; rdsim::Error when its length is not
+// parameter_count(params).
+void assign_values(const ParamList& params, const Eigen::Ref<const Eigen::VectorXf>& flat);
+
 // Scales all gradients by max_norm / norm when the global norm exceeds max_norm (as the common
 // baselines do, with a 1e-6 guard). Returns the global norm BEFORE clipping.
 float clip_grad_norm(const ParamList& params, float max_norm);

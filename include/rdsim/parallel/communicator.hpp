@@ -14,14 +14,15 @@
 // Every operation is collective: all ranks call it, in the same order, with the same sizes. An
 // algorithm gets the job's communicator through Algorithm::set_communicator (algorithm.hpp).
 //
-// Data-parallel gradient methods (PPO, A2C, DQN): every rank steps its own envs, computes the
+// Data-parallel gradient methods (PPO, A2C, DQN, SAC, TD3, DDPG): every rank steps its own envs, computes the
 // gradient of its own minibatch, and average_gradients() (algorithms/gradient_averaging.hpp) sums
 // them with allreduce_sum and divides by size(), so every rank applies the same step and the
 // parameters stay identical (the training loop compares a hash of them across ranks).
 //
-// Gradient-free population methods (ARS, CMA-ES) spread the population over the ranks: every rank
-// draws the same perturbations (same seed), evaluates its share, and allgather() hands every rank
-// all returns, so every rank makes the same update:
+// Gradient-free population methods (ARS, CMA-ES; not wired yet: Algorithm::data_parallel) would
+// spread the population over the ranks: every rank draws the same perturbations (same seed),
+// evaluates its share, and allgather() hands every rank all returns, so every rank makes the same
+// update:
 //
 //   const int per_rank = population / comm.size();            // population % size() == 0
 //   std::vector<double> mine(per_rank), all(population);

@@ -85,4 +85,17 @@ Eigen::MatrixXf Categorical::entropy_grad(const Eigen::VectorXf& weights) const 
   return -(probs_.cwiseProduct(inner)) * weights.asDiagonal();
 }
 
+Eigen::VectorXf Categorical::kl_divergence(const Categorical& other) const {
+  if (other.num_actions() != num_actions() || other.batch() != batch())
+    throw Error("nn::Categorical::kl_divergence: the two distributions differ in shape");
+  return probs_.cwiseProduct(log_probs_ - other.log_probs_).colwise().sum().transpose();
+}
+
+Eigen::MatrixXf Categorical::fisher_product(const Eigen::MatrixXf& tangent) const {
+  if (tangent.rows() != num_actions() || tangent.cols() != batch())
+    throw Error("nn::Categorical::fisher_product: tangent shape differs from the logits'");
+  const Eigen::RowVectorXf pt = probs_.cwiseProduct(tangent).colwise().sum();
+  return probs_.cwiseProduct(tangent) - probs_ * pt.asDiagonal();
+}
+
 }  // namespace rdsim::nn

@@ -68,4 +68,21 @@ Eigen::VectorXf DiagGaussian::entropy_grad_log_std(const Eigen::VectorXf& weight
   return Eigen::VectorXf::Constant(dims(), weights.sum());
 }
 
+Eigen::VectorXf DiagGaussian::kl_divergence(const DiagGaussian& other) const {
+  if (other.dims() != dims() || other.batch() != batch())
+    throw Error("nn::DiagGaussian::kl_divergence: the two distributions differ in shape");
+  const Eigen::ArrayXf var_p = (2.0f * log_std_.array()).exp();
+  const Eigen::ArrayXf inv_var_q = (-2.0f * other.log_std_.array()).exp();
+  const Eigen::ArrayXXf diff2 = (mean_ - other.mean_).array().square();
+  const float constant = (other.log_std_ - log_std_).sum() + 0.5f * (var_p * inv_var_q).sum() -
+                         0.5f * static_cast<float>(dims());
+  return ((0.5f * (diff2.colwise() * inv_var_q)).colwise().sum() + constant).transpose().matrix();
+}
+
+Eigen::MatrixXf DiagGaussian::fisher_product_mean(const Eigen::MatrixXf& tangent_mean) const {
+  check_batch(tangent_mean, dims(), batch(), "nn::DiagGaussian::fisher_product_mean");
+  const Eigen::ArrayXf inv_var = (-2.0f * log_std_.array()).exp();
+  return (tangent_mean.array().colwise() * inv_var).matrix();
+}
+
 }  // namespace rdsim::nn

@@ -1,0 +1,158 @@
+#include "rdsim/algorithms/off_policy.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "rdsim/algorithms/gradient_averaging.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/nn/serialize.hpp"
+
+namespace rdsim {
+namespace {
+
+// Observations x buffer_size are stored twice (observation and next observation), plus the actions.
+constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
+
+const Spec& checked_spec(const Spec& spec, const OffPolicySettings& settings, const std::string& algorithm,
+                         const std::string& where) {
+  if (spec.action.discrete)
+    throw Error(where + ": algorithm: \"" + algorithm + "\" needs a continuous (Box) action space, env \"" +
+                spec.env_name + "\" has discrete actions (set env.is_discrete to false, or use dqn/ppo/a2c)");
+  if (spec.observation.type != ObsType::Float32)
+    throw Error(where + ": algorithm: \"" + algorithm + "\" needs vector observations, env \"" + spec.env_name +
+                "\" gives pixels (use env.observation \"ground_truth\")");
+  const int dim = spec.action.dim();
+  if (dim <= 0 || spec.action.high.size() != dim || !spec.action.low.allFinite() || !spec.action.high.allFinite() ||
+      !(spec.action.high.array() > spec.action.low.array()).all())
+    throw Error(where + ": algorithm: \"" + algorithm + "\" needs finite action bounds, env \"" + spec.env_name +
+                "\" has none");
+  const double bytes = 4.0 * static_cast<double>(settings.buffer_size) *
+                       (2.0 * spec.observation.size() + static_cast<double>(dim) + 2.0);
+  if (bytes > kMaxReplayBytes)
+    throw Error(where + ": " + algorithm + ".buffer_size: " + std::to_string(settings.buffer_size) +
+                " transitions need " + std::to_string(static_cast<long long>(bytes / (1 << 20))) +
+                " MiB, more than the 16 GiB allowed; use a smaller buffer");
+  return spec;
+}
+
+}  // namespace
+
+OffPolicy::OffPolicy(const OffPolicySettings& settings, const NetworkConfig& network, std::uint64_t seed,
+                     const Spec& spec, const std::string& algorithm, const std::string& where)
+    : spec_(checked_spec(spec, settings, algorithm, where)),
+      observation_size_(observation_input_size(spec.observation)),
+      action_dim_(spec.action.dim()),
+      input_scale_(static_cast<float>(network.input_scale)),
+      settings_(settings),
+      buffer_(settings.buffer_size, spec.observation, spec.action.dim()),
+      explore_rng_(Rng::derive(seed, rng_stream::exploration)),
+      replay_rng_(Rng::derive(seed, rng_stream::replay_sampling)) {}
+
+const Eigen::MatrixXf& OffPolicy::actor_input(const Eigen::MatrixXf& observations, Eigen::MatrixXf& scratch) const {
+  return scaled_input(observations, input_scale_, scratch);
+}
+
+const Eigen::MatrixXf& OffPolicy::critic_input(const Eigen::MatrixXf& observations, const Eigen::MatrixXf& actions,
+                                               Eigen::MatrixXf& scratch) const {
+  scratch.resize(observations.rows() + actions.rows(), observations.cols());
+  scratch.topRows(observations.rows()) = observations * input_scale_;
+  scratch.bottomRows(actions.rows()) = actions;
+  return scratch;
+}
+
+Action OffPolicy::env_action(const Eigen::Ref<const Eigen::VectorXf>& normalized) const {
+  const Eigen::ArrayXf a = normalized.array().cwiseMax(-1.0f).cwiseMin(1.0f);
+  const Eigen::ArrayXf low = spec_.action.low.array(), high = spec_.action.high.array();
+  return Action::continuous((low + 0.5f * (a + 1.0f) * (high - low)).cwiseMin(high).matrix());
+}
+
+void OffPolicy::collect_step(VecEnv& envs, bool warmup) {
+  const int n = envs.size();
+  obs_.resize(observation_size_, n);
+  for (int i = 0; i < n; ++i) encode_observation(envs.observations(), i, obs_.col(i));
+  if (warmup) {
+    // Before learning starts every action is uniform in the Box (the networks are untrained).
+    actions_.resize(action_dim_, n);
+    for (Eigen::Index k = 0; k < actions_.size(); ++k) actions_.data()[k] = static_cast<float>(explore_rng_.uniform(-1.0, 1.0));
+  } else {
+    policy(obs_, false, explore_rng_, actions_);
+  }
+  env_actions_.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) env_actions_[static_cast<std::size_t>(i)] = env_action(actions_.col(i));
+  // step() replaces the observations the actions were chosen from: keep them for the buffer.
+  // (Copies reuse their storage.)
+  prev_obs_.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) envs.observations().copy_to(i, prev_obs_[static_cast<std::size_t>(i)]);
+  const std::vector<EnvStep>& steps = envs.step(env_actions_);
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const EnvStep& s = steps[k];
+    // After an episode ends the env has been reset: the transition's next state is the final one.
+    if (!s.done()) envs.observations().copy_to(i, next_obs_);
+    buffer_.add(prev_obs_[k], actions_.col(i), s.reward, s.done() ? s.final_observation : next_obs_, s.terminated);
+    if (s.done()) on_episode_end(i);
+  }
+}
+
+Metrics OffPolicy::update(VecEnv& envs, const TrainProgress& progress) {
+  const int n = envs.size();
+  const long long calls = progress.phase_steps(settings_.train_freq, n);
+  for (long long c = 0; c < calls; ++c) collect_step(envs, envs.timesteps() < settings_.learning_starts);
+  const bool learning = envs.timesteps() > settings_.learning_starts;
+  Metrics m = train(learning ? settings_.gradient_steps : 0, {envs.timesteps(), progress.total_timesteps});
+  if (learning) gradient_steps_ += settings_.gradient_steps;
+  m.emplace_back("gradient_steps", static_cast<double>(gradient_steps_));
+  m.emplace_back("buffer_size", static_cast<double>(buffer_.size()));
+  return m;
+}
+
+Action OffPolicy::act(const Observation& observation, bool deterministic, Rng& rng) {
+  Eigen::MatrixXf obs(observation_size_, 1), action;
+  encode_observation(observation, spec_.observation, obs.col(0));
+  policy(obs, deterministic, rng, action);
+  return env_action(action.col(0));
+}
+
+void OffPolicy::save(std::ostream& out, bool training_state) const {
+  auto& self = const_cast<OffPolicy&>(*this);  // params() hands out mutable views; saving only reads them
+  nn::save_params(self.acting_params(), out);
+  if (!training_state) return;
+  save_training(out);
+  write_string(out, rng_to_bytes(explore_rng_));
+  write_string(out, rng_to_bytes(replay_rng_));
+  write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
+  buffer_.save(out);
+}
+
+void OffPolicy::save_all_weights(std::ostream& out) const {
+  auto& self = const_cast<OffPolicy&>(*this);  // params() hands out mutable views; saving only reads them
+  nn::save_params(self.acting_params(), out);
+  nn::save_params(self.other_params(), out);
+}
+
+void OffPolicy::load_all_weights(std::istream& in, const std::string& source) {
+  nn::load_params(acting_params(), in, source);
+  nn::load_params(other_params(), in, source);
+}
+
+void OffPolicy::average_gradients(const nn::ParamList& params) {
+  rdsim::average_gradients(communicator(), params, gradient_buffer_);
+}
+
+void OffPolicy::load(std::istream& in, bool training_state, const std::string& source) {
+  nn::load_params(acting_params(), in, source);
+  if (!training_state) return;
+  load_training(in, source);
+  explore_rng_ = rng_from_bytes(read_string(in, source), source);
+  replay_rng_ = rng_from_bytes(read_string(in, source), source);
+  const std::uint64_t gradient_steps = read_u64(in, source);
+  if (gradient_steps > (1ull << 50)) throw Error(source + ": checkpoint holds a gradient-step count out of range (damaged file?)");
+  gradient_steps_ = static_cast<long long>(gradient_steps);
+  buffer_.load(in, source);
+}
+
+}  // namespace rdsim

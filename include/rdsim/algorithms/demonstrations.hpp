@@ -1,0 +1,65 @@
+#pragma once
+#include <string>
+
+#include "rdsim/core/config_fields.hpp"
+
+// The "demonstrations" object of a training config: learning from a demonstration file
+// (rdsim/demos/demo_file.hpp) before and during RL. What each algorithm does with it:
+//   bc       behaviour cloning is the whole training: the actor is fitted to the demonstrated
+//            actions (cross-entropy for Discrete, Gaussian log-likelihood for Box);
+//   ppo, a2c the same fit pre-trains the actor, and (fit_critic) the critic is fitted to the
+//            demonstrations' discounted returns, before the first rollout; with bc_weight > 0 the
+//            cloning loss stays in RL's loss with a weight that decays every update (DAPG's
+//            schedule, Rajeswaran et al. 2018): each minibatch adds
+//            bc_weight x bc_weight_decay^(update - 1) x mean -log pi(a_demo | s_demo) over as many
+//            demonstrated steps, which keeps the first updates from undoing the cloned policy;
+//   dqn      the demonstrations seed a replay buffer of their own that is never overwritten; every
+//            minibatch draws demo_fraction of its transitions from it; bc_epochs passes over it with
+//            the TD loss (plus, with large_margin, DQfD's large-margin loss on demonstrated actions,
+//            Hester et al. 2018) pre-train the Q-network, and that loss keeps applying to the
+//            demonstrated transitions during training.
+// The actor fits hold out whole episodes (validation_fraction) and stop early: after `patience`
+// epochs without a better validation loss they restore the best epoch's weights.
+namespace rdsim {
+
+struct DemonstrationsConfig {
+  std::string file;
+  int bc_epochs = 100;
+  int batch_size = 256;
+  double learning_rate = 1e-3;
+  double validation_fraction = 0.2;
+  int patience = 10;
+  bool fit_critic = true;
+  double bc_weight = 0.0;
+  double bc_weight_decay = 0.95;
+  double demo_fraction = 0.25;
+  bool large_margin = false;
+  double margin = 0.8;
+  double margin_weight = 1.0;
+};
+
+template <class V, class C>
+  requires config::Describes<C, DemonstrationsConfig>
+void describe(V& v, C& c) {
+  v.field("file", c.file, "demonstration file (`rdsim demos record`, `rdsim teleop --record`)");
+  v.check(!c.file.empty(), "file", "expected the path of a demonstration file");
+  v.field("bc_epochs", c.bc_epochs, config::Range{0, 100'000},
+          "passes over the demonstrations before RL (bc: the whole training); 0 = none");
+  v.field("batch_size", c.batch_size, config::Range{1, 1'000'000}, "transitions per gradient step of the pre-training");
+  v.field("learning_rate", c.learning_rate, config::Range{0.0, 1.0}, "Adam step size of the pre-training");
+  v.field("validation_fraction", c.validation_fraction, config::Range{0.0, 0.9},
+          "share of the episodes held out to stop the actor fit early (at least one when > 0 and there are two)");
+  v.field("patience", c.patience, config::Range{1, 100'000},
+          "epochs without a better validation loss before the fit stops and restores the best weights");
+  v.field("fit_critic", c.fit_critic, "ppo/a2c: also fit the critic to the demonstrations' discounted returns");
+  v.field("bc_weight", c.bc_weight, config::Range{0.0, 1e6},
+          "ppo/a2c: weight of the cloning loss kept in RL's loss (0 = pre-training only)");
+  v.field("bc_weight_decay", c.bc_weight_decay, config::Range{0.0, 1.0}, "ppo/a2c: factor on bc_weight per update");
+  v.field("demo_fraction", c.demo_fraction, config::Range{0.0, 1.0},
+          "dqn: share of every minibatch drawn from the demonstrations");
+  v.field("large_margin", c.large_margin, "dqn: DQfD's large-margin loss on demonstrated actions");
+  v.field("margin", c.margin, config::Range{0.0, 1e6}, "dqn: the margin by which a demonstrated action's Q must lead");
+  v.field("margin_weight", c.margin_weight, config::Range{0.0, 1e6}, "dqn: weight of the large-margin loss");
+}
+
+}  // namespace rdsim

@@ -1,0 +1,100 @@
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/network_config.hpp"
+#include "rdsim/algorithms/replay_buffer.hpp"
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/nn/param.hpp"
+
+// What the continuous-action off-policy methods (SAC, TD3/DDPG) share: a replay buffer of Box
+// transitions, the collect-then-train schedule (train_freq VecEnv steps, then gradient_steps
+// minibatch updates once more than learning_starts env steps were taken), uniform random actions
+// before learning starts, the rescaling between the env's Box and the networks' [-1, 1], and the
+// model/checkpoint layout. Each method adds its networks, its exploration and its train step.
+namespace rdsim {
+
+struct OffPolicySettings {
+  long long buffer_size = 1000000;
+  long long learning_starts = 100;
+  int train_freq = 1;
+  int gradient_steps = 1;
+};
+
+class OffPolicy : public Algorithm {
+public:
+  Metrics update(VecEnv& envs, const TrainProgress& progress) override;
+  Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  // Model: the acting weights. Checkpoint: those, then the method's training state, the random
+  // streams, the counters and the replay buffer.
+  void save(std::ostream& out, bool training_state) const override;
+  void load(std::istream& in, bool training_state, const std::string& source) override;
+  // Every gradient step averages the gradients of each optimiser over the ranks before it steps
+  // (average_gradients below). The critics, targets and entropy coefficient are outside the model,
+  // so the ranks share them too.
+  bool data_parallel() const override { return true; }
+  void save_all_weights(std::ostream& out) const override;
+  void load_all_weights(std::istream& in, const std::string& source) override;
+
+  // The Box action for network actions in [-1, 1]: low + (a + 1) (high - low) / 2, clipped.
+  Action env_action(const Eigen::Ref<const Eigen::VectorXf>& normalized) const;
+
+protected:
+  // `algorithm` and `where` name the method and the config file in messages: the env must have
+  // vector observations and a bounded Box action space. network.input_scale is kept for
+  // actor_input() and critic_input().
+  OffPolicy(const OffPolicySettings& settings, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
+            const std::string& algorithm, const std::string& where);
+
+  // The networks' inputs: observations times network.input_scale (actor), and those stacked
+  // over the actions (critics: Q(s, a) sees [scale * s; a]).
+  const Eigen::MatrixXf& actor_input(const Eigen::MatrixXf& observations, Eigen::MatrixXf& scratch) const;
+  const Eigen::MatrixXf& critic_input(const Eigen::MatrixXf& observations, const Eigen::MatrixXf& actions,
+                                      Eigen::MatrixXf& scratch) const;
+
+  // Actions in [-1, 1] (action_dim x n) for encoded observations (one column each): the policy's
+  // mean action when `deterministic`, else an exploring one drawn with `rng`.
+  virtual void policy(const Eigen::MatrixXf& observations, bool deterministic, Rng& rng, Eigen::MatrixXf& actions) = 0;
+  // Env `env` finished an episode (stateful exploration noise restarts).
+  virtual void on_episode_end(int /*env*/) {}
+  // `steps` gradient steps (0 before learning starts) on minibatches from buffer_; the metrics
+  // have the same names and order whatever `steps` is.
+  virtual Metrics train(int steps, const TrainProgress& progress) = 0;
+  // The weights acting needs (model.bin), and everything else an exact resume needs.
+  virtual nn::ParamList acting_params() = 0;
+  // The trained weights outside acting_params() (critics, target networks, entropy coefficient).
+  virtual nn::ParamList other_params() = 0;
+  virtual void save_training(std::ostream& out) const = 0;
+  virtual void load_training(std::istream& in, const std::string& source) = 0;
+
+  // Data-parallel training: the gradients of `params` become their mean over the ranks (nothing
+  // happens in one process). Just before the optimiser's step.
+  void average_gradients(const nn::ParamList& params);
+
+  Spec spec_;
+  int observation_size_;
+  int action_dim_;
+  float input_scale_;
+  OffPolicySettings settings_;
+  ReplayBuffer buffer_;
+  Rng explore_rng_;  // warm-up actions and exploration noise
+  Rng replay_rng_;   // minibatch draws
+  long long gradient_steps_ = 0;
+
+private:
+  void collect_step(VecEnv& envs, bool warmup);
+
+  // scratch, reused so the collection loop does not allocate
+  Eigen::MatrixXf obs_, actions_;
+  std::vector<Action> env_actions_;
+  std::vector<Observation> prev_obs_;
+  Observation next_obs_;
+  std::vector<float> gradient_buffer_;
+};
+
+}  // namespace rdsim

@@ -1,0 +1,28 @@
+#pragma once
+#include <cstdint>
+#include <string>
+
+// `rdsim demos info FILE` and `rdsim demos record --expert ...` (src/app/demos.cpp): demonstration
+// files (rdsim/demos/demo_file.hpp) and the scripted expert (rdsim/envs/reach_expert.hpp).
+namespace rdsim {
+
+// Prints the file's env, spaces, episodes, steps, success rate and mean return.
+int demos_info_command(const std::string& path);
+
+struct DemosRecordOptions {
+  bool expert = false;         // the scripted expert records (the only recorder of this command)
+  std::string env;             // registry name: its default options, random targets (see below)
+  std::string config_path;     // or the "env" object of this training config, as it is
+  int episodes = 20;           // episodes written
+  std::string out_path;
+  std::uint64_t seed = 1000;   // episode k (0-based) starts from reset(seed + k)
+  bool append = false;         // add to an existing file (of the same env)
+  bool fixed_target = false;   // --env: keep the env's default target (random_target false)
+  bool continuous = false;     // --env: Box(3) actions (is_discrete false)
+  bool only_successes = false; // write successful episodes only (trying at most 10x episodes)
+  bool quiet = false;
+};
+// Runs the scripted expert and appends each episode, labelled "scripted", as it ends.
+int demos_record_command(const DemosRecordOptions& options);
+
+}  // namespace rdsim

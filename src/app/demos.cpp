@@ -1,0 +1,82 @@
+// `rdsim demos`: what a demonstration file holds, and recording the scripted expert.
+#include "rdsim/app/demos.hpp"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "rdsim/app/train_config.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/demos/demo_file.hpp"
+#include "rdsim/demos/demo_summary.hpp"
+#include "rdsim/demos/demo_writer.hpp"
+#include "rdsim/envs/reach_expert.hpp"
+#include "rdsim/envs/registry.hpp"
+
+namespace rdsim {
+
+int demos_info_command(const std::string& path) {
+  const DemoFile f = read_demo_file(path);
+  const DemoSummary s = summarize(f);
+  std::printf("%s: rdsim demonstrations, format version %u, written by rdsim %s\n", path.c_str(), f.version,
+              f.rdsim_version.c_str());
+  std::printf("env          %s %s\n", f.spec.env_name.c_str(), f.env_config.dump().c_str());
+  std::printf("spaces       observations %s, actions %s, step limit %d\n", describe_observation_space(f.spec.observation).c_str(),
+              describe_action_space(f.spec.action).c_str(), f.spec.max_episode_steps);
+  std::printf("episodes     %d (%d scripted, %d human)\n", s.episodes, s.scripted, s.human);
+  std::printf("steps        %lld (mean length %.1f)\n", s.steps, s.mean_length);
+  std::printf("success rate %.2f\n", s.success_rate);
+  std::printf("mean return  %.2f\n", s.mean_return);
+  std::printf("endings      %d terminated, %d truncated, %d stopped by hand; %d with a collision\n", s.terminated,
+              s.truncated, s.stopped, s.collisions);
+  if (f.interrupted_bytes > 0)
+    std::printf("note         %llu bytes after the last complete episode (a recording cut short) are ignored\n",
+                static_cast<unsigned long long>(f.interrupted_bytes));
+  return 0;
+}
+
+int demos_record_command(const DemosRecordOptions& o) {
+  if (!o.expert) throw Error("demos record: only the scripted expert records here (--expert); people record with `rdsim teleop --record`");
+  if (o.env.empty() == o.config_path.empty()) throw Error("demos record: give --env NAME or --config FILE");
+  EnvConfig env_config;
+  if (!o.config_path.empty()) {
+    env_config = read_train_config(o.config_path).env;
+  } else {
+    env_config = default_env_config(o.env);
+    env_config.random_target = !o.fixed_target;
+    env_config.is_discrete = !o.continuous;
+  }
+  auto env = make_env(env_config);
+  ReachExpert expert(*env);
+  DemoWriter writer(o.out_path, to_json(env_config), env->spec(), o.append);
+  int written = 0, successes = 0;
+  const long long max_attempts = o.only_successes ? 10LL * o.episodes : o.episodes;
+  for (long long k = 0; k < max_attempts && written < o.episodes; ++k) {
+    const std::uint64_t seed = o.seed + static_cast<std::uint64_t>(k);
+    DemoEpisode episode;
+    episode.source = DemoSource::Scripted;
+    episode.seed = seed;
+    episode.env_config = to_json(env_config);
+    episode.start(env->reset(seed));
+    expert.reset();
+    while (!episode.ended()) {
+      const Action a = expert.act();
+      episode.add(a, env->step(a));
+    }
+    const bool success = episode.success();
+    if (!o.quiet)
+      std::printf("episode (seed %llu): %d steps, return %.2f, success %s%s\n", static_cast<unsigned long long>(seed),
+                  episode.steps(), episode.episode_return(), success ? "yes" : "no",
+                  o.only_successes && !success ? " (not written)" : "");
+    if (o.only_successes && !success) continue;
+    writer.append(episode);
+    ++written;
+    successes += success ? 1 : 0;
+  }
+  std::printf("wrote %d scripted episodes (success rate %.2f) to %s, which holds %lld\n", written,
+              written ? static_cast<double>(successes) / written : 0.0, o.out_path.c_str(), writer.episodes());
+  if (written < o.episodes) throw Error("demos record: the expert succeeded in only " + std::to_string(written) + " of " +
+                                        std::to_string(max_attempts) + " episodes");
+  return 0;
+}
+
+}  // namespace rdsim

@@ -1,0 +1,235 @@
+// Learning from demonstrations: behaviour cloning, the PPO warm start and DQN's demonstration buffer
+// on the toy sign env, whose expert is known (discrete: action 1 when s > 0; continuous: 0.5 s).
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <sstream>
+
+#include "rdsim/algorithms/algorithm_config.hpp"
+#include "rdsim/algorithms/behavior_cloning.hpp"
+#include "rdsim/algorithms/dqn.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/demos/demo_file.hpp"
+#include "toy_env.hpp"
+
+using namespace rdsim;
+using Catch::Matchers::Contains;
+
+namespace {
+
+Action expert(const Observation& o, bool discrete) {
+  const float s = o.values[0];
+  return discrete ? Action::discrete(s > 0 ? 1 : 0) : Action::continuous(Eigen::VectorXf::Constant(1, 0.5f * s));
+}
+
+// `noise` makes the demonstrator imprecise, as people are, so that a fit can overfit: Discrete, the share
+// of steps with a random action instead; Box, the standard deviation of Gaussian noise on the action.
+DemoFile expert_demos(bool discrete, int episodes, std::uint64_t seed = 1, double noise = 0.0) {
+  Rng slips(seed);
+  toy::SignEnv env(discrete, 10);
+  DemoFile f;
+  f.path = "toy.demo";
+  f.spec = env.spec();
+  f.env_config = {{"name", "sign"}};
+  for (int k = 0; k < episodes; ++k) {
+    DemoEpisode e;
+    e.source = DemoSource::Scripted;
+    e.seed = seed + static_cast<std::uint64_t>(k);
+    e.env_config = f.env_config;
+    e.start(env.reset(e.seed));
+    while (!e.ended()) {
+      Action a = expert(e.observations.back(), discrete);
+      if (discrete && slips.uniform() < noise) a = Action::discrete(static_cast<int>(slips.below(2)));
+      if (!discrete) a.values[0] = std::clamp(a.values[0] + static_cast<float>(slips.normal(0.0, noise)), -1.0f, 1.0f);
+      e.add(a, env.step(a));
+    }
+    f.episodes.push_back(std::move(e));
+  }
+  return f;
+}
+
+AlgorithmConfig config_for(AlgorithmParams params) {
+  AlgorithmConfig c;
+  c.params = std::move(params);
+  c.network.hidden_sizes = {16, 16};
+  return c;
+}
+
+DemonstrationsConfig demo_config(int epochs = 60) {
+  DemonstrationsConfig c;
+  c.file = "toy.demo";
+  c.bc_epochs = epochs;
+  c.batch_size = 32;
+  c.learning_rate = 3e-3;
+  c.patience = 5;
+  return c;
+}
+
+// Share of fresh episodes' steps on which the policy does what the expert would.
+double agreement(Algorithm& algo, bool discrete, std::uint64_t seed) {
+  toy::SignEnv env(discrete, 10);
+  Rng rng(0);
+  int same = 0, total = 0;
+  for (int k = 0; k < 20; ++k) {
+    Observation o = env.reset(seed + static_cast<std::uint64_t>(k));
+    for (bool done = false; !done;) {
+      const Action a = algo.act(o, true, rng), e = expert(o, discrete);
+      same += discrete ? a.index == e.index : std::abs(a.values[0] - e.values[0]) < 0.1f;
+      ++total;
+      StepResult r = env.step(a);
+      done = r.terminated || r.truncated;
+      o = std::move(r.observation);
+    }
+  }
+  return static_cast<double>(same) / total;
+}
+
+}  // namespace
+
+TEST_CASE("demonstrations split by whole episodes, with discounted returns", "[demos][bc]") {
+  const DemoFile f = expert_demos(true, 10);
+  Rng rng(3);
+  const DemoSplit split = split_demonstrations(f, f.spec.observation, 0.2, 0.5, rng);
+  CHECK(split.train.episodes == 8);
+  CHECK(split.validation.episodes == 2);
+  CHECK(split.train.size() == 80);
+  CHECK(split.validation.size() == 20);
+  // The expert earns 1 every step: the return to go of the last step is 1, before it 1 + 0.5, ...
+  CHECK(split.train.returns[9] == Approx(1.0));
+  CHECK(split.train.returns[8] == Approx(1.5));
+  CHECK(split.train.returns[0] == Approx(2.0 * (1.0 - std::pow(0.5, 10))));
+  Rng one(3);
+  CHECK(split_demonstrations(expert_demos(true, 1), f.spec.observation, 0.2, 0.5, one).validation.size() == 0);
+}
+
+TEST_CASE("behaviour cloning copies the expert and stops early on held-out episodes", "[demos][bc]") {
+  for (bool discrete : {true, false}) {
+    INFO((discrete ? "Discrete" : "Box"));
+    const DemoFile f = expert_demos(discrete, 20, 1, 0.15);
+    auto algo = make_algorithm(config_for(BcConfig{}), 1, f.spec);
+    CHECK(agreement(*algo, discrete, 500) < 0.9);
+    Rng rng = Rng::derive(1, rng_stream::demonstrations);
+    const std::vector<Metrics> rows = algo->learn_from_demonstrations(f, demo_config(400), rng, true);
+    REQUIRE(!rows.empty());
+    CHECK(rows.size() < 400);  // the patience ran out before the epochs did
+    CHECK(rows.front()[0].first == "epoch");
+    CHECK(rows.back()[3].first == "actor_val_error");
+    CHECK(rows.back()[3].second < (discrete ? 0.25 : 0.2));  // against the imprecise demonstrator
+    CHECK(agreement(*algo, discrete, 500) > (discrete ? 0.98 : 0.9));  // unseen seeds (Box: within 0.1)
+
+    // The model round-trips and acts the same.
+    std::stringstream model;
+    algo->save(model, false);
+    auto loaded = make_algorithm(config_for(BcConfig{}), 2, f.spec);
+    loaded->load(model, false, "model");
+    CHECK(agreement(*loaded, discrete, 900) == agreement(*algo, discrete, 900));
+  }
+}
+
+TEST_CASE("bc runs the cloned policy in the envs, it must learn first", "[demos][bc]") {
+  const DemoFile f = expert_demos(true, 10);
+  VecEnv envs(toy::make_envs(2), 4);
+  auto algo = make_algorithm(config_for(BcConfig{16, true}), 1, f.spec);
+  CHECK_THROWS_WITH(algo->update(envs, {0, 100}), Contains("has not learnt from demonstrations"));
+  Rng rng(1);
+  algo->learn_from_demonstrations(f, demo_config(), rng, true);
+  const Metrics m = algo->update(envs, {0, 100});
+  CHECK(envs.timesteps() == 32);
+  CHECK(m[0].first == "fit_epochs");
+  CHECK(envs.episodes().stats().success_rate == 1.0);
+  CHECK(envs.episodes().stats().mean_return == Approx(10.0));
+}
+
+TEST_CASE("the PPO warm start clones the actor and fits the critic to the demonstrated returns", "[demos][ppo]") {
+  const DemoFile f = expert_demos(true, 20);
+  PpoConfig ppo;
+  ppo.gamma = 0.9;
+  auto algo = make_algorithm(config_for(ppo), 1, f.spec);
+  Rng rng(5);
+  const std::vector<Metrics> rows = algo->learn_from_demonstrations(f, demo_config(300), rng, true);
+  REQUIRE(rows.back().size() == 6);
+  CHECK(rows.back()[4].first == "critic_loss");
+  CHECK(rows.back()[5].second < 0.05);  // validation squared error of V against the returns
+  CHECK(agreement(*algo, true, 700) > 0.98);
+  // Nothing happens on a resumed run: its checkpoint holds the pre-trained weights.
+  CHECK(algo->learn_from_demonstrations(f, demo_config(), rng, false).empty());
+}
+
+TEST_CASE("PPO and A2C keep a decaying cloning term during RL with demonstrations.bc_weight", "[demos][ppo]") {
+  const DemoFile f = expert_demos(true, 10);
+  PpoConfig ppo;
+  ppo.n_steps = 16;
+  ppo.batch_size = 16;
+  ppo.n_epochs = 1;
+  A2cConfig a2c;
+  a2c.n_steps = 8;
+  for (const AlgorithmParams& params : {AlgorithmParams(ppo), AlgorithmParams(a2c)}) {
+    auto algo = make_algorithm(config_for(params), 1, f.spec);
+    DemonstrationsConfig demos = demo_config(5);
+    demos.bc_weight = 0.5;
+    demos.bc_weight_decay = 0.5;
+    Rng rng(2);
+    algo->learn_from_demonstrations(f, demos, rng, true);
+    VecEnv envs(toy::make_envs(2), 3);
+    const Metrics first = algo->update(envs, {0, 1000}), second = algo->update(envs, {envs.timesteps(), 1000});
+    REQUIRE(first.back().first == "demo_bc_weight");
+    CHECK(first.back().second == Approx(0.5));
+    CHECK(second.back().second == Approx(0.25));
+    CHECK(first[first.size() - 2].first == "demo_bc_loss");
+    CHECK(first[first.size() - 2].second > 0.0);
+  }
+  // Without the term the columns are not there.
+  auto plain = make_algorithm(config_for(ppo), 1, f.spec);
+  VecEnv envs(toy::make_envs(2), 3);
+  CHECK(plain->update(envs, {0, 1000}).back().first == "minibatches");
+}
+
+TEST_CASE("DQfD's large-margin loss: zero once the demonstrated action leads by the margin", "[demos][dqn]") {
+  Eigen::MatrixXf q(3, 2);
+  q << 1.0f, 0.0f,  //
+      0.5f, 2.0f,   //
+      0.0f, 0.0f;
+  Eigen::VectorXi demo(2);
+  demo << 0, 0;
+  const dqn::TdLoss l = dqn::large_margin_loss(q, demo, 0.8f);
+  // Column 0: max(1, 0.5 + 0.8, 0 + 0.8) - 1 = 0.3; column 1: (2 + 0.8) - 0 = 2.8; mean 1.55.
+  CHECK(l.loss == Approx(1.55));
+  CHECK(l.grad[1] == Approx(0.5));   // column 0, action 1 pushed down
+  CHECK(l.grad[0] == Approx(-0.5));  // column 0, the demonstrated action pulled up
+  CHECK(l.grad[4] == Approx(0.5));
+  CHECK(l.grad[3] == Approx(-0.5));
+  q(0, 0) = 2.0f;
+  q(0, 1) = 3.0f;
+  CHECK(dqn::large_margin_loss(q, demo, 0.8f).loss == Approx(0.0));
+}
+
+TEST_CASE("DQN pre-trained on demonstrations acts like the expert and keeps them in its own buffer", "[demos][dqn]") {
+  const DemoFile f = expert_demos(true, 20);
+  DqnConfig dqn;
+  dqn.learning_starts = 0;
+  dqn.batch_size = 32;
+  dqn.buffer_size = 1000;
+  dqn.gamma = 0.5;
+  DemonstrationsConfig demos = demo_config(60);
+  demos.large_margin = true;
+  auto algo = make_algorithm(config_for(dqn), 1, f.spec);
+  Rng rng(2);
+  const std::vector<Metrics> rows = algo->learn_from_demonstrations(f, demos, rng, true);
+  REQUIRE(rows.size() == 60);
+  CHECK(rows.back()[2].first == "margin_loss");
+  CHECK(rows.back()[2].second < rows.front()[2].second);
+  CHECK(agreement(*algo, true, 300) > 0.98);
+  // Training draws from both buffers and reports the margin loss.
+  VecEnv envs(toy::make_envs(1), 3);
+  const Metrics m = algo->update(envs, {0, 1000});
+  CHECK(m.back().first == "margin_loss");
+}
+
+TEST_CASE("DQN refuses demonstrations without a step", "[demos][dqn]") {
+  const DemoFile f = expert_demos(true, 2);
+  DemoFile empty = f;
+  empty.episodes.clear();
+  auto dqn = make_algorithm(config_for(DqnConfig{}), 1, f.spec);
+  Rng rng(1);
+  CHECK_THROWS_WITH(dqn->learn_from_demonstrations(empty, demo_config(), rng, true), Contains("holds no demonstrated step"));
+}
