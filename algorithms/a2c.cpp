@@ -38,6 +38,7 @@ protected:
     policy_->backward(d_log_prob, d_entropy, d_value);
     const double demo_loss = add_demonstration_gradient(B);  // 0 without demonstrations.bc_weight
     const nn::ParamList params = policy_->params();
+    average_gradients(params);
     const float norm = nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm));
     optimizer_->step();
 

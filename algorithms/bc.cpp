@@ -23,6 +23,9 @@ public:
   }
 
   std::string name() const override { return "bc"; }
+  // Nothing changes the weights after fitting, which every rank does alike (the run's
+  // demonstrations stream, not the rank's) before rank 0's weights are shared.
+  bool data_parallel() const override { return true; }
 
   std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
                                                  bool pretrain) override {
@@ -47,7 +50,7 @@ public:
     obs_.resize(policy_->observation_size(), n);
     actions_.resize(static_cast<std::size_t>(n));
     for (int t = 0; t < cfg_.n_steps; ++t) {
-      for (int i = 0; i < n; ++i) encode_observation(envs.observations()[static_cast<std::size_t>(i)], spec_.observation, obs_.col(i));
+      for (int i = 0; i < n; ++i) encode_observation(envs.observations(), i, obs_.col(i));
       policy_->act(obs_, cfg_.deterministic, act_rng_, act_);
       for (int i = 0; i < n; ++i) actions_[static_cast<std::size_t>(i)] = policy_->env_action(act_.actions.col(i));
       envs.step(actions_);

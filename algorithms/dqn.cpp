@@ -14,6 +14,7 @@
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
+#include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
@@ -171,6 +172,8 @@ public:
   }
 
   std::string name() const override { return "dqn"; }
+  // Every learner gradient step averages its gradients over the ranks (train_on).
+  bool data_parallel() const override { return true; }
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
   void save(std::ostream& out, bool training_state) const override;
@@ -200,6 +203,8 @@ private:
   // scratch, reused so the hot loop does not allocate
   Eigen::MatrixXf obs_, grad_q_;
   std::vector<Observation> prev_obs_;
+  Observation next_obs_;
+  std::vector<float> gradient_buffer_;
   std::vector<Action> actions_;
   ReplayBatch batch_;
   // Demonstrations: their own buffer, never overwritten (empty without demonstrations).
@@ -210,11 +215,9 @@ private:
 
 void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
   const int n = envs.size();
-  obs_.resize(buffer_.observation_size(), n);
-  for (int i = 0; i < n; ++i) encode_observation(envs.observations()[static_cast<std::size_t>(i)], spec_.observation, obs_.col(i));
   actions_.resize(static_cast<std::size_t>(n));
   // Before learning starts every action is random (the network is untrained anyway).
-  const Eigen::MatrixXf* q = warmup ? nullptr : &q_.infer(obs_);
+  const Eigen::MatrixXf* q = warmup ? nullptr : &q_.infer(network_input(envs.observations(), obs_));
   for (int i = 0; i < n; ++i) {
     const bool random = warmup || explore_rng_.uniform() < epsilon;
     const int a = random ? static_cast<int>(explore_rng_.below(static_cast<std::uint64_t>(num_actions_)))
@@ -222,15 +225,16 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
     actions_[static_cast<std::size_t>(i)] = Action::discrete(a);
   }
   // The buffer keeps observations in the env's own form (pixels as bytes), so keep a copy of
-  // the ones the actions were chosen from: step() replaces them.
-  prev_obs_ = envs.observations();
+  // the ones the actions were chosen from: step() replaces them. (Copies reuse their storage.)
+  prev_obs_.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) envs.observations().copy_to(i, prev_obs_[static_cast<std::size_t>(i)]);
   const std::vector<EnvStep>& steps = envs.step(actions_);
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const EnvStep& s = steps[k];
     // After an episode ends the env has been reset: the transition's next state is the final one.
-    const Observation& next = s.done() ? s.final_observation : envs.observations()[k];
-    buffer_.add(prev_obs_[k], actions_[k].index, s.reward, next, s.terminated);
+    if (!s.done()) envs.observations().copy_to(i, next_obs_);
+    buffer_.add(prev_obs_[k], actions_[k].index, s.reward, s.done() ? s.final_observation : next_obs_, s.terminated);
   }
   ++env_calls_;
   const long long interval = std::max<long long>(cfg_.target_update_interval / n, 1);
@@ -300,6 +304,7 @@ void Dqn::train_on(int demo_count, StepStats& stats) {
   q_.zero_grad();
   q_.backward(grad_q_);
   const nn::ParamList params = optimizer_->params();
+  average_gradients(communicator(), params, gradient_buffer_);
   stats.norm += cfg_.max_grad_norm > 0 ? nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm))
                                        : nn::global_grad_norm(params);
   optimizer_->step();

@@ -1,6 +1,7 @@
 #include "rdsim/algorithms/episode_tracker.hpp"
 
 #include <algorithm>
+#include <sstream>
 #include <cmath>
 
 #include "rdsim/core/binary_io.hpp"
@@ -20,11 +21,15 @@ void EpisodeTracker::on_step(int env, double reward, const StepInfo& info, bool 
   r.collision = r.collision || info.collision;
   r.out_of_bounds = r.out_of_bounds || info.out_of_bounds;
   if (!done) return;
-  EpisodeRecord rec{++episodes_, timesteps, r.ret, r.length, r.success, r.collision, r.out_of_bounds, wall_time};
+  add_finished({0, timesteps, r.ret, r.length, r.success, r.collision, r.out_of_bounds, wall_time});
+  r = Running{};
+}
+
+void EpisodeTracker::add_finished(EpisodeRecord rec) {
+  rec.episode = ++episodes_;
   finished_.push_back(rec);
   recent_.push_back(rec);
   while (static_cast<int>(recent_.size()) > window_) recent_.pop_front();
-  r = Running{};
 }
 
 void EpisodeTracker::forget_running() {
@@ -90,6 +95,22 @@ EpisodeRecord read_record(std::istream& in, const std::string& source) {
 }
 
 }  // namespace
+
+std::string EpisodeTracker::encode(const std::vector<EpisodeRecord>& records) {
+  std::ostringstream out;
+  write_u64(out, records.size());
+  for (const auto& e : records) write_record(out, e);
+  return out.str();
+}
+
+std::vector<EpisodeRecord> EpisodeTracker::decode(const std::string& bytes, const std::string& source) {
+  std::istringstream in(bytes);
+  const std::uint64_t n = read_u64(in, source);
+  if (n > bytes.size()) throw Error(source + ": damaged episode records");
+  std::vector<EpisodeRecord> records;
+  for (std::uint64_t i = 0; i < n; ++i) records.push_back(read_record(in, source));
+  return records;
+}
 
 void EpisodeTracker::save(std::ostream& out) const {
   write_u64(out, static_cast<std::uint64_t>(episodes_));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
@@ -72,7 +73,7 @@ Action OffPolicy::env_action(const Eigen::Ref<const Eigen::VectorXf>& normalized
 void OffPolicy::collect_step(VecEnv& envs, bool warmup) {
   const int n = envs.size();
   obs_.resize(observation_size_, n);
-  for (int i = 0; i < n; ++i) encode_observation(envs.observations()[static_cast<std::size_t>(i)], spec_.observation, obs_.col(i));
+  for (int i = 0; i < n; ++i) encode_observation(envs.observations(), i, obs_.col(i));
   if (warmup) {
     // Before learning starts every action is uniform in the Box (the networks are untrained).
     actions_.resize(action_dim_, n);
@@ -83,14 +84,16 @@ void OffPolicy::collect_step(VecEnv& envs, bool warmup) {
   env_actions_.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) env_actions_[static_cast<std::size_t>(i)] = env_action(actions_.col(i));
   // step() replaces the observations the actions were chosen from: keep them for the buffer.
-  prev_obs_ = envs.observations();
+  // (Copies reuse their storage.)
+  prev_obs_.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) envs.observations().copy_to(i, prev_obs_[static_cast<std::size_t>(i)]);
   const std::vector<EnvStep>& steps = envs.step(env_actions_);
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     const EnvStep& s = steps[k];
     // After an episode ends the env has been reset: the transition's next state is the final one.
-    const Observation& next = s.done() ? s.final_observation : envs.observations()[k];
-    buffer_.add(prev_obs_[k], actions_.col(i), s.reward, next, s.terminated);
+    if (!s.done()) envs.observations().copy_to(i, next_obs_);
+    buffer_.add(prev_obs_[k], actions_.col(i), s.reward, s.done() ? s.final_observation : next_obs_, s.terminated);
     if (s.done()) on_episode_end(i);
   }
 }
@@ -123,6 +126,21 @@ void OffPolicy::save(std::ostream& out, bool training_state) const {
   write_string(out, rng_to_bytes(replay_rng_));
   write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
   buffer_.save(out);
+}
+
+void OffPolicy::save_all_weights(std::ostream& out) const {
+  auto& self = const_cast<OffPolicy&>(*this);  // params() hands out mutable views; saving only reads them
+  nn::save_params(self.acting_params(), out);
+  nn::save_params(self.other_params(), out);
+}
+
+void OffPolicy::load_all_weights(std::istream& in, const std::string& source) {
+  nn::load_params(acting_params(), in, source);
+  nn::load_params(other_params(), in, source);
+}
+
+void OffPolicy::average_gradients(const nn::ParamList& params) {
+  rdsim::average_gradients(communicator(), params, gradient_buffer_);
 }
 
 void OffPolicy::load(std::istream& in, bool training_state, const std::string& source) {

@@ -6,6 +6,7 @@
 
 #include "rdsim/algorithms/advantage.hpp"
 #include "rdsim/algorithms/behavior_cloning.hpp"
+#include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
@@ -39,6 +40,10 @@ Metrics OnPolicy::update(VecEnv& envs, const TrainProgress& progress) {
   compute_gae(rollout_, static_cast<float>(settings_.gamma), static_cast<float>(settings_.gae_lambda));
   ++updates_;
   return train(progress.remaining(envs.timesteps()));
+}
+
+void OnPolicy::average_gradients(const nn::ParamList& params) {
+  rdsim::average_gradients(communicator(), params, gradient_buffer_);
 }
 
 Action OnPolicy::act(const Observation& observation, bool deterministic, Rng& rng) {

@@ -33,7 +33,7 @@ PopulationResult evaluate_population(VecEnv& envs, FlatPolicy& policy, const std
         policy.set_parameters(candidates[static_cast<std::size_t>(candidate)]);
         loaded = candidate;
       }
-      encode_observation(envs.observations()[k], envs.spec().observation, obs);
+      encode_observation(envs.observations(), e, obs);
       if (seen) seen->add(obs);
       actions[k] = policy.act(obs, normalizer);
     }

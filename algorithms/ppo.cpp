@@ -83,7 +83,12 @@ Metrics Ppo::train(double remaining) {
       const PolicyEval& ev = policy_->evaluate(mb_.obs, mb_.actions);
       const Eigen::ArrayXf log_ratio = (ev.log_probs - mb_.old_log_probs).array();
       const Eigen::ArrayXf ratio = log_ratio.exp();
-      const double approx_kl = ((ratio - 1.0f) - log_ratio).cast<double>().mean();
+      double approx_kl = ((ratio - 1.0f) - log_ratio).cast<double>().mean();
+      if (cfg_.target_kl > 0 && communicator().size() > 1) {
+        // Every rank must take the same decision: the mean over the ranks decides.
+        communicator().allreduce_sum(&approx_kl, 1);
+        approx_kl /= communicator().size();
+      }
       if (cfg_.target_kl > 0 && approx_kl > 1.5 * cfg_.target_kl) {
         stop = true;  // the baselines' early stop: this minibatch is not applied
         break;
@@ -122,6 +127,7 @@ Metrics Ppo::train(double remaining) {
       policy_->zero_grad();
       policy_->backward(d_log_prob, d_entropy, d_value);
       sum_demo += add_demonstration_gradient(B);  // 0 without demonstrations.bc_weight
+      average_gradients(params);
       sum_norm += nn::clip_grad_norm(params, static_cast<float>(cfg_.max_grad_norm));
       optimizer_->step();
 

@@ -24,6 +24,7 @@ public:
   }
 
   std::string name() const override { return "random"; }
+  bool data_parallel() const override { return true; }  // no weights: each rank just acts
 
   Metrics update(VecEnv& envs, const TrainProgress& progress) override {
     const int n = envs.size();

@@ -25,13 +25,13 @@ void RolloutBuffer::resize(int n_steps, int n_envs, int obs_size, int action_dim
 void collect_rollout(VecEnv& vec, ActorCritic& policy, Rng& rng, RolloutBuffer& r) {
   const ObservationSpace& space = vec.spec().observation;
   const int E = r.envs;
-  Eigen::MatrixXf obs(policy.observation_size(), E);
+  Eigen::MatrixXf pixels_scratch;
   ActBatch act;
   std::vector<Action> actions(static_cast<std::size_t>(E));
   std::vector<int> truncated;
   r.final_values.setZero();
   for (int t = 0; t < r.steps; ++t) {
-    for (int e = 0; e < E; ++e) encode_observation(vec.observations()[static_cast<std::size_t>(e)], space, obs.col(e));
+    const Eigen::MatrixXf& obs = network_input(vec.observations(), pixels_scratch);
     policy.act(obs, false, rng, act);
     const int base = t * E;
     r.observations.middleCols(base, E) = obs;
@@ -60,8 +60,7 @@ void collect_rollout(VecEnv& vec, ActorCritic& policy, Rng& rng, RolloutBuffer& 
       for (std::size_t k = 0; k < truncated.size(); ++k) r.final_values[base + truncated[k]] = v[static_cast<Eigen::Index>(k)];
     }
   }
-  for (int e = 0; e < E; ++e) encode_observation(vec.observations()[static_cast<std::size_t>(e)], space, obs.col(e));
-  r.last_values = policy.predict_values(obs);
+  r.last_values = policy.predict_values(network_input(vec.observations(), pixels_scratch));
 }
 
 }  // namespace rdsim

@@ -76,6 +76,13 @@ protected:
   void policy(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, Eigen::MatrixXf& actions) override;
   Metrics train(int steps, const TrainProgress& progress) override;
   nn::ParamList acting_params() override { return actor_.params(); }
+  nn::ParamList other_params() override {
+    nn::ParamList list;
+    for (nn::Mlp* net : {&q_[0], &q_[1], &q_target_[0], &q_target_[1]})
+      for (const nn::Param& p : net->params()) list.push_back(p);
+    list.push_back(nn::param_of(log_alpha_, "log_alpha"));
+    return list;
+  }
   void save_training(std::ostream& out) const override;
   void load_training(std::istream& in, const std::string& source) override;
 
@@ -130,6 +137,7 @@ void Sac::gradient_step(double* sums) {
   if (cfg_.auto_entropy) {
     log_alpha_.zero_grad();
     log_alpha_.grad(0, 0) = -(pi.log_probs().array() + target_entropy_).mean();
+    average_gradients(alpha_optimizer_->params());
     alpha_optimizer_->step();
   }
 
@@ -155,6 +163,7 @@ void Sac::gradient_step(double* sums) {
     q_mean += value.cast<double>().mean() / 2.0;
     q.backward(d * inv_b, false);
   }
+  average_gradients(critic_optimizer_->params());
   critic_optimizer_->step();
 
   // 5. Actor: loss mean(alpha log pi(a|s) - min_i Q_i(s, a)), a = the actions of step 1, through
@@ -175,6 +184,7 @@ void Sac::gradient_step(double* sums) {
       ((raw_log_std.array() >= sac::log_std_min) && (raw_log_std.array() <= sac::log_std_max)).select(g.log_std, 0.0f);
   actor_.zero_grad();
   actor_.backward(d_out, false);
+  average_gradients(actor_optimizer_->params());
   actor_optimizer_->step();
   const double actor_loss =
       (alpha * pi.log_probs().array() - q0.transpose().array().min(q1.transpose().array())).cast<double>().mean();

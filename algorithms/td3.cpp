@@ -64,6 +64,13 @@ protected:
   }
   Metrics train(int steps, const TrainProgress& progress) override;
   nn::ParamList acting_params() override { return actor_.params(); }
+  nn::ParamList other_params() override {
+    nn::ParamList list = actor_target_.params();
+    for (int i = 0; i < critics_; ++i)
+      for (nn::Mlp* net : {&q_[i], &q_target_[i]})
+        for (const nn::Param& p : net->params()) list.push_back(p);
+    return list;
+  }
   void save_training(std::ostream& out) const override;
   void load_training(std::istream& in, const std::string& source) override;
 
@@ -141,6 +148,7 @@ void Td3::gradient_step(double* sums) {
     q_mean += value.cast<double>().mean() / critics_;
     q_[i].backward(2.0f * inv_b * d, false);
   }
+  average_gradients(critic_optimizer_->params());
   critic_optimizer_->step();
   ++updates_;
 
@@ -154,6 +162,7 @@ void Td3::gradient_step(double* sums) {
     const Eigen::MatrixXf d_out = (d_in.bottomRows(action_dim_).array() * (1.0f - a.array().square())).matrix();
     actor_.zero_grad();
     actor_.backward(d_out, false);
+    average_gradients(actor_optimizer_->params());
     actor_optimizer_->step();
     const auto tau = static_cast<float>(cfg_.tau);
     actor_target_.blend_values_from(actor_, tau);

@@ -61,6 +61,9 @@ public:
   }
 
   std::string name() const override { return "trpo"; }
+  // Not wired for MPI yet: the conjugate-gradient step and the line search would need the ranks'
+  // gradients, Fisher-vector products and surrogate values averaged, not only the critic's.
+  bool data_parallel() const override { return false; }
 
 protected:
   Metrics train(double remaining) override;

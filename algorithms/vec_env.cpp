@@ -1,5 +1,7 @@
 #include "rdsim/algorithms/vec_env.hpp"
 
+#include <algorithm>
+
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/env_state.hpp"
@@ -36,21 +38,63 @@ Observation read_observation(std::istream& in, const ObservationSpace& space, co
   return o;
 }
 
+std::vector<std::unique_ptr<Env>> checked(std::vector<std::unique_ptr<Env>> envs) {
+  if (envs.empty()) throw Error("VecEnv needs at least one env");
+  return envs;
+}
+
 }  // namespace
 
-VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window)
-    : envs_(std::move(envs)),
+VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window, int num_threads)
+    : envs_(checked(std::move(envs))),
+      pool_(std::clamp(num_threads, 1, static_cast<int>(envs_.size()))),
       tracker_(static_cast<int>(envs_.size()), stats_window),
       seed_(seed),
       start_(std::chrono::steady_clock::now()) {
-  if (envs_.empty()) throw Error("VecEnv needs at least one env");
-  for (int i = 0; i < size(); ++i) observations_.push_back(envs_[static_cast<std::size_t>(i)]->reset(env_seed(seed, i)));
+  batch_.resize(spec().observation, size());
   results_.resize(envs_.size());
   all_active_.assign(envs_.size(), true);
+  // The first reset on the owning worker too: a pixel env's renderer binds its context there.
+  for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
+}
+
+VecEnv::~VecEnv() {
+  for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)].reset(); });
+}
+
+template <class Fn>
+void VecEnv::for_each_env(Fn fn) {
+  const int n = size(), workers = pool_.size();
+  pool_.run([&](int w) {
+    // Worker w owns envs [w n / T, (w + 1) n / T): the same ones every step.
+    const int end = (w + 1) * n / workers;
+    for (int i = w * n / workers; i < end; ++i) fn(i);
+  });
+}
+
+Observation VecEnv::observation(int i) const {
+  Observation o;
+  batch_.copy_to(i, o);
+  return o;
 }
 
 double VecEnv::wall_time() const {
   return wall_offset_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+// On env i's worker: touches only env i, its column and its result.
+void VecEnv::step_env(int i, const Action& action) {
+  Env& env = *envs_[static_cast<std::size_t>(i)];
+  EnvStep& s = results_[static_cast<std::size_t>(i)];
+  const StepOutcome o = env.step_into(action, batch_.column(i));
+  s.reward = o.reward;
+  s.terminated = o.terminated;
+  s.truncated = o.truncated;
+  s.info = o.info;
+  if (s.done()) {
+    batch_.copy_to(i, s.final_observation);
+    env.reset_into(batch_.column(i));
+  }
 }
 
 const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions) {
@@ -61,25 +105,19 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   if (actions.size() != envs_.size() || active.size() != envs_.size())
     throw Error("VecEnv::step: one action and one active flag per env expected");
   for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
-  const double now = wall_time();
-  for (std::size_t i = 0; i < envs_.size(); ++i) {
-    EnvStep& s = results_[i];
-    if (!active[i]) {
-      s = EnvStep{};
-      continue;
-    }
-    StepResult r = envs_[i]->step(actions[i]);
-    s.reward = r.reward;
-    s.terminated = r.terminated;
-    s.truncated = r.truncated;
-    s.info = r.info;
-    tracker_.on_step(static_cast<int>(i), r.reward, r.info, s.done(), timesteps_, now);
-    if (s.done()) {
-      s.final_observation = std::move(r.observation);
-      observations_[i] = envs_[i]->reset();
-    } else {
-      observations_[i] = std::move(r.observation);
-    }
+  // The workers only read `active` and write their own envs' results.
+  for_each_env([&](int i) {
+    if (active[static_cast<std::size_t>(i)])
+      step_env(i, actions[static_cast<std::size_t>(i)]);
+    else
+      results_[static_cast<std::size_t>(i)] = EnvStep{};
+  });
+  double now = -1.0;  // read the clock only when an episode ended (it costs as much as a cartpole step)
+  for (int i = 0; i < size(); ++i) {
+    if (!active[static_cast<std::size_t>(i)]) continue;
+    const EnvStep& s = results_[static_cast<std::size_t>(i)];
+    if (s.done() && now < 0.0) now = wall_time();
+    tracker_.on_step(i, s.reward, s.info, s.done(), timesteps_, now);
   }
   return results_;
 }
@@ -91,17 +129,21 @@ void VecEnv::save(std::ostream& out) const {
   for (const auto& e : envs_) stateful = stateful && dynamic_cast<const EnvState*>(e.get()) != nullptr;
   write_u32(out, stateful ? 1 : 0);
   if (stateful) {
+    Observation o;
     for (std::size_t i = 0; i < envs_.size(); ++i) {
       write_string(out, dynamic_cast<const EnvState*>(envs_[i].get())->save_state());
-      write_observation(out, observations_[i]);
+      batch_.copy_to(static_cast<int>(i), o);
+      write_observation(out, o);
     }
   }
   tracker_.save(out);
 }
 
 void VecEnv::drop_caches() {
-  for (auto& e : envs_)
-    if (auto* state = dynamic_cast<EnvState*>(e.get())) state->drop_caches();
+  // On each env's own worker, like every other call into an env.
+  for_each_env([&](int i) {
+    if (auto* state = dynamic_cast<EnvState*>(envs_[static_cast<std::size_t>(i)].get())) state->drop_caches();
+  });
 }
 
 bool VecEnv::load(std::istream& in, const std::string& source) {
@@ -122,16 +164,14 @@ bool VecEnv::load(std::istream& in, const std::string& source) {
       auto* state = dynamic_cast<EnvState*>(envs_[i].get());
       if (!state) throw Error(source + ": checkpoint holds env states this env cannot load");
       state->load_state(read_string(in, source), source);
-      observations_[i] = read_observation(in, spec().observation, source);
+      batch_.assign(static_cast<int>(i), read_observation(in, spec().observation, source));
     }
   }
   tracker_.load(in, source);
   if (!stateful) {
     // Fresh episodes from seeds that differ from the run's first ones.
-    for (int i = 0; i < size(); ++i) {
-      observations_[static_cast<std::size_t>(i)] =
-          envs_[static_cast<std::size_t>(i)]->reset(env_seed(seed_ ^ static_cast<std::uint64_t>(timesteps_), i));
-    }
+    const std::uint64_t seed = seed_ ^ static_cast<std::uint64_t>(timesteps_);
+    for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
     tracker_.forget_running();
   }
   return stateful;

@@ -45,15 +45,19 @@ CartPole::CartPole(const EnvConfig& config) {
   spec_.control_dt = tau;
 }
 
-Observation CartPole::observe() const {
-  Observation obs;
-  obs.values.resize(4);
-  obs.values << static_cast<float>(x_), static_cast<float>(x_dot_), static_cast<float>(theta_),
-      static_cast<float>(theta_dot_);
-  return obs;
+void CartPole::observe(float* out) const {
+  out[0] = static_cast<float>(x_);
+  out[1] = static_cast<float>(x_dot_);
+  out[2] = static_cast<float>(theta_);
+  out[3] = static_cast<float>(theta_dot_);
 }
 
-Observation CartPole::reset(std::optional<std::uint64_t> seed) {
+// The plain interface through the "into" one: one implementation of the dynamics.
+Observation CartPole::reset(std::optional<std::uint64_t> seed) { return reset_through_into(*this, seed); }
+
+StepResult CartPole::step(const Action& action) { return step_through_into(*this, action); }
+
+void CartPole::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
   x_ = rng_.uniform(-0.05, 0.05);
   x_dot_ = rng_.uniform(-0.05, 0.05);
@@ -61,17 +65,17 @@ Observation CartPole::reset(std::optional<std::uint64_t> seed) {
   theta_dot_ = rng_.uniform(-0.05, 0.05);
   steps_ = 0;
   done_ = false;
-  return observe();
+  observe(out.values);
 }
 
-StepResult CartPole::step(const Action& action) {
+StepOutcome CartPole::step_into(const Action& action, ObservationOut out) {
   if (action.index != 0 && action.index != 1) {
     throw Error("cartpole: action must be 0 (push left) or 1 (push right), got " + std::to_string(action.index));
   }
-  StepResult r;
+  StepOutcome r;
   if (done_) {
     // Stepping a finished episode (Gym warns): nothing moves, no reward.
-    r.observation = observe();
+    observe(out.values);
     r.terminated = true;
     return r;
   }
@@ -90,7 +94,7 @@ StepResult CartPole::step(const Action& action) {
   theta_dot_ += tau * theta_acc;
   ++steps_;
 
-  r.observation = observe();
+  observe(out.values);
   r.reward = 1.0f;
   r.terminated = x_ < -x_threshold || x_ > x_threshold || theta_ < -theta_threshold || theta_ > theta_threshold;
   r.truncated = steps_ >= spec_.max_episode_steps;

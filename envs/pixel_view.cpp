@@ -29,10 +29,14 @@ PixelView::PixelView(const ReachTask& task, const EnvConfig& config, const Orbit
 }
 
 void PixelView::render(const ReachTask& task, std::vector<std::uint8_t>& pixels) {
-  update_poses(scene_, task.world());
   pixels.resize(static_cast<size_t>(space_.size()));
+  render(task, pixels.data());
+}
+
+void PixelView::render(const ReachTask& task, std::uint8_t* pixels) {
+  update_poses(scene_, task.world());
   if (views() == 1) {
-    renderer_->render(scene_.scene, cameras_[0], pixels.data());
+    renderer_->render(scene_.scene, cameras_[0], pixels);
     return;
   }
   // Two cameras: pixel p holds RGB of view 0 then RGB of view 1 (HWC with 6 channels).
@@ -40,7 +44,7 @@ void PixelView::render(const ReachTask& task, std::vector<std::uint8_t>& pixels)
   frame_.resize(3 * count);
   for (int v = 0; v < views(); ++v) {
     renderer_->render(scene_.scene, cameras_[static_cast<size_t>(v)], frame_.data());
-    std::uint8_t* out = pixels.data() + 3 * v;
+    std::uint8_t* out = pixels + 3 * v;
     for (size_t p = 0; p < count; ++p) {
       out[6 * p] = frame_[3 * p];
       out[6 * p + 1] = frame_[3 * p + 1];

@@ -152,37 +152,40 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
 
 ReachEnv::~ReachEnv() = default;
 
-Observation ReachEnv::observe() const {
-  Observation o;
+void ReachEnv::observe(ObservationOut out) const {
   if (pixels_) {
-    pixels_->render(*task_, o.pixels);
-    return o;
+    pixels_->render(*task_, out.pixels);
+    return;
   }
+  Eigen::Map<Eigen::VectorXf> o(out.values, spec_.observation.size());
   const Eigen::Vector3f& ee = task_->ee_position();
-  o.values.resize(spec_.observation.size());
   if (layout_ == ObservationLayout::Relative) {
-    o.values.head<3>() = ee - task_->target();
+    o.head<3>() = ee - task_->target();
     for (size_t k = 0; k < landmark_points_.size(); ++k)
-      o.values.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
-    return o;
+      o.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
+    return;
   }
-  o.values.head<3>() = task_->target() - ee;
+  o.head<3>() = task_->target() - ee;
   for (size_t k = 0; k < landmark_points_.size(); ++k)
-    o.values.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
+    o.segment<3>(3 * static_cast<Eigen::Index>(k + 1)) = ee - landmark_points_[k];
   Eigen::Index at = 3 * static_cast<Eigen::Index>(landmark_points_.size() + 1);
-  o.values.segment<3>(at) = ee;
+  o.segment<3>(at) = ee;
   at += 3;
   for (int link : observed_links_) {
     const Eigen::Vector3f p = task_->robot().link_pose(link).translation();
     for (const Eigen::Vector3f& landmark : landmark_points_) {
-      o.values.segment<3>(at) = p - landmark;
+      o.segment<3>(at) = p - landmark;
       at += 3;
     }
   }
-  return o;
 }
 
-Observation ReachEnv::reset(std::optional<std::uint64_t> seed) {
+// The plain interface through the "into" one: one implementation of the episode rules.
+Observation ReachEnv::reset(std::optional<std::uint64_t> seed) { return reset_through_into(*this, seed); }
+
+StepResult ReachEnv::step(const Action& action) { return step_through_into(*this, action); }
+
+void ReachEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
   if (terms_.walking_body >= 0) {
     walk_offset_.setZero();
@@ -196,7 +199,7 @@ Observation ReachEnv::reset(std::optional<std::uint64_t> seed) {
   }
   steps_ = 0;
   done_ = false;
-  return observe();
+  observe(out);
 }
 
 void ReachEnv::select_target(int index) {
@@ -208,11 +211,11 @@ void ReachEnv::select_target(int index) {
 }
 
 template <class SetTargets>
-StepResult ReachEnv::control_step(SetTargets&& set_targets) {
-  StepResult r;
+StepOutcome ReachEnv::control_step(ObservationOut out, SetTargets&& set_targets) {
+  StepOutcome r;
   if (done_) {
     // Stepping a finished episode: nothing moves, no reward.
-    r.observation = observe();
+    observe(out);
     r.terminated = true;
     return r;
   }
@@ -220,7 +223,7 @@ StepResult ReachEnv::control_step(SetTargets&& set_targets) {
   set_targets();
   task_->step_physics();
   ++steps_;
-  r.observation = observe();
+  observe(out);
   judge(r);
   done_ = r.terminated || r.truncated;
   return r;
@@ -244,14 +247,26 @@ void ReachEnv::place_walking_body() {
     if (terms_.landmarks[k] == index) landmark_points_[k] = pose.translation();
 }
 
-StepResult ReachEnv::step(const Action& action) {
+StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {
   const Eigen::Vector3f move = task_->move_for(action);  // a bad action is an error even after the end
-  return control_step([&] { task_->apply_move(move, rng_); });
+  return control_step(out, [&] { task_->apply_move(move, rng_); });
+}
+
+template <class SetTargets>
+StepResult ReachEnv::control_step_result(SetTargets&& set_targets) {
+  StepResult r;
+  r.observation = make_observation(spec_.observation);
+  const StepOutcome o = control_step(observation_out(r.observation), std::forward<SetTargets>(set_targets));
+  r.reward = o.reward;
+  r.terminated = o.terminated;
+  r.truncated = o.truncated;
+  r.info = o.info;
+  return r;
 }
 
 StepResult ReachEnv::move_effector(const Eigen::Vector3f& position) {
   if (!position.allFinite()) throw Error(spec_.env_name + ": effector position must be finite numbers (m)");
-  return control_step([&] { task_->apply_effector_target(position); });
+  return control_step_result([&] { task_->apply_effector_target(position); });
 }
 
 StepResult ReachEnv::set_joint_targets(const Eigen::VectorXf& targets) {
@@ -260,7 +275,7 @@ StepResult ReachEnv::set_joint_targets(const Eigen::VectorXf& targets) {
     throw Error(spec_.env_name + ": expected " + std::to_string(robot.dof()) + " joint targets (one per joint), got " +
                 std::to_string(targets.size()));
   if (!targets.allFinite()) throw Error(spec_.env_name + ": joint targets must be finite numbers");
-  return control_step([&] { robot.set_position_targets(targets); });
+  return control_step_result([&] { robot.set_position_targets(targets); });
 }
 
 RobotSnapshot ReachEnv::robot_state() {
@@ -283,7 +298,7 @@ void ReachEnv::camera_image(int camera, int width, int height, Image& out) {
 }
 
 // Reward, info and episode end of the step just taken (the rules in the header).
-void ReachEnv::judge(StepResult& r) const {
+void ReachEnv::judge(StepOutcome& r) const {
   const ReachTaskSpec& s = task_->spec();
   const float d = task_->distance();
   r.info.distance = d;

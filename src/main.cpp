@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <memory>
 #include <new>
 #include <nlohmann/json.hpp>
 
@@ -16,9 +17,11 @@
 #include "rdsim/app/bench_remote.hpp"
 #include "rdsim/app/config_reference.hpp"
 #include "rdsim/app/dashboard.hpp"
+#include "rdsim/app/data_parallel.hpp"
 #include "rdsim/app/envs.hpp"
 #include "rdsim/app/keygen.hpp"
 #include "rdsim/app/plot.hpp"
+#include "rdsim/app/process_communicator.hpp"
 #include "rdsim/app/render.hpp"
 #include "rdsim/app/replay.hpp"
 #include "rdsim/app/serve.hpp"
@@ -44,7 +47,7 @@ struct SeedOption {
 };
 
 void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::string& timesteps, std::string& log_dir,
-               double& max_memory) {
+               double& max_memory, int& threads) {
   auto* cmd = app.add_subcommand("train", "Train a policy from a JSON config; writes progress.csv, "
                                           "episodes.csv, config.json, model.bin and checkpoint.bin to the run folder");
   auto* config = cmd->add_option("-c,--config", o.config_path, "JSON config file (see configs/)");
@@ -59,7 +62,11 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::st
   cmd->add_option("--max-memory", max_memory,
                   "Memory limit in GB for the run's estimated needs (default: 80% of the machine's memory)")
       ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
+  cmd->add_option("--threads", threads, "Override the config's num_threads (threads stepping the envs; "
+                                        "results do not depend on it)")->check(CLI::Range(1, 4096));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
+  cmd->footer("Data-parallel on several processes or machines: mpirun -np K rdsim train --config FILE "
+              "(each rank its own envs; total_timesteps counts all ranks; rank 0 writes the run folder).");
   cmd->add_option("--dashboard", o.dashboard,
                   "Serve the live dashboard of this run at HOST:PORT while training (e.g. 127.0.0.1:8097)");
 }
@@ -116,7 +123,8 @@ void add_replay(CLI::App& app, rdsim::ReplayOptions& o, SeedOption& seed, double
 
 void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
   auto* cmd = app.add_subcommand("bench-fps", "Measure env steps per second (random actions, resets "
-                                              "included; median of several runs), one thread");
+                                              "included; median of several runs): one env on one thread, "
+                                              "or a VecEnv on several (--threads, --scaling)");
   cmd->add_option("--env", o.envs, "Env to measure (repeatable; default: all)");
   cmd->add_option("--mode", o.modes, "Observation mode: ground_truth or raw_pixels (repeatable)")
       ->check(CLI::IsMember({"ground_truth", "raw_pixels"}));
@@ -125,6 +133,12 @@ void add_bench(CLI::App& app, rdsim::BenchFpsOptions& o) {
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--steps", o.steps, "Env steps per run")->check(CLI::Range(1LL, 1'000'000'000LL))->capture_default_str();
+  cmd->add_option("--threads", o.threads,
+                  "Threaded mode: a VecEnv of --num-envs envs on 1 and N threads; steps/s, speed-up, pool overhead")
+      ->check(CLI::Range(1, 4096));
+  cmd->add_flag("--scaling", o.scaling, "Threaded mode on 1, 2, 4, ... threads up to every core");
+  cmd->add_option("--num-envs", o.num_envs, "Threaded mode: envs in the VecEnv (default: 4 per thread of the largest count)")
+      ->check(CLI::Range(1, 4096));
   cmd->add_flag("--paper", o.paper,
                 "Like-for-like Table 3: each robot env's paper preset (configs/paper/, the original's per-step "
                 "work) next to its defaults, ground truth and 224x224 pixels");
@@ -284,7 +298,8 @@ int main(int argc, char** argv) {
   std::string train_seed, timesteps, log_dir;
   SeedOption replay_seed, render_seed;
   double train_memory = 0.0, replay_memory = 0.0;
-  add_train(app, train, train_seed, timesteps, log_dir, train_memory);
+  int train_threads = 0;
+  add_train(app, train, train_seed, timesteps, log_dir, train_memory, train_threads);
   add_replay(app, replay, replay_seed, replay_memory);
   add_bench(app, bench);
   add_render(app, render, render_seed);
@@ -308,6 +323,13 @@ int main(int argc, char** argv) {
   rdsim::PlotOptions plot;
   add_plot(app, plot);
 
+  // The MPI job this process is a rank of (train only); after an error on one rank the others
+  // are stopped instead of waiting for it in a collective.
+  std::unique_ptr<rdsim::Communicator> comm;
+  auto stop = [&](int code) {
+    if (comm && comm->size() > 1) comm->abort(code);
+    return code;
+  };
   try {
     check_command(app, argc, argv);
     try {
@@ -326,6 +348,9 @@ int main(int argc, char** argv) {
       if (sub->count("--timesteps")) train.overrides.push_back({"--timesteps", "total_timesteps", timesteps});
       if (sub->count("--log-dir")) train.overrides.push_back({"--log-dir", "log_dir", log_dir});
       if (sub->count("--max-memory")) train.max_memory_gb = train_memory;
+      if (sub->count("--threads")) train.threads = train_threads;
+      comm = rdsim::make_process_communicator();
+      train.communicator = comm.get();
       return rdsim::train_command(train);
     }
     if (name == "replay") {
@@ -353,14 +378,17 @@ int main(int argc, char** argv) {
     if (name == "keygen") return rdsim::keygen_command(keygen);
     if (name == "bench-remote") return rdsim::bench_remote_command(bench_remote);
     if (name == "teleop") return rdsim::teleop_command(teleop);
+  } catch (const rdsim::RankExit& e) {  // rank 0 reports this error
+    return stop(e.code);
   } catch (const rdsim::Error& e) {
-    return fail(e.what());
+    if (comm && comm->rank() > 0) return stop(fail("(MPI rank " + std::to_string(comm->rank()) + ") " + e.what()));
+    return stop(fail(e.what()));
   } catch (const std::bad_alloc&) {
-    return fail("out of memory: the machine (or ulimit -v) could not provide what this command needs; "
-                "use smaller sizes or lower --max-memory so the run is refused up front");
+    return stop(fail("out of memory: the machine (or ulimit -v) could not provide what this command needs; "
+                     "use smaller sizes or lower --max-memory so the run is refused up front"));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "rdsim: internal error: %s\n", rdsim::one_line(e.what(), 2000).c_str());
-    return 70;
+    return stop(70);
   }
   return 0;
 }

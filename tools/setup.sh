@@ -20,5 +20,9 @@ fi
 
 build_type=${RDSIM_BUILD_TYPE:-Release}
 build_dir=${RDSIM_BUILD_DIR:-build}
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="$build_type" ${RDSIM_CMAKE_ARGS:-} >/dev/null
+# Built for this machine's CPU (-march=native) unless RDSIM_PORTABLE=1 asks for binaries that run
+# on any CPU of the architecture (e.g. a cluster of mixed machines).
+native=ON
+[ "${RDSIM_PORTABLE:-0}" = "1" ] && native=OFF
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="$build_type" -DRDSIM_NATIVE=$native ${RDSIM_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build_dir" -j "$(nproc)"

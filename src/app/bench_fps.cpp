@@ -12,11 +12,13 @@
 #include "rdsim/core/rng.hpp"
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "bench_util.hpp"
 
 namespace rdsim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::seconds_since;
 
 struct BenchRow {
   std::string env;
@@ -41,10 +43,6 @@ std::optional<double> paper_rate(const std::string& env, const std::string& mode
   if (env.rfind("jaka", 0) == 0) return pixels ? 22.0 : 506.0;
   if (env.rfind("inmoov", 0) == 0) return pixels ? 8.0 : 76.0;
   return std::nullopt;
-}
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
 std::optional<double> physics_run(Env& env, long long steps, std::uint64_t seed) {
@@ -92,14 +90,6 @@ std::optional<BenchRow> bench_row(const EnvConfig& config, const std::string& pr
   row.steps_per_s = median(row.runs);
   if (!physics.empty()) row.physics_per_s = median(physics);
   return row;
-}
-
-// The env's defaults in `mode` (raw_pixels: image_size x image_size).
-EnvConfig default_bench_config(const std::string& env, const std::string& mode, int image_size) {
-  EnvConfig config = default_env_config(env);
-  config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
-  if (image_size > 0) config.image_width = config.image_height = image_size;
-  return config;
 }
 
 // The "env" object of configs/paper/<env>[_pixels].json, read by the rules of a training config.
@@ -192,22 +182,57 @@ std::vector<BenchRow> measure(const BenchFpsOptions& o) {
         const EnvConfig preset = paper_preset(entry.name, mode);
         const int size = mode == "raw_pixels" ? preset.image_width : 0;
         if (auto row = bench_row(preset, "paper", o)) rows.push_back(std::move(*row));
-        if (auto row = bench_row(default_bench_config(entry.name, mode, size), "default", o)) rows.push_back(std::move(*row));
+        if (auto row = bench_row(bench::row_config(entry.name, mode, size), "default", o)) rows.push_back(std::move(*row));
         continue;
       }
       // Ground truth has no image: one row with size 0.
       const std::vector<int> sizes = mode == "raw_pixels" ? pixel_sizes(o) : std::vector<int>{0};
       for (int size : sizes)
-        if (auto row = bench_row(default_bench_config(entry.name, mode, size), "default", o)) rows.push_back(std::move(*row));
+        if (auto row = bench_row(bench::row_config(entry.name, mode, size), "default", o)) rows.push_back(std::move(*row));
     }
   }
   return rows;
 }
 
+// `--threads N` / `--scaling`: the env x mode (x image size) cases, measured on a VecEnv.
+int threads_command(const BenchFpsOptions& o) {
+  if (o.paper) throw Error("bench-fps: --paper does not combine with --threads/--scaling");
+  std::vector<bench::Case> cases;
+  for (const auto& entry : env_registry()) {
+    if (!wanted(o.envs, entry.name)) continue;
+    for (std::string mode : {"ground_truth", "raw_pixels"}) {
+      if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.supports_pixels)) continue;
+      // Ground truth has no image: one row with size 0.
+      const std::vector<int> sizes = mode == "raw_pixels" ? pixel_sizes(o) : std::vector<int>{0};
+      for (int size : sizes) cases.push_back({&entry, mode, size});
+    }
+  }
+  if (cases.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
+  return bench::threads_command(cases, o);
+}
+
 }  // namespace
+
+namespace bench {
+
+EnvConfig row_config(const std::string& env, const std::string& mode, int image_size) {
+  EnvConfig config = default_env_config(env);
+  config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
+  if (image_size > 0) config.image_width = config.image_height = image_size;
+  return config;
+}
+
+void announce(const Case& c) {
+  std::fprintf(stderr, "bench-fps: %s / %s", c.entry->name.c_str(), c.mode.c_str());
+  if (c.image_size > 0) std::fprintf(stderr, " %dx%d", c.image_size, c.image_size);
+  std::fprintf(stderr, " ...\n");
+}
+
+}  // namespace bench
 
 int bench_fps_command(const BenchFpsOptions& o) {
   for (const auto& name : o.envs) (void)env_entry(name);  // the "unknown environment" error with the known names
+  if (o.threads > 0 || o.scaling) return threads_command(o);
   const std::vector<BenchRow> rows = measure(o);
   if (rows.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
   print_table(table_stream(o.json_path), rows, o);

@@ -20,7 +20,8 @@ std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const T
   return std::move(out).str();
 }
 
-TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source) {
+TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source,
+                                bool report) {
   std::istringstream in(payload, std::ios::binary);
   algo.load(in, true, source);
   const std::uint64_t progress_rows = read_u64(in, source);
@@ -33,7 +34,7 @@ TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, Vec
   s.progress_rows = static_cast<long long>(progress_rows);
   s.episode_rows = static_cast<long long>(episode_rows);
   s.updates = static_cast<long long>(updates);
-  if (!vec.load(in, source)) {
+  if (!vec.load(in, source) && report) {
     std::fprintf(stderr, "rdsim: note: these envs cannot save their state; the resumed run starts fresh "
                          "episodes and will not match an uninterrupted run exactly\n");
   }

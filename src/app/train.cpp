@@ -1,16 +1,20 @@
 // `rdsim train`: the one training loop for every algorithm (see include/rdsim/algorithms/algorithm.hpp).
 #include "rdsim/app/train.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <unistd.h>
+#include <vector>
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/checkpoint.hpp"
+#include "rdsim/app/data_parallel.hpp"
 #include "rdsim/app/dashboard.hpp"
 #include "rdsim/app/env_source.hpp"
 #include "rdsim/app/interrupt.hpp"
@@ -47,7 +51,7 @@ void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const
   if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
   Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);
   const std::vector<Metrics> rows = algo.learn_from_demonstrations(demos, dc, rng, !resume);
-  if (rows.empty()) return;
+  if (rows.empty() || dir.empty()) return;  // dir: empty on MPI ranks other than 0
   std::vector<std::string> columns;
   for (const auto& [name, value] : rows.front()) columns.push_back(name);
   CsvWriter log((dir / pretrain_csv_name).string(), columns);
@@ -70,23 +74,40 @@ std::vector<std::string> episode_row(const EpisodeRecord& e) {
           CsvWriter::cell(e.out_of_bounds), CsvWriter::cell(e.wall_time)};
 }
 
-// The run's config and folder: a new run reads its config file (with the command line's
+// The run's config and folder. A new run reads its config file (with the command line's
 // overrides) and takes a folder that holds no other run; a resumed one takes its folder first,
 // then reads the config its checkpoint embeds. Either way the memory the config implies is
-// checked before anything large exists.
+// checked before anything large exists. Under MPI rank 0 alone reads the files and holds the
+// folder (and its lock); the other ranks get the config and the checkpoint from it.
 struct RunStart {
   TrainConfig config;
-  std::unique_ptr<RunFolder> folder;
-  ModelFile checkpoint;  // resume only
+  std::unique_ptr<RunFolder> folder;  // rank 0
+  ModelFile checkpoint;               // resume only
+  std::string checkpoint_path;        // resume only
 };
 
-RunStart start_run(const TrainOptions& o) {
+RunStart start_run(const TrainOptions& o, Communicator& comm) {
   RunStart run;
+  const bool root = comm.rank() == 0;
   const MemoryLimit limit = memory_limit(o.max_memory_gb);
   if (o.resume_dir.empty()) {
-    run.config = read_train_config(o.config_path, o.overrides);
-    check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, run.config.source);
-    run.folder = std::make_unique<RunFolder>(run.config.log_dir, o.overwrite ? RunFolder::Mode::Overwrite : RunFolder::Mode::New);
+    std::string text;
+    if (root) {
+      run.config = read_train_config(o.config_path, o.overrides);
+      if (o.threads) run.config.num_threads = *o.threads;
+      check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, run.config.source);
+      run.folder = std::make_unique<RunFolder>(run.config.log_dir, o.overwrite ? RunFolder::Mode::Overwrite : RunFolder::Mode::New);
+      text = to_json(run.config).dump();
+    }
+    if (comm.size() > 1) {
+      comm.broadcast(text, 0);
+      if (!root) {
+        const std::string name = std::filesystem::path(o.config_path).stem().string();
+        run.config = parse_train_config(nlohmann::json::parse(text), o.config_path + " (from rank 0)", name);
+        if (o.threads) run.config.num_threads = *o.threads;
+        check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, o.config_path);
+      }
+    }
     return run;
   }
   for (const ConfigOverride& v : o.overrides) {
@@ -94,131 +115,206 @@ RunStart start_run(const TrainOptions& o) {
     if (v.key == "log_dir") throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
   }
   if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
-  run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
-  const std::string path = run.folder->file(checkpoint_file_name);
-  run.checkpoint = read_model_file(path);
+  run.checkpoint_path = (std::filesystem::path(o.resume_dir) / checkpoint_file_name).string();
+  if (root) {
+    run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
+    run.checkpoint = read_model_file(run.checkpoint_path);
+  }
+  if (comm.size() > 1) {  // every rank needs the whole file: it holds every rank's state
+    std::string bytes = root ? encode_model_file(run.checkpoint) : std::string();
+    comm.broadcast(bytes, 0);
+    if (!root) run.checkpoint = decode_model_file(bytes, run.checkpoint_path);
+  }
+  const std::string& path = run.checkpoint_path;
   if (run.checkpoint.kind != ModelKind::Checkpoint) throw Error(path + ": is a model, not a checkpoint");
   nlohmann::json embedded = run.checkpoint.config;
   apply_overrides(embedded, o.overrides, path + " (embedded config)");
   run.config = parse_train_config(embedded, path + " (embedded config)", "resumed");
   run.config.log_dir = o.resume_dir;
+  if (o.threads) run.config.num_threads = *o.threads;
   check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, path);
   return run;
+}
+
+// What the ranks agree on after each update, so that they leave the loop and save together:
+// the largest interrupt signal any rank received (0: none) and whether rank 0's checkpoint
+// schedule (which reads its own clock) says a save is due. One process: its own values.
+struct LoopDecision {
+  int signal = 0;
+  bool save_due = false;
+};
+
+LoopDecision agree(Communicator& comm, int signal, bool save_due) {
+  if (comm.size() == 1) return {signal, save_due};
+  const std::uint64_t mine[2] = {static_cast<std::uint64_t>(signal), save_due ? 1u : 0u};
+  std::vector<std::uint64_t> all(2 * static_cast<std::size_t>(comm.size()));
+  comm.allgather(mine, 2, all.data());
+  LoopDecision d;
+  d.save_due = all[1] != 0;  // rank 0's schedule
+  for (int r = 0; r < comm.size(); ++r) d.signal = std::max(d.signal, static_cast<int>(all[2 * static_cast<std::size_t>(r)]));
+  return d;
 }
 
 }  // namespace
 
 int train_command(const TrainOptions& o) {
   InterruptGuard interrupts;  // before anything slow: a Ctrl-C during setup still saves or quits cleanly
-  RunStart run = start_run(o);
+  Communicator& comm = o.communicator ? *o.communicator : single_process_communicator();
+  const bool root = comm.rank() == 0;  // rank 0 holds and writes the run folder
+  const int ranks = comm.size();
+  RunStart run = start_run(o, comm);
   TrainConfig& config = run.config;  // open_envs records a remote env's resolved values in it
-  const RunFolder& folder = *run.folder;
   const bool resume = !o.resume_dir.empty();
-  const std::string checkpoint_path = folder.file(checkpoint_file_name);
+  const std::string& checkpoint_path = run.checkpoint_path;
+  auto file = [&](const std::string& name) { return run.folder->file(name); };  // rank 0
 
-  VecEnv vec(open_envs(config), config.seed, config.stats_window);
-  auto algo = make_algorithm(config.algorithm, config.seed, vec.spec());
+  const std::uint64_t seed = rank_seed(config.seed, comm.rank());
+  VecEnv vec(open_envs(config), seed, config.stats_window, resolve_num_threads(config, comm.local_size()));
+  auto algo = make_algorithm(config.algorithm, seed, vec.spec());
+  algo->set_communicator(comm);
+  check_data_parallel(comm, *algo);
+  RunEpisodes run_episodes(comm, config.stats_window);
   TrainerState state;
   if (resume) {
     check_model_spec(run.checkpoint, vec.spec(), checkpoint_path);
-    state = restore_checkpoint(run.checkpoint.payload, *algo, vec, checkpoint_path);
+    state = restore_checkpoint(checkpoint_part(comm, run.checkpoint.payload, run_episodes, checkpoint_path), *algo, vec,
+                               checkpoint_path, root);
     run.checkpoint.payload.clear();
-    check_log_rows(folder.file(progress_csv_name), state.progress_rows, checkpoint_path);
-    check_log_rows(folder.file(episodes_csv_name), state.episode_rows, checkpoint_path);
+    if (root) {
+      check_log_rows(file(progress_csv_name), state.progress_rows, checkpoint_path);
+      check_log_rows(file(episodes_csv_name), state.episode_rows, checkpoint_path);
+    }
   }
-  if (config.algorithm.demonstrations) learn_from_demonstrations(config, *algo, vec.spec(), resume, folder.path(), o.quiet);
+  // Under MPI every rank learns from the demonstrations (the same draws: the stream is the run's,
+  // not the rank's) and rank 0 writes pretrain.csv.
+  if (config.algorithm.demonstrations)
+    learn_from_demonstrations(config, *algo, vec.spec(), resume, root ? run.folder->path() : std::filesystem::path(),
+                              o.quiet || !root);
+  if (!resume) share_weights(comm, *algo);
 
   const nlohmann::json resolved = to_json(config);
-  write_file_atomic(folder.file(run_config_name), resolved.dump(2) + "\n");
-  const auto dashboard = start_run_dashboard(o.dashboard, folder.path().string(), o.quiet);  // reads the run's files only
-  CsvWriter episodes(folder.file(episodes_csv_name), episode_columns, resume ? state.episode_rows : -1);
-  std::unique_ptr<CsvWriter> progress;  // its columns are known after the first update
+  std::unique_ptr<DashboardServer> dashboard;  // rank 0, with --dashboard
+  std::unique_ptr<CsvWriter> episodes, progress;  // rank 0; progress's columns are known after the first update
+  if (root) {
+    write_file_atomic(file(run_config_name), resolved.dump(2) + "\n");
+    // reads the run's files only
+    dashboard = start_run_dashboard(o.dashboard, run.folder->path().string(), o.quiet);
+    episodes = std::make_unique<CsvWriter>(file(episodes_csv_name), episode_columns, resume ? state.episode_rows : -1);
+  }
 
-  auto save_file = [&](const std::string& file, ModelKind kind) {
+  // Collective under MPI: every rank calls it, rank 0 writes the file.
+  auto save_file = [&](const std::string& name, ModelKind kind) {
     ModelFile f;
     f.kind = kind;
     f.config = resolved;
     f.spec = describe_spec(vec.spec());
     if (kind == ModelKind::Model) {
+      if (!root) return;
       std::ostringstream out;
       algo->save(out, false);
       f.payload = out.str();
     } else {
-      state.progress_rows = progress ? progress->rows() : state.progress_rows;
-      state.episode_rows = episodes.rows();
-      f.payload = checkpoint_payload(*algo, vec, state);
+      if (root) {
+        state.progress_rows = progress ? progress->rows() : state.progress_rows;
+        state.episode_rows = episodes->rows();
+      }
+      f.payload = gather_checkpoint(comm, checkpoint_payload(*algo, vec, state), run_episodes);
+      if (!root) return;
     }
-    write_model_file(folder.file(file), f);
+    write_model_file(file(name), f);
   };
-  CheckpointSchedule schedule(config.checkpoint_interval, config.checkpoint_seconds, vec.timesteps());
+  // total_timesteps counts the steps of all ranks; the ranks step in lockstep, each its share.
+  const long long total = config.total_timesteps;
+  const long long rank_total = (total + ranks - 1) / ranks;
+  auto run_timesteps = [&] { return vec.timesteps() * ranks; };
+  CheckpointSchedule schedule(config.checkpoint_interval, config.checkpoint_seconds, run_timesteps());
   // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
   auto save = [&] {
     schedule.start();
     save_file(checkpoint_file_name, ModelKind::Checkpoint);
     save_file(model_file_name, ModelKind::Model);
-    schedule.done(vec.timesteps());
+    schedule.done(run_timesteps());
   };
   if (!resume) save();  // from the start, `--resume` always finds something to continue
 
-  const long long total = config.total_timesteps;
-  ProgressDisplay display(o.quiet);
-  const long long start_steps = vec.timesteps();
+  ProgressDisplay display(o.quiet || !root);
+  const long long start_steps = run_timesteps();
   const double start_wall = vec.wall_time();
   long long last_steps = start_steps;
   double last_wall = start_wall;
   double overall_sps = 0.0;
+  long long last_allreduce_bytes = comm.allreduce_traffic().bytes;
 
-  while (vec.timesteps() < total && !interrupts.requested()) {
+  LoopDecision decision = agree(comm, interrupts.requested(), false);
+  while (vec.timesteps() < rank_total && !decision.signal) {
     vec.drop_caches();  // every update starts from what a checkpoint restores (core/env_state.hpp)
-    const Metrics metrics = algo->update(vec, {vec.timesteps(), total});
+    const Metrics metrics = algo->update(vec, {vec.timesteps(), rank_total});
     ++state.updates;
-    for (const auto& e : vec.episodes().take_finished()) episodes.write_row(episode_row(e));
+    for (const auto& e : run_episodes.take_finished(vec)) episodes->write_row(episode_row(e));
+    if (config.sync_check_interval > 0 && state.updates % config.sync_check_interval == 0)
+      check_same_weights(comm, *algo, state.updates);
+    const long long allreduce_bytes = comm.allreduce_traffic().bytes - last_allreduce_bytes;
+    last_allreduce_bytes = comm.allreduce_traffic().bytes;
 
     const double wall = vec.wall_time();
-    const double sps = wall > last_wall ? static_cast<double>(vec.timesteps() - last_steps) / (wall - last_wall) : 0.0;
-    last_steps = vec.timesteps();
+    const long long t = run_timesteps();
+    const double sps = wall > last_wall ? static_cast<double>(t - last_steps) / (wall - last_wall) : 0.0;
+    last_steps = t;
     last_wall = wall;
-    if (!progress) {
-      std::vector<std::string> columns = progress_head;
-      for (const auto& [name, value] : metrics) columns.push_back(name);
-      columns.insert(columns.end(), progress_tail.begin(), progress_tail.end());
-      progress = std::make_unique<CsvWriter>(folder.file(progress_csv_name), columns, resume ? state.progress_rows : -1);
+    if (root) {
+      if (!progress) {
+        std::vector<std::string> columns = progress_head;
+        for (const auto& [name, value] : metrics) columns.push_back(name);
+        if (ranks > 1) columns.push_back("allreduce_bytes");
+        columns.insert(columns.end(), progress_tail.begin(), progress_tail.end());
+        progress = std::make_unique<CsvWriter>(file(progress_csv_name), columns, resume ? state.progress_rows : -1);
+      }
+      const EpisodeStats s = run_episodes.stats(vec);
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      std::vector<std::string> row = {CsvWriter::cell(t),
+                                      CsvWriter::cell(state.updates),
+                                      CsvWriter::cell(run_episodes.episodes(vec)),
+                                      CsvWriter::cell(s.count ? s.mean_return : nan),
+                                      CsvWriter::cell(s.count ? s.min_return : nan),
+                                      CsvWriter::cell(s.count ? s.max_return : nan),
+                                      CsvWriter::cell(s.count ? s.mean_length : nan),
+                                      CsvWriter::cell(s.count ? s.success_rate : nan)};
+      for (const auto& [name, value] : metrics) row.push_back(CsvWriter::cell(value));
+      if (ranks > 1) row.push_back(CsvWriter::cell(allreduce_bytes));  // this rank's payload, this update
+      row.push_back(CsvWriter::cell(sps));
+      row.push_back(CsvWriter::cell(wall));
+      progress->write_row(row);
+      overall_sps = wall > start_wall ? static_cast<double>(t - start_steps) / (wall - start_wall) : 0.0;
+      display.show(t, total, s, overall_sps, wall);
     }
-    const EpisodeStats s = vec.episodes().stats();
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    std::vector<std::string> row = {CsvWriter::cell(vec.timesteps()),
-                                    CsvWriter::cell(state.updates),
-                                    CsvWriter::cell(vec.episodes().episodes()),
-                                    CsvWriter::cell(s.count ? s.mean_return : nan),
-                                    CsvWriter::cell(s.count ? s.min_return : nan),
-                                    CsvWriter::cell(s.count ? s.max_return : nan),
-                                    CsvWriter::cell(s.count ? s.mean_length : nan),
-                                    CsvWriter::cell(s.count ? s.success_rate : nan)};
-    for (const auto& [name, value] : metrics) row.push_back(CsvWriter::cell(value));
-    row.push_back(CsvWriter::cell(sps));
-    row.push_back(CsvWriter::cell(wall));
-    progress->write_row(row);
-
-    overall_sps = wall > start_wall ? static_cast<double>(vec.timesteps() - start_steps) / (wall - start_wall) : 0.0;
-    display.show(vec.timesteps(), total, s, overall_sps, wall);
-    if (vec.timesteps() < total && schedule.due(vec.timesteps()) && !interrupts.requested()) save();
+    decision = agree(comm, interrupts.requested(), root && schedule.due(t));
+    if (vec.timesteps() < rank_total && decision.save_due && !decision.signal) save();
   }
+  check_same_weights(comm, *algo, state.updates);
   save();
+  if (!root) return decision.signal ? 128 + decision.signal : 0;
 
-  const EpisodeStats s = vec.episodes().stats();
-  display.show(vec.timesteps(), total, s, overall_sps, vec.wall_time(), true);
+  const EpisodeStats s = run_episodes.stats(vec);
+  display.show(run_timesteps(), total, s, overall_sps, vec.wall_time(), true);
   display.finish();
-  if (interrupts.requested()) {
+  if (decision.signal) {
     std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
-                 vec.timesteps(), total, checkpoint_path.c_str(), folder.file(model_file_name).c_str(),
-                 folder.path().string().c_str());
-    return interrupts.exit_code();
+                 run_timesteps(), total, file(checkpoint_file_name).c_str(),
+                 file(model_file_name).c_str(), run.folder->path().string().c_str());
+    return 128 + decision.signal;
   }
   if (!o.quiet) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
-                config.algorithm.name().c_str(), config.env.name.c_str(), vec.timesteps(), vec.episodes().episodes(),
-                s.count, s.mean_return, vec.wall_time(), folder.file(model_file_name).c_str());
+                config.algorithm.name().c_str(), config.env.name.c_str(), run_timesteps(), run_episodes.episodes(vec),
+                s.count, s.mean_return, vec.wall_time(), file(model_file_name).c_str());
+    if (ranks > 1) {
+      const Communicator::Traffic& a = comm.allreduce_traffic();
+      std::printf("rdsim train: %d MPI ranks x %d envs (%d threads each); rank 0 allreduced %lld bytes in %lld calls "
+                  "(%.0f bytes per update) in %.2f s\n",
+                  ranks, vec.size(), vec.num_threads(), a.bytes, a.calls,
+                  state.updates ? static_cast<double>(a.bytes) / static_cast<double>(state.updates) : 0.0, a.seconds);
+    }
   }
   return 0;
 }

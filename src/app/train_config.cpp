@@ -1,11 +1,14 @@
 #include "rdsim/app/train_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/json_text.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/parallel/worker_pool.hpp"
 
 namespace rdsim {
 
@@ -114,6 +117,18 @@ nlohmann::json to_json(const TrainConfig& c) {
   write_remote_env_config(c.remote, j["env"]);
   write_algorithm_config(c.algorithm, j);
   return j;
+}
+
+int resolve_num_threads(const TrainConfig& c, int local_ranks) {
+  int threads = c.num_threads;
+  if (threads == 0) {
+    const int cores = available_cores();
+    // A process that mpirun bound to fewer cores than the machine has uses just those; an unbound
+    // one shares the machine's cores with the other ranks on it.
+    const int machine = static_cast<int>(std::thread::hardware_concurrency());
+    threads = cores < machine ? cores : cores / std::max(local_ranks, 1);
+  }
+  return std::clamp(threads, 1, c.num_envs);
 }
 
 void upgrade_v1_config(nlohmann::json& config) {

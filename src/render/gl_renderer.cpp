@@ -23,6 +23,7 @@ void GlRenderer::start(GlGetProc get_proc, const std::function<void()>& setup) {
     device_ = renderer ? renderer : "unknown";
     if (setup) setup();
     drawer_.emplace(gl_, width_, height_);
+    unbind();
   } catch (...) {
     release();
     throw;

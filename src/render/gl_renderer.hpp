@@ -28,14 +28,18 @@ protected:
 
   // For the backend's constructor, once its context exists: makes it current, fetches the GL
   // entry points through `get_proc`, runs `setup` (the backend's own, e.g. a framebuffer object)
-  // and prepares the drawer. On failure it calls release() and rethrows (rdsim::Error naming a
-  // missing GL function, or what `setup` threw).
+  // and prepares the drawer, then unbinds the context again: the first frame binds it in the
+  // thread that draws, which need not be the one that made the renderer (a VecEnv worker). On
+  // failure it calls release() and rethrows (rdsim::Error naming a missing GL function, or what
+  // `setup` threw).
   void start(GlGetProc get_proc, const std::function<void()>& setup = nullptr);
   const GlApi& gl() const { return gl_; }
 
   // Makes the backend's context current in this thread; cheap when it already is (another
   // Renderer in this thread may have made its own context current since our last frame).
   virtual void make_current() = 0;
+  // Leaves the backend's context current in no thread (it is current in this one).
+  virtual void unbind() = 0;
   // Frees the backend's context (its destructor calls it too).
   virtual void release() = 0;
 

@@ -51,6 +51,8 @@ private:
       throw Error("renderer: OSMesaMakeCurrent failed");
   }
 
+  void unbind() override { OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0); }
+
   void release() override {
     OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
     OSMesaDestroyContext(ctx_);

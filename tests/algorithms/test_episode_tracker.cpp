@@ -91,7 +91,7 @@ TEST_CASE("VecEnv auto-resets, counts timesteps and keeps the final observation"
       }
     }
   }
-  for (const auto& o : vec.observations()) CHECK(o.values[1] == 0.0f);
+  for (int i = 0; i < vec.size(); ++i) CHECK(vec.observation(i).values[1] == 0.0f);
   CHECK(vec.episodes().episodes() == 3);
   const auto finished = vec.episodes().take_finished();
   REQUIRE(finished.size() == 3);
@@ -108,9 +108,9 @@ TEST_CASE("VecEnv auto-resets, counts timesteps and keeps the final observation"
     other.step(actions);
     again.step(actions);
     for (int i = 0; i < 3; ++i) {
-      CHECK(same.observations()[i].values == again.observations()[i].values);
-      envs_differ = envs_differ || same.observations()[0].values != same.observations()[i].values;
-      seeds_differ = seeds_differ || same.observations()[i].values != other.observations()[i].values;
+      CHECK(same.observation(i).values == again.observation(i).values);
+      envs_differ = envs_differ || same.observation(0).values != same.observation(i).values;
+      seeds_differ = seeds_differ || same.observation(i).values != other.observation(i).values;
     }
   }
   CHECK(envs_differ);
@@ -130,7 +130,7 @@ TEST_CASE("VecEnv save/load continues identically", "[vec_env]") {
   for (int t = 0; t < 9; ++t) {
     a.step(actions);
     b.step(actions);
-    for (int i = 0; i < 2; ++i) CHECK(a.observations()[i].values == b.observations()[i].values);
+    for (int i = 0; i < 2; ++i) CHECK(a.observation(i).values == b.observation(i).values);
   }
   const auto ea = a.episodes().take_finished(), eb = b.episodes().take_finished();
   REQUIRE(ea.size() == eb.size());
@@ -143,14 +143,15 @@ TEST_CASE("VecEnv save/load continues identically", "[vec_env]") {
 
 TEST_CASE("VecEnv steps only the active envs when asked", "[vec_env]") {
   using namespace rdsim;
-  VecEnv vec(toy::make_envs(3, true, 4), 8);
-  const std::vector<Observation> before = vec.observations();
+  const int threads = GENERATE(1, 2);
+  VecEnv vec(toy::make_envs(3, true, 4), 8, 20, threads);
+  const Observation before = vec.observation(1);
   const std::vector<Action> actions(3, Action::discrete(1));
   const auto& steps = vec.step(actions, {true, false, true});
   CHECK(vec.timesteps() == 2);
   CHECK(steps[1].reward == 0.0f);
   CHECK_FALSE(steps[1].done());
-  CHECK(vec.observations()[1].values == before[1].values);  // untouched
+  CHECK(vec.observation(1).values == before.values);  // untouched
   for (int k = 0; k < 3; ++k) vec.step(actions, {true, false, true});
   CHECK(vec.episodes().episodes() == 2);  // envs 0 and 2 finished their 4-step episodes
   vec.step(actions, {false, true, false});

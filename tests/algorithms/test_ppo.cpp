@@ -57,7 +57,7 @@ TEST_CASE("rollouts bootstrap truncated episodes from V(final observation), neve
   CHECK((r.final_values[4] == Approx(v[0]) || r.final_values[4] == Approx(v[1])));
   CHECK(r.final_values[4] != 0.0f);
   for (int i : {0, 1, 2, 3, 5, 6, 7}) CHECK(r.final_values[i] == 0.0f);
-  CHECK(r.last_values.isApprox(policy.predict_values(rdsim::observation_batch(vec.observations(), vec.spec().observation))));
+  CHECK(r.last_values.isApprox(policy.predict_values(vec.observations().values)));
   for (int i = 0; i < 8; ++i) CHECK(r.observations(1, i) < 1.0f);  // acting never sees a final observation
   CHECK(r.rewards.minCoeff() >= 0.0f);
 }

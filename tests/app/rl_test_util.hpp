@@ -42,10 +42,10 @@ struct RunResult {
   std::string out, err;
 };
 
-// Runs `rdsim <args>` with stdout/stderr captured in files of `dir`.
-inline RunResult run_rdsim(const std::string& args, const ScratchDir& dir) {
+// Runs `<program> <args>` with stdout/stderr captured in files of `dir`.
+inline RunResult run_captured(const std::string& program, const std::string& args, const ScratchDir& dir) {
   const std::string out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string(RDSIM_BINARY) + " " + args + " >" + out + " 2>" + err;
+  const std::string cmd = program + " " + args + " >" + out + " 2>" + err;
   const int status = std::system(cmd.c_str());
   RunResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -53,6 +53,19 @@ inline RunResult run_rdsim(const std::string& args, const ScratchDir& dir) {
   r.err = slurp(err);
   return r;
 }
+
+// Runs `rdsim <args>`.
+inline RunResult run_rdsim(const std::string& args, const ScratchDir& dir) { return run_captured(RDSIM_BINARY, args, dir); }
+
+#ifdef RDSIM_MPIEXEC
+// Runs `mpirun -np <ranks> rdsim <args>` (oversubscribed: CI has 2 cores; CI runs as root, which
+// Open MPI refuses unless told).
+inline RunResult run_rdsim_mpi(int ranks, const std::string& args, const ScratchDir& dir) {
+  return run_captured("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(RDSIM_MPIEXEC) +
+                          " -np " + std::to_string(ranks) + " --oversubscribe " + RDSIM_BINARY,
+                      args, dir);
+}
+#endif
 
 inline std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> result;

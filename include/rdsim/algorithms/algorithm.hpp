@@ -7,6 +7,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/parallel/communicator.hpp"
 
 // The interface between the training loop (src/app/train.cpp) and a learning algorithm
 // (PPO, A2C, DQN, SAC, TD3/DDPG, TRPO, ARS, CMA-ES, random). The loop owns the environments (a VecEnv, which also counts timesteps and
@@ -88,6 +89,27 @@ public:
   // (-> pretrain.csv). The default: rdsim::Error, the algorithm cannot learn from demonstrations.
   virtual std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
                                                          Rng& rng, bool pretrain);
+
+  // Data-parallel training (`mpirun -np K rdsim train`): every rank runs this algorithm on its
+  // own envs with the same initial weights, and the algorithm keeps the weights identical on all
+  // ranks through `comm` (communicator.hpp): gradient methods average every gradient over the
+  // ranks before their optimiser step (average_gradients, gradient_averaging.hpp); population
+  // methods would spread their evaluations with allgather. Per-rank quantities (n_steps, buffer sizes,
+  // learning_starts) stay per rank. Set before the first update; default: one process.
+  void set_communicator(Communicator& comm) { comm_ = &comm; }
+  // Whether the algorithm keeps the ranks identical through `comm` (above). The training loop
+  // refuses an MPI run of one that does not (TRPO, ARS, CMA-ES so far) rather than letting the
+  // ranks drift apart. Default: no (a new algorithm opts in once it is wired).
+  virtual bool data_parallel() const { return false; }
+  // Every weight the ranks must share: rank 0 broadcasts them before the first update, and the
+  // loop compares their hash across ranks. Default: the model (save/load without training state);
+  // an algorithm whose model leaves out trained networks (critics, targets) adds them.
+  virtual void save_all_weights(std::ostream& out) const { save(out, false); }
+  virtual void load_all_weights(std::istream& in, const std::string& source) { load(in, false, source); }
+  Communicator& communicator() const { return comm_ ? *comm_ : single_process_communicator(); }
+
+private:
+  Communicator* comm_ = nullptr;
 };
 
 }  // namespace rdsim

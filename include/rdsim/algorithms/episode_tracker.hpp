@@ -40,6 +40,10 @@ public:
   // Drops the episodes in progress (their envs were reset without finishing them).
   void forget_running();
 
+  // Records an episode finished elsewhere (another MPI rank's), numbered next: the run's log of
+  // several ranks' episodes is a tracker fed only through this.
+  void add_finished(EpisodeRecord record);
+
   // Finished episodes not yet taken, oldest first; taking them empties the list.
   std::vector<EpisodeRecord> take_finished();
 
@@ -51,6 +55,10 @@ public:
   // Everything, including episodes in progress and not-yet-taken records (checkpoints).
   void save(std::ostream& out) const;
   void load(std::istream& in, const std::string& source);
+
+  // Records as bytes (to gather them from MPI ranks); decode throws rdsim::Error naming `source`.
+  static std::string encode(const std::vector<EpisodeRecord>& records);
+  static std::vector<EpisodeRecord> decode(const std::string& bytes, const std::string& source);
 
 private:
   struct Running {

@@ -34,6 +34,12 @@ public:
   // streams, the counters and the replay buffer.
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
+  // Every gradient step averages the gradients of each optimiser over the ranks before it steps
+  // (average_gradients below). The critics, targets and entropy coefficient are outside the model,
+  // so the ranks share them too.
+  bool data_parallel() const override { return true; }
+  void save_all_weights(std::ostream& out) const override;
+  void load_all_weights(std::istream& in, const std::string& source) override;
 
   // The Box action for network actions in [-1, 1]: low + (a + 1) (high - low) / 2, clipped.
   Action env_action(const Eigen::Ref<const Eigen::VectorXf>& normalized) const;
@@ -61,8 +67,14 @@ protected:
   virtual Metrics train(int steps, const TrainProgress& progress) = 0;
   // The weights acting needs (model.bin), and everything else an exact resume needs.
   virtual nn::ParamList acting_params() = 0;
+  // The trained weights outside acting_params() (critics, target networks, entropy coefficient).
+  virtual nn::ParamList other_params() = 0;
   virtual void save_training(std::ostream& out) const = 0;
   virtual void load_training(std::istream& in, const std::string& source) = 0;
+
+  // Data-parallel training: the gradients of `params` become their mean over the ranks (nothing
+  // happens in one process). Just before the optimiser's step.
+  void average_gradients(const nn::ParamList& params);
 
   Spec spec_;
   int observation_size_;
@@ -81,6 +93,8 @@ private:
   Eigen::MatrixXf obs_, actions_;
   std::vector<Action> env_actions_;
   std::vector<Observation> prev_obs_;
+  Observation next_obs_;
+  std::vector<float> gradient_buffer_;
 };
 
 }  // namespace rdsim

@@ -15,6 +15,8 @@ class OnPolicy : public Algorithm {
 public:
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  // PPO and A2C average every minibatch's gradients over the ranks (average_gradients below).
+  bool data_parallel() const override { return true; }
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
   // Pre-trains the actor (and with fit_critic the critic) on the demonstrations (behavior_cloning.hpp).
@@ -39,6 +41,10 @@ protected:
   // at the start of training to 0 at the end (schedules).
   virtual Metrics train(double remaining) = 0;
 
+  // Data-parallel training: the gradients of `params` become their mean over the ranks (nothing
+  // happens in one process). Between backward() and gradient clipping.
+  void average_gradients(const nn::ParamList& params);
+
   // demonstrations.bc_weight (demonstrations.hpp): whether the cloning term is on, and its weight
   // in this update.
   bool demonstration_term() const { return demo_weight_ > 0.0 && demo_steps_.size() > 0; }
@@ -56,6 +62,7 @@ protected:
   Rng shuffle_rng_;
   RolloutBuffer rollout_;
   long long updates_ = 0;
+  std::vector<float> gradient_buffer_;
 
 private:
   DemoTransitions demo_steps_;  // the demonstrations' training episodes (bc_weight > 0)

@@ -7,11 +7,19 @@
 #include <vector>
 
 #include "rdsim/algorithms/episode_tracker.hpp"
+#include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/core/env.hpp"
+#include "rdsim/parallel/worker_pool.hpp"
 
-// Several instances of one environment stepped together (a plain loop, one thread), with
-// automatic reset, a timestep counter and episode tracking. Every algorithm steps envs only
-// through this, so timesteps, episodes.csv and progress statistics are the same for all.
+// Several instances of one environment stepped together, with automatic reset, a timestep
+// counter and episode tracking. Every algorithm steps envs only through this, so timesteps,
+// episodes.csv and progress statistics are the same for all.
+//
+// Threads: the envs are split into num_threads() contiguous blocks, block w always stepped by
+// worker w of a persistent WorkerPool (worker 0 is the calling thread). Each env writes its
+// observation straight into its column of observations() (Env::step_into), and everything that
+// is shared (the timestep counter, the episode tracker) is updated on the calling thread after
+// the workers finish, in env order: results are identical for any thread count.
 namespace rdsim {
 
 // What one env did in a VecEnv step. When the episode ended (terminated || truncated), the env
@@ -33,15 +41,26 @@ struct EnvStep {
 class VecEnv {
 public:
   // Env i is first reset with a seed drawn from Rng::derive(seed, rng_stream::env_base + i);
-  // later resets continue that env's own stream. All envs must share one Spec.
-  VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window = 20);
+  // later resets continue that env's own stream. All envs must share one Spec. num_threads
+  // (>= 1) is capped at the number of envs.
+  VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window = 20, int num_threads = 1);
+  // Destroys every env on the worker that stepped it: a pixel env's renderer releases its GL
+  // context in the thread where it is current (an EGL context current in a finished thread
+  // would never be freed).
+  ~VecEnv();
+  VecEnv(const VecEnv&) = delete;
+  VecEnv& operator=(const VecEnv&) = delete;
 
   int size() const { return static_cast<int>(envs_.size()); }
+  int num_threads() const { return pool_.size(); }
   const Spec& spec() const { return envs_.front()->spec(); }
+  // Env i itself (e.g. to render it). Call it only between steps, from the thread that steps.
   Env& env(int i) { return *envs_[static_cast<std::size_t>(i)]; }
 
-  // The current observation of every env (after any automatic reset).
-  const std::vector<Observation>& observations() const { return observations_; }
+  // The current observation of every env (after any automatic reset), one column per env.
+  const ObservationBatch& observations() const { return batch_; }
+  // Env i's current observation, copied.
+  Observation observation(int i) const;
 
   // Steps env i with actions[i] for every i; resets the envs whose episode ended.
   const std::vector<EnvStep>& step(const std::vector<Action>& actions);
@@ -69,8 +88,14 @@ public:
   bool load(std::istream& in, const std::string& source);
 
 private:
+  // Runs fn(i) for every env i, each on the worker that owns it.
+  template <class Fn>
+  void for_each_env(Fn fn);
+  void step_env(int i, const Action& action);
+
   std::vector<std::unique_ptr<Env>> envs_;
-  std::vector<Observation> observations_;
+  WorkerPool pool_;
+  ObservationBatch batch_;
   std::vector<EnvStep> results_;
   std::vector<bool> all_active_;
   EpisodeTracker tracker_;

@@ -21,8 +21,10 @@ std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const T
 
 // Loads a payload into `algo` and `vec` (built from the checkpoint's embedded config). Every field
 // is validated (counters in range, values finite, sizes against what is left of the payload);
-// rdsim::Error naming `source` otherwise.
-TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source);
+// rdsim::Error naming `source` otherwise. `report`: print the note when the envs cannot resume
+// exactly (false on MPI ranks other than 0, so the note appears once).
+TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source,
+                                bool report = true);
 
 // When the run's files are saved: checkpoint.bin and model.bin together, every
 // checkpoint_interval env steps and every checkpoint_seconds of wall time (TrainConfig), so that a

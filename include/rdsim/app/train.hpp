@@ -11,6 +11,8 @@
 // SIGINT/SIGTERM stopped the run after saving it: app/interrupt.hpp).
 namespace rdsim {
 
+class Communicator;  // rdsim/parallel/communicator.hpp
+
 struct TrainOptions {
   std::string config_path;
   std::string resume_dir;                   // continue from this run folder's last checkpoint
@@ -20,6 +22,8 @@ struct TrainOptions {
   bool overwrite = false;                   // a new run may replace another run's files in its folder
   std::optional<double> max_memory_gb;      // the memory limit (app/memory_check.hpp)
   bool quiet = false;                       // no progress line
+  std::optional<int> threads;               // overrides the config's num_threads
+  Communicator* communicator = nullptr;     // the MPI job this process is a rank of; null: one process
   std::string dashboard;                    // serve the live dashboard at HOST:PORT while training
 };
 int train_command(const TrainOptions& options);

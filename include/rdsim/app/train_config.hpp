@@ -30,6 +30,8 @@ struct TrainConfig {
   long long checkpoint_interval = 0;
   double checkpoint_seconds = 60.0;
   int stats_window = 20;
+  int num_threads = 0;  // 0: resolved by resolve_num_threads()
+  int sync_check_interval = 10;
 };
 
 inline constexpr long long max_timesteps = 1'000'000'000'000LL;
@@ -47,7 +49,17 @@ void describe(V& v, C& c) {
           "wall-clock seconds between checkpoints, so a killed run loses at most about this much; 0 = by steps only");
   v.field("stats_window", c.stats_window, config::Range{1, 1'000'000},
           "episodes behind progress.csv's return/length/success columns");
+  v.field("num_threads", c.num_threads, config::Range{0, 4096},
+          "threads stepping the envs (results do not depend on it); 0 = every core this process may use "
+          "(shared among the MPI ranks on one machine), at most num_envs");
+  v.field("sync_check_interval", c.sync_check_interval, config::Range{0, 1'000'000},
+          "MPI runs: updates between comparisons of a hash of the weights across ranks; 0 = at the end only");
 }
+
+// The thread count a run uses: `num_threads`, or for 0 the cores this process may use
+// (available_cores) divided among `local_ranks` processes of one MPI job on this machine; at
+// least 1, at most num_envs.
+int resolve_num_threads(const TrainConfig& config, int local_ranks);
 
 // A run setting given on the command line instead of the config file ("--seed 4" sets "seed").
 // It is read with the config file's rules (type, range; read_train_config) and errors name the

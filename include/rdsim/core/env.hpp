@@ -8,6 +8,16 @@
 // The one interface between environments and everything that drives them (algorithms, replay,
 // benchmarks, the demonstration link). Gymnasium semantics: reset(seed) -> observation,
 // step(action) -> {observation, reward, terminated, truncated, info}.
+//
+// Two ways to drive an Env, both always available:
+//   plain      reset() / step() return the observation by value. What one-env callers use
+//              (replay, tests, a remote link), and all an env must implement.
+//   into       reset_into() / step_into() write the observation into memory the caller owns (a
+//              column of VecEnv's batch, PufferLib style): no allocation, no copy per step, which
+//              matters for pixel observations (64x64x3 = 12 KiB per step). The defaults call
+//              reset()/step() and copy, so every Env supports them; an env overrides them (and
+//              then implements reset()/step() through them) to skip that copy. Both paths must
+//              give the same observations and results for the same calls.
 namespace rdsim {
 
 enum class ObsType { Float32, UInt8 };
@@ -78,6 +88,29 @@ struct StepResult {
   StepInfo info;
 };
 
+// A step's result without its observation (step_into writes that into caller memory).
+struct StepOutcome {
+  float reward = 0.0f;
+  bool terminated = false;
+  bool truncated = false;
+  StepInfo info;
+};
+
+// Caller-owned memory for one observation of a space: spec().observation.size() floats for a
+// Float32 space (`values`), as many bytes (HWC) for a UInt8 space (`pixels`); the other pointer
+// is null. It must stay valid for the duration of the call only.
+struct ObservationOut {
+  float* values = nullptr;
+  std::uint8_t* pixels = nullptr;
+};
+
+// Copies `obs` into `out`; rdsim::Error when its size or type differs from `space`.
+void copy_observation(const Observation& obs, const ObservationSpace& space, ObservationOut out);
+
+// Storage for one observation of `space` (values or pixels sized) and a view of it.
+Observation make_observation(const ObservationSpace& space);
+ObservationOut observation_out(Observation& obs);
+
 class Env {
 public:
   virtual ~Env() = default;
@@ -92,6 +125,11 @@ public:
   // moves, and the result is the last observation with reward 0 and terminated = true.
   virtual StepResult step(const Action& action) = 0;
 
+  // The same as reset()/step() with the observation written to `out` (see the top of this file).
+  // Defaults: reset()/step() and copy_observation().
+  virtual void reset_into(ObservationOut out, std::optional<std::uint64_t> seed = std::nullopt);
+  virtual StepOutcome step_into(const Action& action, ObservationOut out);
+
   // Advances only the physics world by what one env step simulates, with no control,
   // observation or reward work: lets benchmarks show the env's own overhead.
   // Returns false for envs without a physics world.
@@ -100,5 +138,10 @@ public:
   // (EnvConfig::render_width x render_height, the main camera). Returns false otherwise.
   virtual bool render(Image& /*frame*/) { return false; }
 };
+
+// For an env that implements the "into" path itself: its reset()/step() are these (the
+// observation goes into a freshly allocated Observation), so the two paths share one body.
+Observation reset_through_into(Env& env, std::optional<std::uint64_t> seed);
+StepResult step_through_into(Env& env, const Action& action);
 
 }  // namespace rdsim

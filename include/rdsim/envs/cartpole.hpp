@@ -21,6 +21,8 @@ public:
   const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
   StepResult step(const Action& action) override;
+  void reset_into(ObservationOut out, std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepOutcome step_into(const Action& action, ObservationOut out) override;
 
   std::string save_state() const override;
   void load_state(const std::string& bytes, const std::string& source) override;
@@ -36,7 +38,7 @@ public:
   static constexpr double theta_threshold = 12.0 * 2.0 * 3.14159265358979323846 / 360.0;
 
 private:
-  Observation observe() const;
+  void observe(float* out) const;
 
   Spec spec_;
   Rng rng_;

@@ -27,6 +27,8 @@ public:
 
   // Renders the task's current state into `pixels` (resized to space().size(), HWC).
   void render(const ReachTask& task, std::vector<std::uint8_t>& pixels);
+  // The same into caller memory of space().size() bytes (a VecEnv batch column).
+  void render(const ReachTask& task, std::uint8_t* pixels);
 
 private:
   RobotScene scene_;

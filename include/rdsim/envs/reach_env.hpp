@@ -80,6 +80,8 @@ public:
   const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
   StepResult step(const Action& action) override;
+  void reset_into(ObservationOut out, std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepOutcome step_into(const Action& action, ObservationOut out) override;
   bool step_physics_only() override;
   bool render(Image& frame) override;
 
@@ -106,11 +108,15 @@ public:
   void select_target(int index);
 
 private:
-  Observation observe() const;
-  // One env step: `set_targets` sets the joint targets, then physics, observation and judge().
+  void observe(ObservationOut out) const;
+  // One env step: `set_targets` sets the joint targets, then physics, observation (into `out`)
+  // and judge().
   template <class SetTargets>
-  StepResult control_step(SetTargets&& set_targets);
-  void judge(StepResult& r) const;
+  StepOutcome control_step(ObservationOut out, SetTargets&& set_targets);
+  // control_step() with the observation in a StepResult (RobotControl's steps).
+  template <class SetTargets>
+  StepResult control_step_result(SetTargets&& set_targets);
+  void judge(StepOutcome& r) const;
   void walk();               // one random-walk step of the walking body
   void place_walking_body();  // puts it at its place + walk_offset_
 

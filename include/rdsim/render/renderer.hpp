@@ -11,7 +11,9 @@ namespace rdsim {
 
 // Draws a Scene seen by a Camera into an RGB image of a fixed size. Each Renderer owns its own
 // graphics context and buffers, so several can live in one process (one per env, or one per
-// camera). A Renderer must be used from one thread at a time.
+// camera). A Renderer must be used from one thread at a time; it may be created on one thread
+// and draw from another (its context is bound at the first frame). An egl renderer then keeps
+// drawing from the thread of its first frame (EGL binds a context to one thread).
 class Renderer {
 public:
   virtual ~Renderer() = default;

@@ -1,0 +1,66 @@
+#include "rdsim/core/env.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "rdsim/core/error.hpp"
+
+namespace rdsim {
+
+void copy_observation(const Observation& obs, const ObservationSpace& space, ObservationOut out) {
+  const auto n = static_cast<std::size_t>(space.size());
+  if (space.type == ObsType::Float32) {
+    if (static_cast<std::size_t>(obs.values.size()) != n || !out.values)
+      throw Error("observation has " + std::to_string(obs.values.size()) + " values, the env's spec says " +
+                  std::to_string(n));
+    std::copy_n(obs.values.data(), n, out.values);
+    return;
+  }
+  if (obs.pixels.size() != n || !out.pixels)
+    throw Error("observation has " + std::to_string(obs.pixels.size()) + " pixel bytes, the env's spec says " +
+                std::to_string(n));
+  std::copy_n(obs.pixels.data(), n, out.pixels);
+}
+
+Observation make_observation(const ObservationSpace& space) {
+  Observation obs;
+  if (space.type == ObsType::Float32)
+    obs.values.resize(space.size());
+  else
+    obs.pixels.resize(static_cast<std::size_t>(space.size()));
+  return obs;
+}
+
+ObservationOut observation_out(Observation& obs) {
+  if (!obs.pixels.empty()) return {nullptr, obs.pixels.data()};
+  return {obs.values.data(), nullptr};
+}
+
+void Env::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
+  copy_observation(reset(seed), spec().observation, out);
+}
+
+StepOutcome Env::step_into(const Action& action, ObservationOut out) {
+  StepResult r = step(action);
+  copy_observation(r.observation, spec().observation, out);
+  return {r.reward, r.terminated, r.truncated, r.info};
+}
+
+Observation reset_through_into(Env& env, std::optional<std::uint64_t> seed) {
+  Observation obs = make_observation(env.spec().observation);
+  env.reset_into(observation_out(obs), seed);
+  return obs;
+}
+
+StepResult step_through_into(Env& env, const Action& action) {
+  StepResult r;
+  r.observation = make_observation(env.spec().observation);
+  const StepOutcome o = env.step_into(action, observation_out(r.observation));
+  r.reward = o.reward;
+  r.terminated = o.terminated;
+  r.truncated = o.truncated;
+  r.info = o.info;
+  return r;
+}
+
+}  // namespace rdsim

@@ -1,0 +1,209 @@
+// VecEnv on several threads, and the data-parallel hooks of the algorithms (with a stand-in
+// communicator; the real MPI runs are in tests/app and tests/mpi).
+#include <catch2/catch.hpp>
+#include <sstream>
+#include <utility>
+
+#include "rdsim/algorithms/gradient_averaging.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/core/error.hpp"
+#include "algorithm_setup.hpp"
+#include "fake_communicator.hpp"
+#include "toy_env.hpp"
+
+namespace {
+
+// The weights the ranks share (a training state also holds Rng bytes with padding, so it is not
+// compared whole).
+std::string weights(const rdsim::Algorithm& algo) {
+  std::ostringstream out;
+  algo.save_all_weights(out);
+  return out.str();
+}
+
+Setup small(const std::string& algorithm) {
+  Setup c;
+  c.algorithm = algorithm;
+  c.seed = 5;
+  c.network.hidden_sizes = {16, 16};
+  c.ppo.n_steps = 16;
+  c.ppo.batch_size = 32;
+  c.ppo.n_epochs = 2;
+  c.a2c.n_steps = 8;
+  c.dqn.learning_starts = 20;
+  c.dqn.buffer_size = 500;
+  c.dqn.batch_size = 16;
+  c.dqn.train_freq = 2;
+  auto off_policy = [](auto& o) {
+    o.learning_starts = 20;
+    o.buffer_size = 500;
+    o.batch_size = 16;
+    o.train_freq = 2;
+  };
+  off_policy(c.sac);
+  off_policy(c.td3);
+  off_policy(c.ddpg);
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("VecEnv gives the same steps on 1, 2, 3 and 7 threads", "[vec_env][threads]") {
+  std::vector<rdsim::Action> actions;
+  for (int i = 0; i < 7; ++i) actions.push_back(rdsim::Action::discrete(i % 2));
+  rdsim::VecEnv one(toy::make_envs(7, true, 6, 4), 11, 20, 1);
+  for (int threads : {2, 3, 7, 64}) {
+    rdsim::VecEnv many(toy::make_envs(7, true, 6, 4), 11, 20, threads);
+    CHECK(many.num_threads() == std::min(threads, 7));
+    rdsim::VecEnv ref(toy::make_envs(7, true, 6, 4), 11, 20, 1);
+    for (int t = 0; t < 40; ++t) {
+      const auto& a = ref.step(actions);
+      const auto& b = many.step(actions);
+      CHECK(ref.observations().values == many.observations().values);
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        CHECK(a[i].reward == b[i].reward);
+        CHECK(a[i].terminated == b[i].terminated);
+        CHECK(a[i].truncated == b[i].truncated);
+        if (a[i].done()) CHECK(a[i].final_observation.values == b[i].final_observation.values);
+      }
+    }
+    const auto ea = ref.episodes().take_finished(), eb = many.episodes().take_finished();
+    REQUIRE(ea.size() == eb.size());
+    for (std::size_t k = 0; k < ea.size(); ++k) {
+      CHECK(ea[k].episode_return == eb[k].episode_return);
+      CHECK(ea[k].timesteps == eb[k].timesteps);
+    }
+  }
+  (void)one;
+}
+
+namespace {
+
+// An env that rejects action 9, through the plain interface only (VecEnv uses the default
+// step_into, which calls step()).
+class PickyEnv final : public rdsim::Env {
+public:
+  PickyEnv() {
+    spec_.observation.shape = {1};
+    spec_.action.n = 10;
+    spec_.max_episode_steps = 3;
+  }
+  const rdsim::Spec& spec() const override { return spec_; }
+  rdsim::Observation reset(std::optional<std::uint64_t> = std::nullopt) override {
+    rdsim::Observation o;
+    o.values = Eigen::VectorXf::Zero(1);
+    return o;
+  }
+  rdsim::StepResult step(const rdsim::Action& a) override {
+    if (a.index == 9) throw rdsim::Error("picky: action 9");
+    rdsim::StepResult r;
+    r.observation.values = Eigen::VectorXf::Constant(1, static_cast<float>(a.index));
+    return r;
+  }
+
+private:
+  rdsim::Spec spec_;
+};
+
+}  // namespace
+
+TEST_CASE("VecEnv: an env's error on a worker thread reaches the caller", "[vec_env][threads]") {
+  std::vector<std::unique_ptr<rdsim::Env>> envs;
+  for (int i = 0; i < 4; ++i) envs.push_back(std::make_unique<PickyEnv>());
+  rdsim::VecEnv vec(std::move(envs), 1, 20, 2);
+  std::vector<rdsim::Action> actions = {rdsim::Action::discrete(1), rdsim::Action::discrete(2),
+                                        rdsim::Action::discrete(3), rdsim::Action::discrete(4)};
+  vec.step(actions);
+  CHECK(vec.observations().values == Eigen::RowVector4f(1, 2, 3, 4));
+  actions[3] = rdsim::Action::discrete(9);  // env 3 lives on worker 1
+  CHECK_THROWS_WITH(vec.step(actions), "picky: action 9");
+}
+
+TEST_CASE("every algorithm trains identically on 1 and 3 VecEnv threads", "[vec_env][threads]") {
+  const std::pair<const char*, bool> algorithms[] = {{"ppo", true},  {"a2c", true},  {"dqn", true},    {"trpo", true},
+                                                     {"ars", true},  {"cma_es", true}, {"random", true}, {"sac", false},
+                                                     {"td3", false}, {"ddpg", false}};
+  for (const auto& [name, discrete] : algorithms) {
+    const Setup s = small(name);
+    rdsim::VecEnv v1(toy::make_envs(6, discrete, 8), 3, 20, 1), v3(toy::make_envs(6, discrete, 8), 3, 20, 3);
+    auto a1 = make_algorithm(s, v1.spec()), a3 = make_algorithm(s, v3.spec());
+    for (int u = 0; u < 6; ++u) {
+      const rdsim::Metrics m1 = a1->update(v1, {v1.timesteps(), 2000});
+      const rdsim::Metrics m3 = a3->update(v3, {v3.timesteps(), 2000});
+      CHECK(m1 == m3);
+    }
+    INFO(name);
+    CHECK(weights(*a1) == weights(*a3));
+  }
+}
+
+TEST_CASE("average_gradients: the mean over the ranks, one allreduce of every gradient", "[data_parallel]") {
+  rdsim::nn::Tensor a(2, 3), b(4, 1);
+  a.grad.setConstant(1.0f);
+  b.grad.setConstant(-2.0f);
+  const rdsim::nn::ParamList params = {rdsim::nn::param_of(a, "a"), rdsim::nn::param_of(b, "b")};
+  std::vector<float> buffer;
+  toy::FakeCommunicator comm(4, 3.0f);  // 3 other ranks, each with 3x these gradients
+  rdsim::average_gradients(comm, params, buffer);
+  CHECK(a.grad.isApproxToConstant((1.0f + 3 * 3.0f) / 4));
+  CHECK(b.grad.isApproxToConstant((-2.0f - 3 * 6.0f) / 4));
+  CHECK(comm.allreduce_traffic().calls == 1);
+  CHECK(comm.allreduce_traffic().bytes == (6 + 4) * 4);
+  rdsim::average_gradients(rdsim::single_process_communicator(), params, buffer);  // no-op
+  CHECK(b.grad.isApproxToConstant((-2.0f - 3 * 6.0f) / 4));
+}
+
+TEST_CASE("data-parallel PPO, A2C and DQN: ranks with the same gradients train like one process", "[data_parallel]") {
+  for (const char* name : {"ppo", "a2c", "dqn"}) {
+    INFO(name);
+    const Setup s = small(name);
+    rdsim::VecEnv v1(toy::make_envs(4, true, 8), 9), v2(toy::make_envs(4, true, 8), 9);
+    auto alone = make_algorithm(s, v1.spec()), ranked = make_algorithm(s, v2.spec());
+    toy::FakeCommunicator comm(2);  // the other rank has this rank's gradients: their mean is this rank's
+    ranked->set_communicator(comm);
+    for (int u = 0; u < 8; ++u) {
+      alone->update(v1, {v1.timesteps(), 2000});
+      ranked->update(v2, {v2.timesteps(), 2000});
+    }
+    CHECK(weights(*alone) == weights(*ranked));
+    CHECK(comm.allreduce_traffic().calls > 0);  // every minibatch / gradient step
+  }
+}
+
+TEST_CASE("data-parallel SAC and TD3: every optimiser step averages, critics and targets shared", "[data_parallel]") {
+  for (const char* name : {"sac", "td3"}) {
+    INFO(name);
+    const Setup s = small(name);
+    rdsim::VecEnv v1(toy::make_envs(2, false, 8), 9), v2(toy::make_envs(2, false, 8), 9);
+    auto alone = make_algorithm(s, v1.spec()), ranked = make_algorithm(s, v2.spec());
+    REQUIRE(ranked->data_parallel());
+    toy::FakeCommunicator comm(2);  // the other rank has this rank's gradients: their mean is this rank's
+    ranked->set_communicator(comm);
+    for (int u = 0; u < 40; ++u) {
+      alone->update(v1, {v1.timesteps(), 2000});
+      ranked->update(v2, {v2.timesteps(), 2000});
+    }
+    CHECK(weights(*alone) == weights(*ranked));
+    CHECK(comm.allreduce_traffic().calls > 0);
+    // save_all_weights holds more than the model (the critics), and loads back into another copy.
+    std::ostringstream model;
+    alone->save(model, false);
+    CHECK(weights(*alone).size() > model.str().size());
+    Setup other = s;
+    other.seed = 77;
+    auto copy = make_algorithm(other, v1.spec());
+    std::istringstream in(weights(*alone));
+    copy->load_all_weights(in, "test");
+    CHECK(weights(*copy) == weights(*alone));
+  }
+}
+
+TEST_CASE("the algorithms not wired for MPI say so (the training loop refuses them under mpirun)", "[data_parallel]") {
+  rdsim::VecEnv discrete(toy::make_envs(2, true, 8), 1), box(toy::make_envs(2, false, 8), 1);
+  for (const char* name : {"ppo", "a2c", "dqn", "random"}) CHECK(make_algorithm(small(name), discrete.spec())->data_parallel());
+  for (const char* name : {"sac", "td3", "ddpg"}) CHECK(make_algorithm(small(name), box.spec())->data_parallel());
+  for (const char* name : {"trpo", "ars", "cma_es"}) {
+    INFO(name);
+    CHECK_FALSE(make_algorithm(small(name), discrete.spec())->data_parallel());
+  }
+}

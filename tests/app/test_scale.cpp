@@ -1,0 +1,241 @@
+// Scale (issue #15): the same results on any number of threads, data-parallel training under
+// mpirun, and the pieces of the MPI run that can be checked without MPI.
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <sstream>
+
+#include "rdsim/algorithms/algorithm_config.hpp"
+#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/app/data_parallel.hpp"
+#include "rdsim/app/model_file.hpp"
+#include "rdsim/app/train_config.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/envs/registry.hpp"
+#include "rdsim/render/renderer.hpp"
+#include "rl_test_util.hpp"
+
+using Catch::Matchers::Contains;
+using rltest::ScratchDir;
+
+namespace {
+
+std::string cartpole_config(const ScratchDir& dir, long long interval = 0) {
+  const std::string path = dir / "cartpole.json";
+  rltest::spit(path, R"({
+    "algorithm": "ppo", "env": {"name": "cartpole"}, "seed": 3, "total_timesteps": 4096,
+    "num_envs": 4, "checkpoint_interval": )" + std::to_string(interval) + R"(, "sync_check_interval": 1,
+    "network": {"hidden_sizes": [32, 32]},
+    "ppo": {"n_steps": 64, "batch_size": 128, "n_epochs": 4, "learning_rate": 0.001, "gamma": 0.98, "gae_lambda": 0.8}
+  })");
+  return path;
+}
+
+std::string jaka_config(const ScratchDir& dir) {
+  const std::string path = dir / "jaka.json";
+  rltest::spit(path, R"({
+    "algorithm": "ppo", "env": {"name": "jaka_button", "random_target": true}, "seed": 2,
+    "total_timesteps": 2048, "num_envs": 8, "stats_window": 10,
+    "network": {"hidden_sizes": [32, 32]},
+    "ppo": {"n_steps": 64, "batch_size": 128, "n_epochs": 2, "learning_rate": 0.003}
+  })");
+  return path;
+}
+
+// The CSVs without their wall-clock columns, and the weights.
+struct RunLogs {
+  std::string progress, episodes, weights;
+  bool operator==(const RunLogs&) const = default;
+};
+RunLogs logs(const std::string& run) {
+  return {rltest::drop_columns(rltest::slurp(run + "/progress.csv"), 2),
+          rltest::drop_columns(rltest::slurp(run + "/episodes.csv"), 1),
+          rdsim::read_model_file(run + "/model.bin").payload};
+}
+
+}  // namespace
+
+TEST_CASE("train: the same CSV and weights on 1 and 2 threads", "[cli][threads]") {
+  ScratchDir dir("threads");
+  for (const std::string& config : {cartpole_config(dir), jaka_config(dir)}) {
+    for (const std::string threads : {"1", "2"}) {
+      const std::string run = dir / "t";
+      const auto r = rltest::run_rdsim("train --quiet --config " + config + " --threads " + threads + " --overwrite --log-dir " +
+                                           run + threads, dir);
+      INFO(r.err);
+      REQUIRE(r.exit_code == 0);
+    }
+    CHECK(logs(dir / "t1") == logs(dir / "t2"));
+    CHECK(rltest::lines(rltest::slurp(dir / "t1/episodes.csv")).size() > 5);
+    CHECK_THAT(rltest::slurp(dir / "t2/config.json"), Contains("\"num_threads\": 2"));
+  }
+}
+
+TEST_CASE("VecEnv: pixel envs render the same images on 1 and 3 threads", "[threads][pixels]") {
+  // Every backend built here that can make a context: the renderers are made on this thread and
+  // draw on the workers (an egl context binds to one thread: the strict case).
+  std::vector<std::string> backends;
+  for (const std::string& b : rdsim::renderer_backends()) {
+    try {
+      rdsim::make_renderer(b, 8, 8);
+      backends.push_back(b);
+    } catch (const rdsim::Error& e) {
+      WARN("renderer " << b << " unavailable here: " << e.what());
+    }
+  }
+  REQUIRE(!backends.empty());
+  const std::string backend = GENERATE_COPY(from_range(backends));
+  INFO("renderer " << backend);
+  rdsim::EnvConfig config = rdsim::default_env_config("jaka_button");
+  config.renderer = backend;
+  config.observation = rdsim::ObservationMode::RawPixels;
+  config.image_width = config.image_height = 32;
+  config.random_target = true;
+  auto envs = [&] {
+    std::vector<std::unique_ptr<rdsim::Env>> v;
+    for (int i = 0; i < 3; ++i) v.push_back(rdsim::make_env(config));
+    return v;
+  };
+  rdsim::VecEnv one(envs(), 4, 20, 1), three(envs(), 4, 20, 3);
+  REQUIRE(three.num_threads() == 3);
+  rdsim::Rng rng(1);
+  std::vector<rdsim::Action> actions(3);
+  for (int t = 0; t < 60; ++t) {
+    for (auto& a : actions) a = rdsim::Action::discrete(static_cast<int>(rng.below(6)));
+    const auto& a = one.step(actions);
+    const auto& b = three.step(actions);
+    REQUIRE(one.observations().pixels == three.observations().pixels);
+    for (int i = 0; i < 3; ++i) {
+      CHECK(a[static_cast<std::size_t>(i)].reward == b[static_cast<std::size_t>(i)].reward);
+      if (a[static_cast<std::size_t>(i)].done())
+        CHECK(a[static_cast<std::size_t>(i)].final_observation.pixels == b[static_cast<std::size_t>(i)].final_observation.pixels);
+    }
+  }
+  CHECK(one.observations().pixels.cast<int>().sum() > 0);
+}
+
+namespace {
+
+// Two ranks whose weight hashes differ (rank 1's is rank 0's + 1).
+class DivergedRanks final : public rdsim::Communicator {
+public:
+  int rank() const override { return 0; }
+  int size() const override { return 2; }
+  int local_size() const override { return 2; }
+  std::string name() const override { return "diverged"; }
+  [[noreturn]] void abort(int code) override { std::exit(code); }
+
+protected:
+  void do_allreduce_sum(float*, std::size_t) override {}
+  void do_allreduce_sum(double*, std::size_t) override {}
+  void do_allgather(const void* send, std::size_t bytes, void* recv) override {
+    std::memcpy(recv, send, bytes);
+    std::uint64_t other;
+    std::memcpy(&other, send, sizeof other);
+    ++other;
+    std::memcpy(static_cast<char*>(recv) + bytes, &other, sizeof other);
+  }
+  void do_broadcast(std::string&, int) override {}
+  std::vector<std::string> do_gather(const std::string& b, int) override { return {b, b}; }
+};
+
+}  // namespace
+
+TEST_CASE("data parallel: diverged weights stop the run with a clear error", "[mpi]") {
+  rdsim::AlgorithmConfig c;
+  c.params = rdsim::PpoConfig{};
+  auto env = rdsim::make_env(rdsim::default_env_config("cartpole"));
+  auto algo = rdsim::make_algorithm(c, 1, env->spec());
+  DivergedRanks comm;
+  CHECK_THROWS_WITH(rdsim::check_same_weights(comm, *algo, 30),
+                    Contains("weights of rank 1 differ from rank 0's after update 30"));
+  rdsim::check_same_weights(rdsim::single_process_communicator(), *algo, 30);  // nothing to compare
+  CHECK(rdsim::rank_seed(7, 0) == 7);
+  CHECK(rdsim::rank_seed(7, 1) != rdsim::rank_seed(7, 2));
+}
+
+TEST_CASE("train: num_threads is checked and resolved", "[threads]") {
+  rdsim::TrainConfig c;
+  c.num_envs = 8;
+  c.num_threads = 3;
+  CHECK(rdsim::resolve_num_threads(c, 1) == 3);
+  c.num_threads = 100;
+  CHECK(rdsim::resolve_num_threads(c, 1) == 8);  // at most one thread per env
+  c.num_threads = 0;
+  const int automatic = rdsim::resolve_num_threads(c, 1);
+  CHECK(automatic >= 1);
+  CHECK(automatic <= 8);
+  CHECK(rdsim::resolve_num_threads(c, 64) >= 1);
+  ScratchDir dir("threads_bad");
+  rltest::spit(dir / "bad.json", R"({"env": {"name": "cartpole"}, "num_threads": -1})");
+  const auto r = rltest::run_rdsim("train --config " + (dir / "bad.json"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains("num_threads"));
+}
+
+#ifdef RDSIM_MPIEXEC
+TEST_CASE("mpirun -np 2: the same CSV twice, the steps of both ranks, weights checked every update", "[cli][mpi]") {
+  ScratchDir dir("mpi_determinism");
+  const std::string config = cartpole_config(dir);
+  for (const char* run : {"a", "b"}) {
+    const auto r = rltest::run_rdsim_mpi(2, "train --quiet --config " + config + " --log-dir " + (dir / run), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(r.out.empty());
+  }
+  CHECK(logs(dir / "a") == logs(dir / "b"));
+  const auto progress = rltest::lines(rltest::slurp(dir / "a/progress.csv"));
+  CHECK_THAT(progress.front(), Contains("allreduce_bytes"));
+  CHECK(progress.size() == 1 + 4096 / (2 * 4 * 64));  // one row per update, steps of both ranks
+  CHECK(progress.back().rfind("4096,", 0) == 0);
+  // Episodes of both ranks, numbered in order.
+  const auto episodes = rltest::lines(rltest::slurp(dir / "a/episodes.csv"));
+  REQUIRE(episodes.size() > 3);
+  for (std::size_t k = 1; k < episodes.size(); ++k) CHECK(episodes[k].rfind(std::to_string(k) + ",", 0) == 0);
+
+  // The same config as one process is a different (half as wide) run.
+  const auto one = rltest::run_rdsim("train --quiet --config " + config + " --log-dir " + (dir / "one"), dir);
+  REQUIRE(one.exit_code == 0);
+  CHECK(logs(dir / "one").progress != logs(dir / "a").progress);
+}
+
+TEST_CASE("mpirun -np 2: --resume continues exactly like an uninterrupted run", "[cli][mpi]") {
+  ScratchDir dir("mpi_resume");
+  const std::string config = cartpole_config(dir, 1024);
+  auto r = rltest::run_rdsim_mpi(2, "train --quiet --config " + config + " --timesteps 6144 --log-dir " + (dir / "full"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  r = rltest::run_rdsim_mpi(2, "train --quiet --config " + config + " --log-dir " + (dir / "part"), dir);
+  REQUIRE(r.exit_code == 0);
+  r = rltest::run_rdsim_mpi(2, "train --quiet --resume " + (dir / "part") + " --timesteps 6144", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK(logs(dir / "part") == logs(dir / "full"));
+
+  // A checkpoint of two ranks needs two ranks.
+  r = rltest::run_rdsim("train --quiet --resume " + (dir / "part"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains("resume it with mpirun -np 2"));
+}
+
+TEST_CASE("mpirun -np 2: SAC trains data-parallel, and an algorithm not wired for MPI is refused once", "[cli][mpi]") {
+  ScratchDir dir("mpi_algorithms");
+  rltest::spit(dir / "sac.json", R"({
+    "algorithm": "sac", "env": {"name": "pendulum"}, "seed": 1, "total_timesteps": 800, "num_envs": 2,
+    "sync_check_interval": 1, "network": {"hidden_sizes": [16, 16]},
+    "sac": {"learning_starts": 100, "batch_size": 32, "buffer_size": 1000}
+  })");
+  auto r = rltest::run_rdsim_mpi(2, "train --quiet --config " + (dir / "sac.json") + " --log-dir " + (dir / "sac"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);  // the critics' weights too are compared across the ranks every update
+  const auto progress = rltest::lines(rltest::slurp(dir / "sac/progress.csv"));
+  CHECK_THAT(progress.front(), Contains("allreduce_bytes"));
+  CHECK(progress.back().rfind("800,", 0) == 0);
+
+  rltest::spit(dir / "trpo.json", R"({"algorithm": "trpo", "env": {"name": "cartpole"}, "total_timesteps": 1000})");
+  r = rltest::run_rdsim_mpi(2, "train --quiet --config " + (dir / "trpo.json") + " --log-dir " + (dir / "trpo"), dir);
+  CHECK(r.exit_code != 0);
+  const std::string refusal = "algorithm \"trpo\" does not train data-parallel yet";
+  CHECK_THAT(r.err, Contains(refusal));
+  CHECK(r.err.find(refusal) == r.err.rfind(refusal));  // rank 0 reports it, once
+}
+#endif
