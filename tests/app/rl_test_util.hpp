@@ -8,6 +8,8 @@
 #include <unistd.h>
 #include <vector>
 
+#include "../leak_check_env.hpp"
+
 namespace rltest {
 
 // A fresh folder under the system temp dir, removed when the object goes away.
@@ -61,7 +63,7 @@ inline RunResult run_rdsim(const std::string& args, const ScratchDir& dir) { ret
 // Runs `mpirun -np <ranks> rdsim <args>` (oversubscribed: CI has 2 cores; CI runs as root, which
 // Open MPI refuses unless told).
 inline RunResult run_rdsim_mpi(int ranks, const std::string& args, const ScratchDir& dir) {
-  return run_captured("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(RDSIM_MPIEXEC) +
+  return run_captured(std::string(no_leak_check_env) + "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(RDSIM_MPIEXEC) +
                           " -np " + std::to_string(ranks) + " --oversubscribe " + RDSIM_BINARY,
                       args, dir);
 }

@@ -43,30 +43,11 @@ Ppm read_ppm(const std::string& path) {
   return p;
 }
 
-// Under AddressSanitizer (the sanitizer CI build), the window's OpenGL (Mesa llvmpipe on Xvfb)
-// leaves a few allocations whose only stack frames are JIT-compiled shader code: no module, so no
-// suppression in tests/sanitizers/lsan.supp can name them. The window's process runs without the
-// leak check (every other ASan/UBSan check stays on); the teleop session code it runs is
-// leak-checked by tests/teleop/.
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define RDSIM_TEST_UNDER_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define RDSIM_TEST_UNDER_ASAN 1
-#endif
-#ifdef RDSIM_TEST_UNDER_ASAN
-constexpr const char* window_env = "ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1 ";
-#else
-constexpr const char* window_env = "";
-#endif
-
 // Runs `person` (a shell script: $1 is the rdsim binary) on a fresh Xvfb screen; its exit status.
 int under_xvfb(const ScratchDir& dir, const std::string& person) {
   const std::string script = dir / "person.sh";
   rltest::spit(script, "set -e\n" + person);
-  const std::string cmd = std::string(window_env) + "xvfb-run -a -s '-screen 0 1280x800x24' sh '" + script + "' " +
+  const std::string cmd = std::string(rltest::no_leak_check_env) + "xvfb-run -a -s '-screen 0 1280x800x24' sh '" + script + "' " +
                           RDSIM_BINARY + " > '" + (dir / "xvfb.out") + "' 2>&1";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
