@@ -7,7 +7,7 @@
 # prints steps/s (timesteps / wall time of the last progress.csv row) and the CPU seconds of the
 # rdsim process (user + system: the dashboard's threads included), then the medians and ratios.
 #
-# CLIENT=http replaces the browser by curl making the page's requests at its rate (progress rows
+# CLIENT=http replaces the browser by a small client making the page's requests at its rate (progress rows
 # since the last answer every 500 ms, the list of runs every 5 s): the server's cost alone, without
 # a browser competing for the same cores.
 #
@@ -36,21 +36,25 @@ measure() {
 }
 
 # Samples, every 0.1 s until the process ends, the CPU ticks (user + system) of its main thread
-# (the training loop) and of all its other threads (the dashboard's server, if any): the last
+# (the training loop) and of all its other threads (the env worker pool when num_threads > 1, and the dashboard's server, if any): the last
 # sample is the whole run's but for its last moments.
 watch_threads() {
   local pid="" main other fields f
   for _ in $(seq 1000); do pid=$(pgrep -P "$1" || true); [ -n "$pid" ] && break; sleep 0.01; done
   echo "0 0" >"$2"
   [ -n "$pid" ] || return 0
+  # Shell builtins only (one `sleep` per sample): a process started per thread and sample would
+  # cost the run more with the dashboard's extra threads than without (measured: a `sed` per thread
+  # every 0.1 s made the dashboard look 20 % slower on the 2-core VM).
+  local line
   while kill -0 "$pid" 2>/dev/null; do
     main=0 other=0
     for f in /proc/"$pid"/task/*/stat; do
-      fields=$(sed 's/.*) //' "$f" 2>/dev/null) || continue
-      read -r -a a <<<"$fields"
+      read -r line 2>/dev/null <"$f" || continue
+      read -r -a a <<<"${line##*) }"
       if [ "$f" = "/proc/$pid/task/$pid/stat" ]; then main=$((a[11] + a[12])); else other=$((other + a[11] + a[12])); fi
     done
-    echo "$main $other" >"$2.tmp" && mv "$2.tmp" "$2"
+    echo "$main $other" >"$2"
     sleep 0.1
   done
 }
@@ -63,17 +67,35 @@ run_plain() {
   wait "$train"
 }
 
-# What the page does, with curl: the rows written since the last answer every 500 ms, the list of
-# runs every 5 s, until the server goes away.
+# What the page does, over one kept-alive connection as a browser keeps it: the rows written since
+# the last answer every 500 ms, the list of runs every 5 s, until the server goes away. (A curl
+# process per request would measure process start-up instead: on the 2-core VM a curl loop aimed
+# at a closed port, no server at all, already slowed training by 3-5 %.)
 http_client() {
-  local base="http://127.0.0.1:$1" next=0 tick=0 answer
-  until curl -s -o /dev/null "$base/api/runs"; do sleep 0.05; done
-  while answer=$(curl -s "$base/api/progress?run=0:.&from=$next"); do
-    next=$(grep -o '"next":[0-9]*' <<<"$answer" | cut -d: -f2)
-    next=${next:-0}
-    if [ $((tick++ % 10)) -eq 0 ]; then curl -s -o /dev/null "$base/api/runs" || break; fi
-    sleep 0.5
-  done
+  python3 - "$1" <<'PY'
+import http.client, json, sys, time
+port = int(sys.argv[1])
+while True:
+    try:
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
+        conn.request("GET", "/api/runs")
+        conn.getresponse().read()
+        break
+    except OSError:
+        time.sleep(0.05)
+next_offset, tick = 0, 0
+while True:
+    try:
+        conn.request("GET", f"/api/progress?run=0:.&from={next_offset}")
+        next_offset = json.loads(conn.getresponse().read()).get("next", next_offset)
+        if tick % 10 == 0:
+            conn.request("GET", "/api/runs")
+            conn.getresponse().read()
+    except (OSError, http.client.HTTPException, ValueError):
+        break
+    tick += 1
+    time.sleep(0.5)
+PY
 }
 
 # The browser is opened before training starts, on a page that waits for the dashboard and then
@@ -118,7 +140,7 @@ for i in $(seq "$repeats"); do
   with+=("$sps") cpu_with+=("$cpu")
   if awk -v m="$main" 'BEGIN { exit !(m > 0) }'; then
     share+=("$(awk -v m="$main" -v o="$other" 'BEGIN { printf "%.3f", 100 * o / m }')")
-    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (training thread $main s, dashboard threads $other s)"
+    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (training thread $main s, other threads $other s)"
   else  # the thread sampler did not find the process (a loaded machine): no share from this run
     echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (threads not sampled)"
   fi
@@ -128,6 +150,6 @@ m0=$(median "${without[@]}") m1=$(median "${with[@]}")
 c0=$(median "${cpu_without[@]}") c1=$(median "${cpu_with[@]}")
 sh=$(median "${share[@]:-0}")
 awk -v a="$m0" -v b="$m1" -v c="$c0" -v d="$c1" -v s="$sh" 'BEGIN {
-  printf "median CPU time of the dashboard threads: %.2f%% of the training thread'"'"'s\n", s
+  printf "median CPU time of the other threads (env workers + dashboard; num_threads 1 leaves the dashboard alone): %.2f%% of the training thread'"'"'s\n", s
   printf "median steps/s: %.1f without, %.1f with the dashboard and its client: %+.2f%%\n", a, b, (b / a - 1) * 100
   printf "median CPU seconds of rdsim: %.2f without, %.2f with: %+.2f%%\n", c, d, (d / c - 1) * 100 }'

@@ -11,6 +11,7 @@ bin=${RDSIM_BIN:-build/rdsim}
 runs=${RUNS:-3}
 out=${OUT:-$(mktemp -d /tmp/rdsim_wall_clock.XXXXXX)}
 [ $# -gt 0 ] || { echo "usage: tools/bench/wall_clock.sh CONFIG..." >&2; exit 2; }
+mkdir -p "$out"
 cd "$root"
 echo "binary: $bin   $(nproc) cores   load average: $(cut -d' ' -f1-3 /proc/loadavg)   runs per config: $runs"
 for config in "$@"; do
