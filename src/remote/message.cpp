@@ -83,16 +83,28 @@ const char* to_string(DType dtype) { return dtype == DType::UInt8 ? "uint8" : "f
 
 std::size_t element_size(DType dtype) { return dtype == DType::UInt8 ? 1 : 4; }
 
-std::vector<std::string> encode_message(const Message& m) {
-  nlohmann::json header = m.header;
-  if (!m.arrays.empty()) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const ArrayFrame& a : m.arrays) list.push_back({{"name", a.name}, {"dtype", to_string(a.dtype)}, {"shape", a.shape}});
+std::string encode_header(const Message& m) {
+  std::string text = m.header.dump();
+  if (m.arrays.empty()) return text;
+  nlohmann::json list = nlohmann::json::array();
+  for (const ArrayFrame& a : m.arrays) list.push_back({{"name", a.name}, {"dtype", to_string(a.dtype)}, {"shape", a.shape}});
+  if (m.header.contains("arrays") || text.size() < 2 || text.back() != '}') {  // not an object, or "arrays" to replace
+    nlohmann::json header = m.header;
     header["arrays"] = std::move(list);
+    return header.dump();
   }
+  // Appended to the object's text rather than to a copy of the header: no copy of its values.
+  text.pop_back();
+  text += text.size() > 1 ? ",\"arrays\":" : "\"arrays\":";
+  text += list.dump();
+  text += '}';
+  return text;
+}
+
+std::vector<std::string> encode_message(const Message& m) {
   std::vector<std::string> frames;
   frames.reserve(1 + m.arrays.size());
-  frames.push_back(header.dump());
+  frames.push_back(encode_header(m));
   for (const ArrayFrame& a : m.arrays) frames.push_back(a.bytes);
   return frames;
 }

@@ -4,10 +4,12 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <optional>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/remote/curve_keys.hpp"
 #include "rdsim/remote/protocol.hpp"
+#include "send_message.hpp"
 
 namespace rdsim::remote {
 namespace {
@@ -18,6 +20,10 @@ zmq::context_t& client_context() {
   static auto* context = new zmq::context_t(1);
   return *context;
 }
+
+// ms a call waits for its reply before it looks at the monitor (a refused key, a lost server)
+// and at its deadline; replies themselves wake it at once.
+constexpr int kWaitSliceMs = 50;
 
 std::string next_monitor_endpoint() {
   static std::atomic<long long> counter{0};
@@ -42,6 +48,7 @@ RemoteLink::RemoteLink(const RemoteEnvConfig& config)
   // A hostile server cannot make this client hold a frame larger than this.
   socket_.set(zmq::sockopt::maxmsgsize, static_cast<std::int64_t>(max_reply_frame_bytes));
   socket_.set(zmq::sockopt::linger, 200);  // ms to deliver a last close
+  socket_.set(zmq::sockopt::rcvtimeo, kWaitSliceMs);
   const std::string monitor = next_monitor_endpoint();
   if (zmq_socket_monitor(socket_.handle(), monitor.c_str(),
                          ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL | ZMQ_EVENT_DISCONNECTED) != 0)
@@ -60,17 +67,12 @@ RemoteLink::~RemoteLink() {
 
 void RemoteLink::send(Message& request) {
   request.header["id"] = next_id_++;
-  const std::vector<std::string> frames = encode_message(request);
-  for (std::size_t i = 0; i < frames.size(); ++i)
-    socket_.send(zmq::buffer(frames[i]), i + 1 < frames.size() ? zmq::send_flags::sndmore : zmq::send_flags::none);
+  (void)send_message(socket_, request, zmq::send_flags::none);
 }
 
 void RemoteLink::post(Message request) {
   request.header["id"] = next_id_++;
-  const std::vector<std::string> frames = encode_message(request);
-  for (std::size_t i = 0; i < frames.size(); ++i)
-    (void)socket_.send(zmq::buffer(frames[i]), (i + 1 < frames.size() ? zmq::send_flags::sndmore : zmq::send_flags::none) |
-                                                  zmq::send_flags::dontwait);
+  (void)send_message(socket_, request, zmq::send_flags::dontwait);
 }
 
 void RemoteLink::check_monitor() {
@@ -102,26 +104,31 @@ Message RemoteLink::call(Message request) {
   const long long id = next_id_ - 1;
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_));
-  std::vector<zmq::pollitem_t> items = {{socket_.handle(), 0, ZMQ_POLLIN, 0}, {monitor_.handle(), 0, ZMQ_POLLIN, 0}};
   while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-    if (left.count() <= 0)
-      throw Error(endpoint_ + ": no reply within " + std::to_string(static_cast<long long>(timeout_)) +
-                  " s (is `rdsim serve` running there" + (curve_ ? ", and is server_key its public key?" : "?") + ")");
+    // A blocking receive (one wait in the kernel) rather than zmq_poll over the socket and its
+    // monitor, which costs several system calls per reply; the monitor is read when a wait slice
+    // (kWaitSliceMs) passes without a reply, so a refused key or a lost server still shows at once.
+    zmq::message_t first;
+    std::optional<std::size_t> received;
     try {
-      zmq::poll(items, left);
+      received = socket_.recv(first);
     } catch (const zmq::error_t& e) {
-      if (e.num() == EINTR) continue;  // a signal: wait on
-      throw Error(endpoint_ + ": " + e.what());
+      if (e.num() != EINTR) throw Error(endpoint_ + ": " + e.what());  // EINTR: a signal, wait on
     }
-    if (items[1].revents & ZMQ_POLLIN) check_monitor();
-    if (!(items[0].revents & ZMQ_POLLIN)) continue;
+    if (!received) {
+      check_monitor();
+      if (Clock::now() >= deadline)
+        throw Error(endpoint_ + ": no reply within " + std::to_string(static_cast<long long>(timeout_)) +
+                    " s (is `rdsim serve` running there" + (curve_ ? ", and is server_key its public key?" : "?") + ")");
+      continue;
+    }
     std::vector<zmq::message_t> parts;
-    do {
+    parts.push_back(std::move(first));
+    while (parts.back().more() && parts.size() <= static_cast<std::size_t>(max_frames)) {
       zmq::message_t part;
-      (void)socket_.recv(part);
+      (void)socket_.recv(part);  // the rest of a multipart message has arrived with its first part
       parts.push_back(std::move(part));
-    } while (parts.back().more() && parts.size() <= static_cast<std::size_t>(max_frames));
+    }
     while (parts.back().more()) {  // more frames than any reply has: drain and refuse
       zmq::message_t rest;
       (void)socket_.recv(rest);

@@ -118,8 +118,11 @@ ParsedRequest parse_request(const std::vector<std::string_view>& frames) {
     out.id = q.id;
     require(top, "request", "one of hello, reset, step, position, joints, cameras, state, close");
     std::string name;
-    std::vector<std::string> names;
-    for (const auto& [n, k] : kinds()) names.emplace_back(n);
+    static const std::vector<std::string> names = [] {  // built once, not per request
+      std::vector<std::string> v;
+      for (const auto& [n, k] : kinds()) v.emplace_back(n);
+      return v;
+    }();
     top.read_choice("request", name, names);
     for (const auto& [n, k] : kinds())
       if (name == n) q.kind = k;

@@ -9,21 +9,24 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
+#include <thread>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/remote/endpoint.hpp"
 #include "rdsim/remote/protocol.hpp"
 #include "rdsim/remote/request.hpp"
 #include "rdsim/remote/session.hpp"
+#include "send_message.hpp"
 
 namespace rdsim::remote {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kPollMs = 100;        // how soon stop() is noticed
-constexpr int kBatch = 256;         // messages served between polls
+constexpr int kPollMs = 100;        // how soon stop() is noticed (the receive timeout of the loops)
+constexpr int kMonitorMs = 10;      // disconnections are read at least this often while requests flow
 constexpr int kQueueLimit = 1000;   // messages queued per peer each way (ZMQ_SNDHWM / ZMQ_RCVHWM)
 const char* const kZapEndpoint = "inproc://zeromq.zap.01";  // fixed by the ZAP specification (RFC 27)
 const char* const kMonitorEndpoint = "inproc://rdsim-serve-monitor";
@@ -66,10 +69,14 @@ struct Server::Impl {
   long long next_number = 1;
   Clock::time_point last_sweep = Clock::now();
 
+  Clock::time_point last_monitor = Clock::now();
+
   mutable std::mutex stats_mutex;
   ServerStats stats;
+  mutable std::mutex log_mutex;  // the ZAP thread logs refusals too
 
   void log(const std::string& line) const {
+    std::lock_guard<std::mutex> lock(log_mutex);
     if (options.log) options.log(line);
     else std::fprintf(stderr, "rdsim serve: %s\n", line.c_str());
   }
@@ -89,9 +96,9 @@ struct Server::Impl {
     sync_session_count();
   }
 
-  void serve_zap();
+  void serve_zap(const std::atomic<bool>& stop);
   void serve_monitor();
-  void serve_router();
+  void serve_router(zmq::message_t& id);
   void serve_one(zmq::message_t& id, std::vector<zmq::message_t>& parts, bool too_many);
   Message answer(const std::string& id, zmq::message_t& first, const ParsedRequest& parsed, int fd);
   void send(const zmq::message_t& id, bool envelope, const Message& reply);
@@ -124,6 +131,8 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {
   s.router.set(zmq::sockopt::rcvhwm, kQueueLimit);
   s.router.set(zmq::sockopt::linger, 0);
   s.router.set(zmq::sockopt::handshake_ivl, 5000);  // ms: a stalled handshake is dropped
+  s.router.set(zmq::sockopt::rcvtimeo, kPollMs);
+  s.zap.set(zmq::sockopt::rcvtimeo, kPollMs);
   if (zmq_socket_monitor(s.router.handle(), kMonitorEndpoint, ZMQ_EVENT_DISCONNECTED | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL |
                                                                     ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL) != 0)
     throw Error(std::string("serve: cannot monitor the socket: ") + zmq_strerror(zmq_errno()));
@@ -145,32 +154,60 @@ ServerStats Server::stats() const {
   return impl_->stats;
 }
 
+namespace {
+
+// Receives one message part; nothing after the socket's receive timeout or a signal (EINTR).
+bool receive(zmq::socket_t& socket, zmq::message_t& part) {
+  try {
+    return socket.recv(part).has_value();
+  } catch (const zmq::error_t& e) {
+    if (e.num() == EINTR) return false;  // a signal: the caller looks at stop_
+    throw Error(std::string("serve: ") + e.what());
+  }
+}
+
+// Runs `body` on its own thread until this object goes, which sets `done` and joins it.
+struct Helper {
+  std::atomic<bool> done{false};
+  std::thread thread;
+  template <class F> explicit Helper(F body) : thread([this, body] { body(done); }) {}
+  ~Helper() {
+    done.store(true);
+    thread.join();
+  }
+};
+
+}  // namespace
+
 void Server::run() {
   Impl& s = *impl_;
-  std::vector<zmq::pollitem_t> items = {{s.router.handle(), 0, ZMQ_POLLIN, 0},
-                                        {s.monitor.handle(), 0, ZMQ_POLLIN, 0},
-                                        {s.zap.handle(), 0, ZMQ_POLLIN, 0}};
-  if (!s.options.keys) items.pop_back();
+  // ZAP requests (CurveZMQ key checks) are answered on their own thread, so this loop can wait in
+  // one blocking receive on the router: zmq_poll over three sockets cost several system calls per
+  // request. The ZAP thread touches only the key set (read-only), the stats and the log (locked).
+  std::optional<Helper> zap;
+  if (s.options.keys) zap.emplace([&s, this](const std::atomic<bool>& done) {
+    while (!done.load() && !stop_.load()) s.serve_zap(done);
+  });
   while (!stop_.load()) {
-    try {
-      zmq::poll(items, std::chrono::milliseconds(kPollMs));
-    } catch (const zmq::error_t& e) {
-      if (e.num() == EINTR) continue;  // a signal: look at stop_
-      throw Error(std::string("serve: ") + e.what());
+    zmq::message_t id;
+    const bool got = receive(s.router, id);
+    // Disconnections before a hello (a new connection may reuse a closed one's fd), after a
+    // quiet wait, and every kMonitorMs, so a session never outlives its connection for long.
+    const auto now = Clock::now();
+    if (!got || now - s.last_monitor >= std::chrono::milliseconds(kMonitorMs) || !s.sessions.count(id.to_string())) {
+      s.last_monitor = now;
+      s.serve_monitor();
     }
-    // Disconnections first, so a session never outlives its connection by a request.
-    if (items[1].revents & ZMQ_POLLIN) s.serve_monitor();
-    if (items.size() > 2 && (items[2].revents & ZMQ_POLLIN)) s.serve_zap();
-    if (items[0].revents & ZMQ_POLLIN) s.serve_router();
+    if (got) s.serve_router(id);
     s.sweep_idle();
   }
 }
 
-void Server::Impl::serve_zap() {
-  while (true) {
+void Server::Impl::serve_zap(const std::atomic<bool>& stop) {
+  while (!stop.load()) {
     std::vector<zmq::message_t> f;
     zmq::message_t part;
-    if (!zap.recv(part, zmq::recv_flags::dontwait)) return;
+    if (!receive(zap, part)) return;
     f.push_back(std::move(part));
     while (f.back().more() && f.size() < 16) {
       zmq::message_t next;
@@ -226,21 +263,17 @@ void Server::Impl::serve_monitor() {
   }
 }
 
-void Server::Impl::serve_router() {
-  for (int n = 0; n < kBatch; ++n) {
-    zmq::message_t id;
-    if (!router.recv(id, zmq::recv_flags::dontwait)) return;
-    std::vector<zmq::message_t> parts;
-    bool too_many = false;
-    for (bool more = id.more(); more;) {
-      zmq::message_t part;
-      (void)router.recv(part);  // the rest of a multipart message has arrived with its first part
-      more = part.more();
-      if (parts.size() <= static_cast<std::size_t>(max_frames)) parts.push_back(std::move(part));
-      else too_many = true;  // read and dropped: a peer cannot make us hold more
-    }
-    serve_one(id, parts, too_many);
+void Server::Impl::serve_router(zmq::message_t& id) {
+  std::vector<zmq::message_t> parts;
+  bool too_many = false;
+  for (bool more = id.more(); more;) {
+    zmq::message_t part;
+    (void)router.recv(part);  // the rest of a multipart message has arrived with its first part
+    more = part.more();
+    if (parts.size() <= static_cast<std::size_t>(max_frames)) parts.push_back(std::move(part));
+    else too_many = true;  // read and dropped: a peer cannot make us hold more
   }
+  serve_one(id, parts, too_many);
 }
 
 void Server::Impl::serve_one(zmq::message_t& id, std::vector<zmq::message_t>& parts, bool too_many) {
@@ -304,15 +337,11 @@ Message Server::Impl::answer(const std::string& id, zmq::message_t& first, const
 }
 
 void Server::Impl::send(const zmq::message_t& id, bool envelope, const Message& reply) {
-  const std::vector<std::string> frames = encode_message(reply);
   try {
     // ROUTER sends never block: a peer that is gone or whose queue is full loses the reply.
     router.send(zmq::buffer(id.data(), id.size()), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
     if (envelope) router.send(zmq::const_buffer(nullptr, 0), zmq::send_flags::sndmore | zmq::send_flags::dontwait);
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-      const auto more = i + 1 < frames.size() ? zmq::send_flags::sndmore : zmq::send_flags::none;
-      router.send(zmq::buffer(frames[i]), more | zmq::send_flags::dontwait);
-    }
+    (void)send_message(router, reply, zmq::send_flags::dontwait);
   } catch (const zmq::error_t&) {
     // EHOSTUNREACH / EAGAIN: nothing more to do for this peer.
   }

@@ -50,6 +50,23 @@ TEST_CASE("message: arrays travel as raw frames and come back bit for bit", "[re
   CHECK(back.find("image")->bytes == std::string(reinterpret_cast<const char*>(pixels), 12));
 }
 
+TEST_CASE("message: the header text is valid JSON whatever the header holds", "[remote][message]") {
+  const std::uint8_t byte = 7;
+  Message empty;  // "{}" before the arrays list is appended
+  empty.arrays.push_back(ArrayFrame::uint8("b", &byte, {1}));
+  CHECK(nlohmann::json::parse(encode_header(empty)) ==
+        nlohmann::json::parse(R"({"arrays": [{"name": "b", "dtype": "uint8", "shape": [1]}]})"));
+  Message stale = empty;  // an "arrays" key already there is replaced, not repeated
+  stale.header["arrays"] = 1;
+  stale.header["id"] = 3;
+  const nlohmann::json parsed = nlohmann::json::parse(encode_header(stale));
+  CHECK(parsed["arrays"].size() == 1);
+  CHECK(parsed["id"] == 3);
+  Message plain;  // no arrays: the header as it is
+  plain.header["id"] = 4;
+  CHECK(encode_header(plain) == R"({"id":4})");
+}
+
 TEST_CASE("message: frames that disagree with the header are refused", "[remote][message]") {
   auto decode = [](std::vector<std::string> frames) {
     const std::vector<std::string_view> views(frames.begin(), frames.end());

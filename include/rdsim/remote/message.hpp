@@ -39,6 +39,9 @@ std::size_t element_size(DType dtype);
 
 // The frames of `m`: the header (with "arrays" filled in from m.arrays) then each array's bytes.
 std::vector<std::string> encode_message(const Message& m);
+// Frame 0 of `m` alone (the header text with its "arrays" list): senders follow it with the
+// arrays' bytes straight from m.arrays, without copying them into frames first.
+std::string encode_header(const Message& m);
 
 // Reads frames back into a Message, checking everything a hostile peer could get wrong: the
 // number of frames, a header of at most `max_header_bytes` that is a JSON object nested at most

@@ -12,8 +12,9 @@
 // `rdsim serve`'s engine: hosts environments for remote clients over ZeroMQ (docs/protocol.md).
 //
 // One ROUTER socket takes every client; each connection may hold one Session (its own env, made
-// from its hello). One thread serves everything in arrival order, so sessions never share state
-// and an env is only ever touched by that thread (renderers included).
+// from its hello). One thread serves every request in arrival order, so sessions never share
+// state and an env is only ever touched by that thread (renderers included); it waits in one
+// blocking receive, and CurveZMQ key checks (ZAP) are answered on a second thread.
 //
 // Security: with `keys` set the socket is a CurveZMQ server (every byte encrypted and
 // authenticated) and a ZAP handler admits only the public keys in `authorised`; refused
