@@ -11,6 +11,7 @@
 #
 #   tools/bench/algorithms.sh [algorithm...]     (default: all ten)
 #   SEEDS="1 2 3" OUT=/tmp/algos JOBS=2 tools/bench/algorithms.sh sac ars
+#   RESUME=1 OUT=/tmp/algos tools/bench/algorithms.sh    (keeps the runs already in /tmp/algos)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 export SEEDS=${SEEDS:-1 2 3}

@@ -13,7 +13,8 @@
 # ep_rew_mean). Other settings: SEEDS (default "1 2 3"), OUT (run folders, default a new /tmp
 # folder), RDSIM_BIN (default build/rdsim), EVAL_EPISODES (default 100, 0 = no evaluation),
 # JOBS (runs at a time, default 1; more makes the wall-clock column meaningless),
-# TIMESTEPS (overrides the config's total_timesteps).
+# TIMESTEPS (overrides the config's total_timesteps), RESUME=1 (keep a seed whose summary row
+# $OUT/seed<k>.row an earlier run of the same config left, instead of training it again).
 #
 #   SEEDS="$(seq -s' ' 1 10)" METRIC=return BUDGET=100000 tools/bench/learning.sh configs/cartpole_ppo.json 475
 set -euo pipefail
@@ -52,6 +53,10 @@ window_stats() {
 run_seed() {
   local seed=$1 dir="$out/seed$1" start wall steps at ret succ lo episodes eval_line eval_ret="" eval_succ="" met
   local extra=()
+  if [ "${RESUME:-0}" = 1 ] && [ -f "$out/seed$seed.row" ]; then
+    echo "seed $seed: kept from an earlier run ($out/seed$seed.row)"
+    return 0
+  fi
   [ -n "${TIMESTEPS:-}" ] && extra=(--timesteps "$TIMESTEPS")
   start=$(date +%s%N)
   if ! "$bin" train --quiet --overwrite --config "$config" --seed "$seed" --log-dir "$dir" "${extra[@]}" >"$out/seed$seed.log" 2>&1; then
