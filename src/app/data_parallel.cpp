@@ -29,6 +29,16 @@ std::uint64_t rank_seed(std::uint64_t seed, int rank) {
   return Rng::derive(seed, rng_stream::mpi_rank_base + static_cast<std::uint64_t>(rank)).next_u64();
 }
 
+long long run_timesteps(Communicator& comm, const VecEnv& vec) {
+  if (comm.size() == 1) return vec.timesteps();
+  const auto mine = static_cast<std::uint64_t>(vec.timesteps());
+  std::vector<std::uint64_t> all(static_cast<std::size_t>(comm.size()));
+  comm.allgather(&mine, 1, all.data());
+  long long sum = 0;
+  for (const std::uint64_t steps : all) sum += static_cast<long long>(steps);
+  return sum;
+}
+
 void share_weights(Communicator& comm, Algorithm& algo) {
   if (comm.size() == 1) return;
   std::string weights = comm.rank() == 0 ? weights_of(algo) : std::string();
@@ -70,6 +80,31 @@ void check_same_weights(Communicator& comm, const Algorithm& algo, long long upd
                 "All ranks must run the same rdsim build on the same kind of CPU (a different instruction "
                 "set rounds differently: build with -DRDSIM_NATIVE=OFF for a mixed cluster)");
   }
+}
+
+void on_every_rank(Communicator& comm, const std::function<void()>& step) {
+  if (comm.size() == 1) {
+    step();
+    return;
+  }
+  std::uint64_t failed = 0;
+  std::string message;
+  try {
+    step();
+  } catch (const Error& e) {
+    failed = 1;
+    message = e.what();
+  }
+  std::vector<std::uint64_t> all(static_cast<std::size_t>(comm.size()));
+  comm.allgather(&failed, 1, all.data());
+  int first = -1;  // the first rank that failed
+  for (int r = comm.size() - 1; r >= 0; --r)
+    if (all[static_cast<std::size_t>(r)] != 0) first = r;
+  if (first < 0) return;
+  const std::vector<std::string> messages = comm.gather(message, 0);
+  if (comm.rank() != 0) throw RankExit{1, true};
+  if (first == 0) throw JobError(message);
+  throw JobError("(MPI rank " + std::to_string(first) + ") " + messages[static_cast<std::size_t>(first)]);
 }
 
 RunEpisodes::RunEpisodes(Communicator& comm, int window) : comm_(comm), merged_(0, window) {}
