@@ -107,16 +107,19 @@ void on_every_rank(Communicator& comm, const std::function<void()>& step) {
   throw JobError("(MPI rank " + std::to_string(first) + ") " + messages[static_cast<std::size_t>(first)]);
 }
 
-RunEpisodes::RunEpisodes(Communicator& comm, int window) : comm_(comm), merged_(0, window) {}
+RunEpisodes::RunEpisodes(Communicator& comm, int window, bool lockstep)
+    : comm_(comm), lockstep_(lockstep), merged_(0, window) {}
 
-std::vector<EpisodeRecord> RunEpisodes::take_finished(VecEnv& vec) {
+std::vector<EpisodeRecord> RunEpisodes::take_finished(VecEnv& vec, long long steps_before) {
   std::vector<EpisodeRecord> mine = vec.episodes().take_finished();
   if (comm_.size() == 1) return mine;
   const std::vector<std::string> parts = comm_.gather(EpisodeTracker::encode(mine), 0);
   std::vector<EpisodeRecord> run;
+  long long steps = steps_before;
   for (std::size_t r = 0; r < parts.size(); ++r) {
     for (EpisodeRecord e : EpisodeTracker::decode(parts[r], "mpi: episodes of rank " + std::to_string(r))) {
-      e.timesteps *= comm_.size();
+      steps += e.length;
+      e.timesteps = lockstep_ ? e.timesteps * comm_.size() : steps;
       merged_.add_finished(e);
     }
   }

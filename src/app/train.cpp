@@ -188,7 +188,7 @@ int train_command(const TrainOptions& o) {
   VecEnv& vec = *vec_owner;
   algo->set_communicator(comm);
   check_data_parallel(comm, *algo);
-  RunEpisodes run_episodes(comm, config.stats_window);
+  RunEpisodes run_episodes(comm, config.stats_window, algo->lockstep());
   TrainerState state;
   if (resume) {
     check_model_spec(run.checkpoint, vec.spec(), checkpoint_path);
@@ -265,9 +265,10 @@ int train_command(const TrainOptions& o) {
   while (steps < total && !decision.signal) {
     vec.drop_caches();  // every update starts from what a checkpoint restores (core/env_state.hpp)
     const Metrics metrics = algo->update(vec, {vec.timesteps(), rank_total});
+    const long long steps_before = steps;
     steps = run_timesteps(comm, vec);
     ++state.updates;
-    for (const auto& e : run_episodes.take_finished(vec)) episodes->write_row(episode_row(e));
+    for (const auto& e : run_episodes.take_finished(vec, steps_before)) episodes->write_row(episode_row(e));
     if (config.sync_check_interval > 0 && state.updates % config.sync_check_interval == 0)
       check_same_weights(comm, *algo, state.updates);
     const long long allreduce_bytes = comm.allreduce_traffic().bytes - last_allreduce_bytes;

@@ -260,6 +260,11 @@ TEST_CASE("mpirun -np 2: TRPO, ARS and CMA-ES train data-parallel, the same CSV 
     const auto episodes = rltest::lines(rltest::slurp(a + "/episodes.csv"));
     REQUIRE(episodes.size() > 3);
     for (std::size_t k = 1; k < episodes.size(); ++k) CHECK(episodes[k].rfind(std::to_string(k) + ",", 0) == 0);
+    if (std::string(name) == "trpo") continue;
+    // Whole episodes only: their timesteps rise and end at the run's steps.
+    const auto timesteps = [&](std::size_t k) { return std::stoll(episodes[k].substr(episodes[k].find(',') + 1)); };
+    for (std::size_t k = 2; k < episodes.size(); ++k) CHECK(timesteps(k) > timesteps(k - 1));
+    CHECK(timesteps(episodes.size() - 1) == std::stoll(progress.back()));
   }
 }
 

@@ -101,6 +101,10 @@ public:
   // refuses an MPI run of one that does not (none of today's; check_data_parallel) rather than letting the
   // ranks drift apart. Default: no (a new algorithm opts in once it is wired).
   virtual bool data_parallel() const { return false; }
+  // Whether every rank of an MPI job takes the same number of env steps in an update (the
+  // gradient methods: n_steps, train_freq), so that the run's steps are K x a rank's. The
+  // population methods' ranks run different whole episodes (policy_search.hpp).
+  virtual bool lockstep() const { return true; }
   // Every weight the ranks must share: rank 0 broadcasts them before the first update, and the
   // loop compares their hash across ranks. Default: the model (save/load without training state);
   // an algorithm whose model leaves out trained networks (critics, targets) adds them.

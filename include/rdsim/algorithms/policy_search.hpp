@@ -25,6 +25,7 @@ public:
   // Under MPI the ranks share the population (evaluate()): every rank draws the same candidates
   // from the same stream, evaluates its slice and makes the same update from all returns.
   bool data_parallel() const override { return true; }
+  bool lockstep() const override { return false; }
   // Model: the policy's parameters and the observation statistics. Checkpoint: those, the
   // perturbation stream and the method's own state (save_search).
   void save(std::ostream& out, bool training_state) const override;

@@ -67,13 +67,17 @@ void on_every_rank(Communicator& comm, const std::function<void()>& step);
 
 // The run's episode log. One process: the VecEnv's own tracker. Several: each update, every
 // rank's finished episodes go to rank 0 in rank order, and are numbered there, with timesteps
-// counted over all ranks (local timesteps x K: the ranks step in lockstep).
+// counted over all ranks: local timesteps x K when the ranks step in lockstep
+// (Algorithm::lockstep); else (ARS, CMA-ES: whole episodes only) the run's steps before the
+// update plus the lengths of the update's episodes up to this one in log order, so the column
+// rises and ends the update at the run's steps.
 class RunEpisodes {
 public:
-  RunEpisodes(Communicator& comm, int window);
+  RunEpisodes(Communicator& comm, int window, bool lockstep = true);
 
   // Takes this rank's finished episodes; returns the run's new ones (rank 0; empty elsewhere).
-  std::vector<EpisodeRecord> take_finished(VecEnv& vec);
+  // `steps_before`: the run's steps before this update (run_timesteps).
+  std::vector<EpisodeRecord> take_finished(VecEnv& vec, long long steps_before);
   // Over the run's last `window` episodes / the number so far (rank 0).
   EpisodeStats stats(const VecEnv& vec) const;
   long long episodes(const VecEnv& vec) const;
@@ -83,6 +87,7 @@ public:
 
 private:
   Communicator& comm_;
+  bool lockstep_;
   EpisodeTracker merged_;  // several ranks: rank 0's log of every rank's episodes
 };
 
