@@ -4,6 +4,21 @@
 
 namespace rdsim {
 
+namespace {
+
+template <class T>
+void average(Communicator& comm, T* data, std::size_t n) {
+  if (comm.size() == 1) return;
+  comm.allreduce_sum(data, n);
+  const T inv = T(1) / static_cast<T>(comm.size());
+  for (std::size_t k = 0; k < n; ++k) data[k] *= inv;
+}
+
+}  // namespace
+
+void average_values(Communicator& comm, float* data, std::size_t n) { average(comm, data, n); }
+void average_values(Communicator& comm, double* data, std::size_t n) { average(comm, data, n); }
+
 void average_gradients(Communicator& comm, const nn::ParamList& params, std::vector<float>& buffer) {
   if (comm.size() == 1) return;
   std::size_t total = 0;
@@ -14,12 +29,10 @@ void average_gradients(Communicator& comm, const nn::ParamList& params, std::vec
     std::copy_n(p.grad->data(), p.grad->size(), buffer.data() + at);
     at += static_cast<std::size_t>(p.grad->size());
   }
-  comm.allreduce_sum(buffer.data(), total);
-  const float inv = 1.0f / static_cast<float>(comm.size());
+  average_values(comm, buffer.data(), total);
   at = 0;
   for (const nn::Param& p : params) {
-    float* g = p.grad->data();
-    for (Eigen::Index k = 0; k < p.grad->size(); ++k) g[k] = buffer[at + static_cast<std::size_t>(k)] * inv;
+    std::copy_n(buffer.data() + at, p.grad->size(), p.grad->data());
     at += static_cast<std::size_t>(p.grad->size());
   }
 }

@@ -30,8 +30,8 @@ PolicySearch::PolicySearch(const Spec& spec, const NetworkConfig& network, bool 
 PopulationResult PolicySearch::evaluate(VecEnv& envs, const std::vector<Eigen::VectorXf>& candidates, int episodes) {
   const Eigen::VectorXf current = policy_.parameters();
   RunningNormalizer seen(policy_.observation_size());
-  PopulationResult result = evaluate_population(envs, policy_, candidates, episodes,
-                                                normalize_observations_ ? &normalizer_ : nullptr, &seen);
+  PopulationResult result = evaluate_population_on_ranks(communicator(), envs, policy_, candidates, episodes,
+                                                         normalize_observations_ ? &normalizer_ : nullptr, &seen);
   if (normalize_observations_) normalizer_.merge(seen);
   policy_.set_parameters(current);
   return result;

@@ -1,5 +1,8 @@
 #include "rdsim/algorithms/population.hpp"
 
+#include <algorithm>
+#include <cstddef>
+
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/error.hpp"
@@ -53,6 +56,49 @@ PopulationResult evaluate_population(VecEnv& envs, FlatPolicy& policy, const std
   result.returns.resize(candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c) result.returns[c] = sums[c] / episodes;
   result.steps = envs.timesteps() - start;
+  return result;
+}
+
+namespace {
+
+// Every rank's `seen` observation statistics merged in rank order (one allgather).
+RunningNormalizer merge_over_ranks(Communicator& comm, const RunningNormalizer& seen) {
+  const std::vector<double> mine = seen.to_doubles();
+  std::vector<double> all(mine.size() * static_cast<std::size_t>(comm.size()));
+  comm.allgather(mine.data(), mine.size(), all.data());
+  RunningNormalizer merged(seen.size());
+  for (int r = 0; r < comm.size(); ++r)
+    merged.merge(RunningNormalizer::from_doubles(all.data() + static_cast<std::size_t>(r) * mine.size(), seen.size()));
+  return merged;
+}
+
+}  // namespace
+
+PopulationResult evaluate_population_on_ranks(Communicator& comm, VecEnv& envs, FlatPolicy& policy,
+                                              const std::vector<Eigen::VectorXf>& candidates, int episodes,
+                                              const RunningNormalizer* normalizer, RunningNormalizer* seen) {
+  const std::size_t n = candidates.size(), ranks = static_cast<std::size_t>(comm.size());
+  if (ranks == 1) return evaluate_population(envs, policy, candidates, episodes, normalizer, seen);
+  const auto first = [&](std::size_t r) { return r * n / ranks; };  // rank r's first candidate
+  const auto rank = static_cast<std::size_t>(comm.rank());
+  const std::vector<Eigen::VectorXf> mine(candidates.begin() + static_cast<std::ptrdiff_t>(first(rank)),
+                                          candidates.begin() + static_cast<std::ptrdiff_t>(first(rank + 1)));
+  RunningNormalizer own(policy.observation_size());
+  const PopulationResult local = evaluate_population(envs, policy, mine, episodes, normalizer, seen ? &own : nullptr);
+  if (seen) *seen = merge_over_ranks(comm, own);
+
+  // One slot per rank: its returns (padded to the largest slice) and, last, its steps.
+  const std::size_t slot = (n + ranks - 1) / ranks + 1;
+  std::vector<double> send(slot, 0.0), all(slot * ranks);
+  std::copy(local.returns.begin(), local.returns.end(), send.begin());
+  send.back() = static_cast<double>(local.steps);  // exact below 2^53 steps
+  comm.allgather(send.data(), slot, all.data());
+  PopulationResult result;
+  for (std::size_t r = 0; r < ranks; ++r) {
+    const double* at = all.data() + r * slot;
+    result.returns.insert(result.returns.end(), at, at + (first(r + 1) - first(r)));
+    result.steps += static_cast<long long>(at[slot - 1]);
+  }
   return result;
 }
 

@@ -48,6 +48,26 @@ void RunningNormalizer::normalize(const Eigen::Ref<const Eigen::VectorXf>& x, Ei
   out = ((x.cast<double>() - mean_).array() / (variance().array() + 1e-8).sqrt()).cast<float>().matrix();
 }
 
+std::vector<double> RunningNormalizer::to_doubles() const {
+  std::vector<double> values(1 + 2 * static_cast<std::size_t>(size()));
+  values[0] = static_cast<double>(count_);  // exact: counts stay far below 2^53
+  for (int i = 0; i < size(); ++i) {
+    values[1 + static_cast<std::size_t>(i)] = mean_[i];
+    values[1 + static_cast<std::size_t>(size() + i)] = m2_[i];
+  }
+  return values;
+}
+
+RunningNormalizer RunningNormalizer::from_doubles(const double* values, int size) {
+  RunningNormalizer n(size);
+  n.count_ = static_cast<long long>(values[0]);
+  for (int i = 0; i < size; ++i) {
+    n.mean_[i] = values[1 + i];
+    n.m2_[i] = values[1 + size + i];
+  }
+  return n;
+}
+
 void RunningNormalizer::save(std::ostream& out) const {
   write_u32(out, static_cast<std::uint32_t>(size()));
   write_u64(out, static_cast<std::uint64_t>(count_));

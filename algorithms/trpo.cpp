@@ -4,14 +4,19 @@
 // products, the largest step along x whose quadratic KL estimate is target_kl, and a
 // backtracking line search that accepts the first step with mean KL(old || new) < target_kl and
 // a better surrogate -- and n_critic_updates epochs of Adam minibatches on the value function.
+// Under MPI every rank collects its own rollout (of the same size), and g, every Fisher-vector
+// product, the surrogate and KL values and the critic's gradients are averaged over the ranks:
+// every rank then takes the same step, the one of all ranks' rollouts together.
 #include "rdsim/algorithms/trpo.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/advantage.hpp"
+#include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/on_policy.hpp"
 #include "rdsim/core/error.hpp"
 
@@ -61,9 +66,7 @@ public:
   }
 
   std::string name() const override { return "trpo"; }
-  // Not wired for MPI yet: the conjugate-gradient step and the line search would need the ranks'
-  // gradients, Fisher-vector products and surrogate values averaged, not only the critic's.
-  bool data_parallel() const override { return false; }
+  bool data_parallel() const override { return true; }
 
 protected:
   Metrics train(double remaining) override;
@@ -72,6 +75,12 @@ private:
   // Mean of ratio * advantage over the rollout for the last evaluate(): the surrogate objective.
   double surrogate(const Eigen::VectorXf& log_probs, const Eigen::VectorXf& adv) const {
     return ((log_probs - rollout_.log_probs).array().exp() * adv.array()).cast<double>().mean();
+  }
+  // The mean of `values` over the ranks (of their rollouts; all of the same size).
+  template <std::size_t N>
+  std::array<double, N> over_ranks(std::array<double, N> values) const {
+    average_values(communicator(), values.data(), N);
+    return values;
   }
   double train_critic();
 
@@ -93,17 +102,20 @@ Metrics Trpo::train(double /*remaining*/) {
   // The surrogate's gradient at the rollout's policy: d/dlog pi of mean(ratio * adv) = ratio * adv / n.
   const PolicyEval& start = policy_->evaluate(rollout_.observations, rollout_.actions);
   const ActorCritic::Distributions old = policy_->distributions();
-  const double objective = surrogate(start.log_probs, adv);
+  const double objective = over_ranks<1>({surrogate(start.log_probs, adv)})[0];
   const Eigen::VectorXf ratio = (start.log_probs - rollout_.log_probs).array().exp().matrix();
   policy_->zero_grad();
   policy_->backward(ratio.cwiseProduct(adv) * inv_n, Eigen::VectorXf(), Eigen::VectorXf::Zero(n));
+  average_gradients(params);
   const Eigen::VectorXf g = nn::flatten_grads(params);
 
   // Natural gradient direction x = (F + damping I)^-1 g, and the step whose quadratic KL
   // estimate 0.5 s^T F s equals target_kl.
   const auto damping = static_cast<float>(cfg_.cg_damping);
   const auto fisher = [&](const Eigen::VectorXf& v) -> Eigen::VectorXf {
-    return policy_->fisher_vector_product(v) + damping * v;
+    Eigen::VectorXf fv = policy_->fisher_vector_product(v);
+    average_values(communicator(), fv.data(), static_cast<std::size_t>(fv.size()));
+    return fv + damping * v;
   };
   const Eigen::VectorXf x = trpo::conjugate_gradient(fisher, g, cfg_.cg_max_steps);
   const float xfx = x.dot(fisher(x));
@@ -118,8 +130,9 @@ Metrics Trpo::train(double /*remaining*/) {
   for (; tries < cfg_.line_search_max_iter && max_step > 0.0f; ++tries) {
     nn::assign_values(params, theta_old + coef * max_step * x);
     const PolicyEval& ev = policy_->evaluate(rollout_.observations, rollout_.actions);
-    kl = policy_->mean_kl(old);
-    improved = surrogate(ev.log_probs, adv);
+    const std::array<double, 2> kl_and_surrogate = over_ranks<2>({policy_->mean_kl(old), surrogate(ev.log_probs, adv)});
+    kl = kl_and_surrogate[0];
+    improved = kl_and_surrogate[1];
     if (kl < cfg_.target_kl && improved > objective) {
       accepted = true;
       ++tries;
@@ -172,6 +185,7 @@ double Trpo::train_critic() {
       const Eigen::VectorXf diff = ev.values - returns;
       policy_->zero_grad();
       policy_->backward(Eigen::VectorXf::Zero(b), Eigen::VectorXf(), diff * (2.0f / static_cast<float>(b)));
+      average_gradients(optimizer_->params());
       optimizer_->step();
       loss_sum += diff.cast<double>().squaredNorm();
     }

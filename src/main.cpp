@@ -379,7 +379,9 @@ int main(int argc, char** argv) {
     if (name == "bench-remote") return rdsim::bench_remote_command(bench_remote);
     if (name == "teleop") return rdsim::teleop_command(teleop);
   } catch (const rdsim::RankExit& e) {  // rank 0 reports this error
-    return stop(e.code);
+    return e.job_knows ? e.code : stop(e.code);
+  } catch (const rdsim::JobError& e) {  // every rank knows: each returns, MPI finalises normally
+    return fail(e.what());
   } catch (const rdsim::Error& e) {
     if (comm && comm->rank() > 0) return stop(fail("(MPI rank " + std::to_string(comm->rank()) + ") " + e.what()));
     return stop(fail(e.what()));

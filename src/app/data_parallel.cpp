@@ -29,6 +29,16 @@ std::uint64_t rank_seed(std::uint64_t seed, int rank) {
   return Rng::derive(seed, rng_stream::mpi_rank_base + static_cast<std::uint64_t>(rank)).next_u64();
 }
 
+long long run_timesteps(Communicator& comm, const VecEnv& vec) {
+  if (comm.size() == 1) return vec.timesteps();
+  const auto mine = static_cast<std::uint64_t>(vec.timesteps());
+  std::vector<std::uint64_t> all(static_cast<std::size_t>(comm.size()));
+  comm.allgather(&mine, 1, all.data());
+  long long sum = 0;
+  for (const std::uint64_t steps : all) sum += static_cast<long long>(steps);
+  return sum;
+}
+
 void share_weights(Communicator& comm, Algorithm& algo) {
   if (comm.size() == 1) return;
   std::string weights = comm.rank() == 0 ? weights_of(algo) : std::string();
@@ -72,16 +82,44 @@ void check_same_weights(Communicator& comm, const Algorithm& algo, long long upd
   }
 }
 
-RunEpisodes::RunEpisodes(Communicator& comm, int window) : comm_(comm), merged_(0, window) {}
+void on_every_rank(Communicator& comm, const std::function<void()>& step) {
+  if (comm.size() == 1) {
+    step();
+    return;
+  }
+  std::uint64_t failed = 0;
+  std::string message;
+  try {
+    step();
+  } catch (const Error& e) {
+    failed = 1;
+    message = e.what();
+  }
+  std::vector<std::uint64_t> all(static_cast<std::size_t>(comm.size()));
+  comm.allgather(&failed, 1, all.data());
+  int first = -1;  // the first rank that failed
+  for (int r = comm.size() - 1; r >= 0; --r)
+    if (all[static_cast<std::size_t>(r)] != 0) first = r;
+  if (first < 0) return;
+  const std::vector<std::string> messages = comm.gather(message, 0);
+  if (comm.rank() != 0) throw RankExit{1, true};
+  if (first == 0) throw JobError(message);
+  throw JobError("(MPI rank " + std::to_string(first) + ") " + messages[static_cast<std::size_t>(first)]);
+}
 
-std::vector<EpisodeRecord> RunEpisodes::take_finished(VecEnv& vec) {
+RunEpisodes::RunEpisodes(Communicator& comm, int window, bool lockstep)
+    : comm_(comm), lockstep_(lockstep), merged_(0, window) {}
+
+std::vector<EpisodeRecord> RunEpisodes::take_finished(VecEnv& vec, long long steps_before) {
   std::vector<EpisodeRecord> mine = vec.episodes().take_finished();
   if (comm_.size() == 1) return mine;
   const std::vector<std::string> parts = comm_.gather(EpisodeTracker::encode(mine), 0);
   std::vector<EpisodeRecord> run;
+  long long steps = steps_before;
   for (std::size_t r = 0; r < parts.size(); ++r) {
     for (EpisodeRecord e : EpisodeTracker::decode(parts[r], "mpi: episodes of rank " + std::to_string(r))) {
-      e.timesteps *= comm_.size();
+      steps += e.length;
+      e.timesteps = lockstep_ ? e.timesteps * comm_.size() : steps;
       merged_.add_finished(e);
     }
   }

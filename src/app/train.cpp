@@ -90,49 +90,58 @@ RunStart start_run(const TrainOptions& o, Communicator& comm) {
   RunStart run;
   const bool root = comm.rank() == 0;
   const MemoryLimit limit = memory_limit(o.max_memory_gb);
+  // Errors: each step runs on_every_rank, so a bad config is reported once (by rank 0) and every
+  // rank leaves with its exit code, none left waiting in a broadcast.
   if (o.resume_dir.empty()) {
     std::string text;
-    if (root) {
+    on_every_rank(comm, [&] {
+      if (!root) return;
       run.config = read_train_config(o.config_path, o.overrides);
       if (o.threads) run.config.num_threads = *o.threads;
       check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, run.config.source);
       run.folder = std::make_unique<RunFolder>(run.config.log_dir, o.overwrite ? RunFolder::Mode::Overwrite : RunFolder::Mode::New);
       text = to_json(run.config).dump();
-    }
+    });
     if (comm.size() > 1) {
       comm.broadcast(text, 0);
-      if (!root) {
+      on_every_rank(comm, [&] {
+        if (root) return;
         const std::string name = std::filesystem::path(o.config_path).stem().string();
         run.config = parse_train_config(nlohmann::json::parse(text), o.config_path + " (from rank 0)", name);
         if (o.threads) run.config.num_threads = *o.threads;
         check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, o.config_path);
-      }
+      });
     }
     return run;
   }
-  for (const ConfigOverride& v : o.overrides) {
-    if (v.key == "seed") throw Error("train: --seed cannot change a resumed run (it continues the checkpoint's seed)");
-    if (v.key == "log_dir") throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
-  }
-  if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
   run.checkpoint_path = (std::filesystem::path(o.resume_dir) / checkpoint_file_name).string();
-  if (root) {
+  on_every_rank(comm, [&] {
+    for (const ConfigOverride& v : o.overrides) {
+      if (v.key == "seed") throw Error("train: --seed cannot change a resumed run (it continues the checkpoint's seed)");
+      if (v.key == "log_dir") throw Error("train: --log-dir cannot be combined with --resume (the run folder is DIR)");
+    }
+    if (o.overwrite) throw Error("train: --overwrite cannot be combined with --resume");
+    if (!root) return;
     run.folder = std::make_unique<RunFolder>(o.resume_dir, RunFolder::Mode::Resume);
     run.checkpoint = read_model_file(run.checkpoint_path);
-  }
+  });
   if (comm.size() > 1) {  // every rank needs the whole file: it holds every rank's state
     std::string bytes = root ? encode_model_file(run.checkpoint) : std::string();
     comm.broadcast(bytes, 0);
-    if (!root) run.checkpoint = decode_model_file(bytes, run.checkpoint_path);
+    on_every_rank(comm, [&] {
+      if (!root) run.checkpoint = decode_model_file(bytes, run.checkpoint_path);
+    });
   }
-  const std::string& path = run.checkpoint_path;
-  if (run.checkpoint.kind != ModelKind::Checkpoint) throw Error(path + ": is a model, not a checkpoint");
-  nlohmann::json embedded = run.checkpoint.config;
-  apply_overrides(embedded, o.overrides, path + " (embedded config)");
-  run.config = parse_train_config(embedded, path + " (embedded config)", "resumed");
-  run.config.log_dir = o.resume_dir;
-  if (o.threads) run.config.num_threads = *o.threads;
-  check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, path);
+  on_every_rank(comm, [&] {
+    const std::string& path = run.checkpoint_path;
+    if (run.checkpoint.kind != ModelKind::Checkpoint) throw Error(path + ": is a model, not a checkpoint");
+    nlohmann::json embedded = run.checkpoint.config;
+    apply_overrides(embedded, o.overrides, path + " (embedded config)");
+    run.config = parse_train_config(embedded, path + " (embedded config)", "resumed");
+    run.config.log_dir = o.resume_dir;
+    if (o.threads) run.config.num_threads = *o.threads;
+    check_memory(estimate_training_memory(run.config, config_spec(run.config)), limit, path);
+  });
   return run;
 }
 
@@ -169,11 +178,17 @@ int train_command(const TrainOptions& o) {
   auto file = [&](const std::string& name) { return run.folder->file(name); };  // rank 0
 
   const std::uint64_t seed = rank_seed(config.seed, comm.rank());
-  VecEnv vec(open_envs(config), seed, config.stats_window, resolve_num_threads(config, comm.local_size()));
-  auto algo = make_algorithm(config.algorithm, seed, vec.spec());
+  std::unique_ptr<VecEnv> vec_owner;
+  std::unique_ptr<Algorithm> algo;
+  on_every_rank(comm, [&] {  // an env or algorithm that refuses the config: one message
+    vec_owner = std::make_unique<VecEnv>(open_envs(config), seed, config.stats_window,
+                                         resolve_num_threads(config, comm.local_size()));
+    algo = make_algorithm(config.algorithm, seed, vec_owner->spec());
+  });
+  VecEnv& vec = *vec_owner;
   algo->set_communicator(comm);
   check_data_parallel(comm, *algo);
-  RunEpisodes run_episodes(comm, config.stats_window);
+  RunEpisodes run_episodes(comm, config.stats_window, algo->lockstep());
   TrainerState state;
   if (resume) {
     check_model_spec(run.checkpoint, vec.spec(), checkpoint_path);
@@ -223,22 +238,23 @@ int train_command(const TrainOptions& o) {
     }
     write_model_file(file(name), f);
   };
-  // total_timesteps counts the steps of all ranks; the ranks step in lockstep, each its share.
+  // total_timesteps counts the steps of all ranks (the gradient methods' ranks step in lockstep,
+  // each its share; the population methods' do not). `steps`: the run's, the same on every rank.
   const long long total = config.total_timesteps;
   const long long rank_total = (total + ranks - 1) / ranks;
-  auto run_timesteps = [&] { return vec.timesteps() * ranks; };
-  CheckpointSchedule schedule(config.checkpoint_interval, config.checkpoint_seconds, run_timesteps());
+  long long steps = run_timesteps(comm, vec);
+  CheckpointSchedule schedule(config.checkpoint_interval, config.checkpoint_seconds, steps);
   // Both files at once: model.bin is always as recent as the checkpoint a resume would start from.
   auto save = [&] {
     schedule.start();
     save_file(checkpoint_file_name, ModelKind::Checkpoint);
     save_file(model_file_name, ModelKind::Model);
-    schedule.done(run_timesteps());
+    schedule.done(steps);
   };
   if (!resume) save();  // from the start, `--resume` always finds something to continue
 
   ProgressDisplay display(o.quiet || !root);
-  const long long start_steps = run_timesteps();
+  const long long start_steps = steps;
   const double start_wall = vec.wall_time();
   long long last_steps = start_steps;
   double last_wall = start_wall;
@@ -246,18 +262,20 @@ int train_command(const TrainOptions& o) {
   long long last_allreduce_bytes = comm.allreduce_traffic().bytes;
 
   LoopDecision decision = agree(comm, interrupts.requested(), false);
-  while (vec.timesteps() < rank_total && !decision.signal) {
+  while (steps < total && !decision.signal) {
     vec.drop_caches();  // every update starts from what a checkpoint restores (core/env_state.hpp)
     const Metrics metrics = algo->update(vec, {vec.timesteps(), rank_total});
+    const long long steps_before = steps;
+    steps = run_timesteps(comm, vec);
     ++state.updates;
-    for (const auto& e : run_episodes.take_finished(vec)) episodes->write_row(episode_row(e));
+    for (const auto& e : run_episodes.take_finished(vec, steps_before)) episodes->write_row(episode_row(e));
     if (config.sync_check_interval > 0 && state.updates % config.sync_check_interval == 0)
       check_same_weights(comm, *algo, state.updates);
     const long long allreduce_bytes = comm.allreduce_traffic().bytes - last_allreduce_bytes;
     last_allreduce_bytes = comm.allreduce_traffic().bytes;
 
     const double wall = vec.wall_time();
-    const long long t = run_timesteps();
+    const long long t = steps;
     const double sps = wall > last_wall ? static_cast<double>(t - last_steps) / (wall - last_wall) : 0.0;
     last_steps = t;
     last_wall = wall;
@@ -288,25 +306,25 @@ int train_command(const TrainOptions& o) {
       display.show(t, total, s, overall_sps, wall);
     }
     decision = agree(comm, interrupts.requested(), root && schedule.due(t));
-    if (vec.timesteps() < rank_total && decision.save_due && !decision.signal) save();
+    if (steps < total && decision.save_due && !decision.signal) save();
   }
   check_same_weights(comm, *algo, state.updates);
   save();
   if (!root) return decision.signal ? 128 + decision.signal : 0;
 
   const EpisodeStats s = run_episodes.stats(vec);
-  display.show(run_timesteps(), total, s, overall_sps, vec.wall_time(), true);
+  display.show(steps, total, s, overall_sps, vec.wall_time(), true);
   display.finish();
   if (decision.signal) {
     std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
-                 run_timesteps(), total, file(checkpoint_file_name).c_str(),
+                 steps, total, file(checkpoint_file_name).c_str(),
                  file(model_file_name).c_str(), run.folder->path().string().c_str());
     return 128 + decision.signal;
   }
   if (!o.quiet) {
     std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
                 "%.1f s -> %s\n",
-                config.algorithm.name().c_str(), config.env.name.c_str(), run_timesteps(), run_episodes.episodes(vec),
+                config.algorithm.name().c_str(), config.env.name.c_str(), steps, run_episodes.episodes(vec),
                 s.count, s.mean_return, vec.wall_time(), file(model_file_name).c_str());
     if (ranks > 1) {
       const Communicator::Traffic& a = comm.allreduce_traffic();

@@ -4,7 +4,9 @@
 #include <sstream>
 #include <utility>
 
+#include "rdsim/algorithms/flat_policy.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
+#include "rdsim/algorithms/population.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"
@@ -153,8 +155,8 @@ TEST_CASE("average_gradients: the mean over the ranks, one allreduce of every gr
   CHECK(b.grad.isApproxToConstant((-2.0f - 3 * 6.0f) / 4));
 }
 
-TEST_CASE("data-parallel PPO, A2C and DQN: ranks with the same gradients train like one process", "[data_parallel]") {
-  for (const char* name : {"ppo", "a2c", "dqn"}) {
+TEST_CASE("data-parallel PPO, A2C, DQN and TRPO: ranks with the same gradients train like one process", "[data_parallel]") {
+  for (const char* name : {"ppo", "a2c", "dqn", "trpo"}) {
     INFO(name);
     const Setup s = small(name);
     rdsim::VecEnv v1(toy::make_envs(4, true, 8), 9), v2(toy::make_envs(4, true, 8), 9);
@@ -198,12 +200,38 @@ TEST_CASE("data-parallel SAC and TD3: every optimiser step averages, critics and
   }
 }
 
-TEST_CASE("the algorithms not wired for MPI say so (the training loop refuses them under mpirun)", "[data_parallel]") {
+TEST_CASE("every algorithm trains data-parallel (the training loop accepts it under mpirun)", "[data_parallel]") {
   rdsim::VecEnv discrete(toy::make_envs(2, true, 8), 1), box(toy::make_envs(2, false, 8), 1);
-  for (const char* name : {"ppo", "a2c", "dqn", "random"}) CHECK(make_algorithm(small(name), discrete.spec())->data_parallel());
-  for (const char* name : {"sac", "td3", "ddpg"}) CHECK(make_algorithm(small(name), box.spec())->data_parallel());
-  for (const char* name : {"trpo", "ars", "cma_es"}) {
+  for (const char* name : {"ppo", "a2c", "dqn", "random", "trpo", "ars", "cma_es"}) {
     INFO(name);
-    CHECK_FALSE(make_algorithm(small(name), discrete.spec())->data_parallel());
+    CHECK(make_algorithm(small(name), discrete.spec())->data_parallel());
   }
+  for (const char* name : {"sac", "td3", "ddpg"}) CHECK(make_algorithm(small(name), box.spec())->data_parallel());
+}
+
+TEST_CASE("population on ranks: each rank evaluates its slice, every rank gets all returns", "[data_parallel]") {
+  // The stand-in's other rank hands back this rank's values, so with 2 ranks and 4 candidates
+  // the gathered returns are candidates 0 and 1's twice, and the steps twice this rank's.
+  rdsim::VecEnv envs(toy::make_envs(2, true, 8), 3), alone(toy::make_envs(2, true, 8), 3);
+  rdsim::Rng init(1);
+  rdsim::NetworkConfig linear;
+  linear.hidden_sizes = {};
+  rdsim::FlatPolicy policy(envs.spec(), linear, false, init, "ars", "test");
+  std::vector<Eigen::VectorXf> candidates;
+  for (int k = 0; k < 4; ++k) candidates.push_back(Eigen::VectorXf::Constant(policy.size(), 0.1f * static_cast<float>(k - 2)));
+  toy::FakeCommunicator comm(2);
+  rdsim::RunningNormalizer seen(policy.observation_size()), seen_alone(policy.observation_size());
+  const rdsim::PopulationResult r = rdsim::evaluate_population_on_ranks(comm, envs, policy, candidates, 2, nullptr, &seen);
+  const rdsim::PopulationResult mine =
+      rdsim::evaluate_population(alone, policy, {candidates[0], candidates[1]}, 2, nullptr, &seen_alone);
+  REQUIRE(r.returns.size() == 4);
+  CHECK(r.returns == std::vector<double>{mine.returns[0], mine.returns[1], mine.returns[0], mine.returns[1]});
+  CHECK(r.steps == 2 * mine.steps);
+  CHECK(seen.count() == 2 * seen_alone.count());  // both ranks' observations
+  CHECK(seen.mean().isApprox(seen_alone.mean()));
+  // One rank: the plain population step.
+  rdsim::VecEnv one(toy::make_envs(2, true, 8), 3), plain(toy::make_envs(2, true, 8), 3);
+  const rdsim::PopulationResult a =
+      rdsim::evaluate_population_on_ranks(rdsim::single_process_communicator(), one, policy, candidates, 1, nullptr, nullptr);
+  CHECK(a.returns == rdsim::evaluate_population(plain, policy, candidates, 1, nullptr, nullptr).returns);
 }

@@ -94,13 +94,17 @@ public:
   // own envs with the same initial weights, and the algorithm keeps the weights identical on all
   // ranks through `comm` (communicator.hpp): gradient methods average every gradient over the
   // ranks before their optimiser step (average_gradients, gradient_averaging.hpp); population
-  // methods would spread their evaluations with allgather. Per-rank quantities (n_steps, buffer sizes,
+  // methods (ARS, CMA-ES) spread their population with allgather (population.hpp). Per-rank quantities (n_steps, buffer sizes,
   // learning_starts) stay per rank. Set before the first update; default: one process.
   void set_communicator(Communicator& comm) { comm_ = &comm; }
   // Whether the algorithm keeps the ranks identical through `comm` (above). The training loop
-  // refuses an MPI run of one that does not (TRPO, ARS, CMA-ES so far) rather than letting the
+  // refuses an MPI run of one that does not (none of today's; check_data_parallel) rather than letting the
   // ranks drift apart. Default: no (a new algorithm opts in once it is wired).
   virtual bool data_parallel() const { return false; }
+  // Whether every rank of an MPI job takes the same number of env steps in an update (the
+  // gradient methods: n_steps, train_freq), so that the run's steps are K x a rank's. The
+  // population methods' ranks run different whole episodes (policy_search.hpp).
+  virtual bool lockstep() const { return true; }
   // Every weight the ranks must share: rank 0 broadcasts them before the first update, and the
   // loop compares their hash across ranks. Default: the model (save/load without training state);
   // an algorithm whose model leaves out trained networks (critics, targets) adds them.

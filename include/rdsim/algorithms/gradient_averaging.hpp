@@ -14,4 +14,10 @@ namespace rdsim {
 // the first call), then divided by comm.size(). Nothing happens for a single process.
 void average_gradients(Communicator& comm, const nn::ParamList& params, std::vector<float>& buffer);
 
+// The mean over the ranks of `n` values, in place (one allreduce; nothing for a single process):
+// for what an algorithm computes from its own rank's data besides gradients (TRPO's
+// Fisher-vector products, surrogate and KL values).
+void average_values(Communicator& comm, float* data, std::size_t n);
+void average_values(Communicator& comm, double* data, std::size_t n);
+
 }  // namespace rdsim

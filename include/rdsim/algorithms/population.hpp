@@ -4,11 +4,12 @@
 
 #include "rdsim/algorithms/flat_policy.hpp"
 #include "rdsim/algorithms/running_normalizer.hpp"
+#include "rdsim/parallel/communicator.hpp"
 
 // The population evaluation of the search methods (ARS, CMA-ES), as one separable step: given
 // candidate parameter vectors, run whole episodes and return each candidate's mean return. It is
 // the only place they touch envs, so a distributed evaluator (candidates split across MPI ranks,
-// returns gathered) can replace this function without changing the algorithms.
+// returns gathered: evaluate_population_on_ranks) replaces it without changing the algorithms.
 namespace rdsim {
 
 class VecEnv;
@@ -26,5 +27,15 @@ struct PopulationResult {
 // (when given, not changed); every observation it acts on is added to `seen` (when given).
 PopulationResult evaluate_population(VecEnv& envs, FlatPolicy& policy, const std::vector<Eigen::VectorXf>& candidates,
                                      int episodes, const RunningNormalizer* normalizer, RunningNormalizer* seen);
+
+// The population step of an MPI job (communicator.hpp): every rank holds the same candidates
+// (drawn from the same seed), rank r evaluates the contiguous slice [r N / K, (r + 1) N / K) of
+// them with its own envs, and one allgather hands every rank all N returns in candidate order,
+// with `steps` the env steps of all ranks. `seen` (when given) ends with the observations of
+// every rank, merged in rank order, so it too is identical on every rank. One rank: exactly
+// evaluate_population.
+PopulationResult evaluate_population_on_ranks(Communicator& comm, VecEnv& envs, FlatPolicy& policy,
+                                              const std::vector<Eigen::VectorXf>& candidates, int episodes,
+                                              const RunningNormalizer* normalizer, RunningNormalizer* seen);
 
 }  // namespace rdsim

@@ -2,6 +2,7 @@
 #include <Eigen/Core>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 // Running mean and variance of observations (Welford's update, Chan et al.'s merge, in double),
 // to standardise a policy's inputs: ARS "V2" (Mania et al. 2018), optionally CMA-ES.
@@ -24,6 +25,11 @@ public:
 
   const Eigen::VectorXd& mean() const { return mean_; }
   Eigen::VectorXd variance() const;  // population variance (1 while fewer than 2 observations)
+
+  // The statistics as 1 + 2 size() doubles (count, means, sums of squared deviations), to send
+  // between the ranks of an MPI job; from_doubles reads them back exactly.
+  std::vector<double> to_doubles() const;
+  static RunningNormalizer from_doubles(const double* values, int size);
 
   void save(std::ostream& out) const;
   // rdsim::Error naming `source` when the stored size differs or the stream ends early.

@@ -19,16 +19,11 @@
 // them with allreduce_sum and divides by size(), so every rank applies the same step and the
 // parameters stay identical (the training loop compares a hash of them across ranks).
 //
-// Gradient-free population methods (ARS, CMA-ES; not wired yet: Algorithm::data_parallel) would
-// spread the population over the ranks: every rank draws the same perturbations (same seed),
-// evaluates its share, and allgather() hands every rank all returns, so every rank makes the same
-// update:
-//
-//   const int per_rank = population / comm.size();            // population % size() == 0
-//   std::vector<double> mine(per_rank), all(population);
-//   for (int k = 0; k < per_rank; ++k) mine[k] = evaluate(comm.rank() * per_rank + k);
-//   comm.allgather(mine.data(), mine.size(), all.data());      // all[r * per_rank + k]
-//   update(all);                                               // identical on every rank
+// Gradient-free population methods (ARS, CMA-ES) spread the population over the ranks: every
+// rank draws the same candidates (same search state), evaluates its share, and allgather() hands
+// every rank all returns, so every rank makes the same update (evaluate_population_on_ranks,
+// algorithms/population.hpp). TRPO also averages its Fisher-vector products and line-search
+// values (average_values, algorithms/gradient_averaging.hpp).
 namespace rdsim {
 
 class Communicator {
