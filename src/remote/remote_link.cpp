@@ -10,6 +10,7 @@
 #include "rdsim/remote/curve_keys.hpp"
 #include "rdsim/remote/protocol.hpp"
 #include "send_message.hpp"
+#include "spin_wait.hpp"
 
 namespace rdsim::remote {
 namespace {
@@ -111,6 +112,7 @@ Message RemoteLink::call(Message request) {
     zmq::message_t first;
     std::optional<std::size_t> received;
     try {
+      remote::spin_until_readable(socket_);
       received = socket_.recv(first);
     } catch (const zmq::error_t& e) {
       if (e.num() != EINTR) throw Error(endpoint_ + ": " + e.what());  // EINTR: a signal, wait on

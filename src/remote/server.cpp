@@ -19,6 +19,7 @@
 #include "rdsim/remote/request.hpp"
 #include "rdsim/remote/session.hpp"
 #include "send_message.hpp"
+#include "spin_wait.hpp"
 
 namespace rdsim::remote {
 namespace {
@@ -190,6 +191,7 @@ void Server::run() {
   });
   while (!stop_.load()) {
     zmq::message_t id;
+    remote::spin_until_readable(s.router);
     const bool got = receive(s.router, id);
     // Disconnections before a hello (a new connection may reuse a closed one's fd), after a
     // quiet wait, and every kMonitorMs, so a session never outlives its connection for long.
