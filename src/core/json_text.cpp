@@ -120,11 +120,14 @@ nlohmann::json read_json_file(const std::string& path) { return parse_json(read_
 std::string json_excerpt(const nlohmann::json& value, std::size_t max_chars) {
   std::string out;
   // Scalars are written whole except long strings, which are cut first (their dump would be long).
+  // Invalid UTF-8 (a cut through a multi-byte character, or bytes a message carried) is written
+  // as U+FFFD instead of throwing: an excerpt describes bad input, so it must accept any.
   const auto scalar = [&](const nlohmann::json& v) {
+    const auto replace = nlohmann::json::error_handler_t::replace;
     if (v.is_string() && v.get_ref<const std::string&>().size() > max_chars)
-      out += nlohmann::json(v.get_ref<const std::string&>().substr(0, max_chars)).dump();
+      out += nlohmann::json(v.get_ref<const std::string&>().substr(0, max_chars)).dump(-1, ' ', false, replace);
     else
-      out += v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+      out += v.dump(-1, ' ', false, replace);
   };
   struct Frame {
     const nlohmann::json* v;
@@ -152,7 +155,7 @@ std::string json_excerpt(const nlohmann::json& value, std::size_t max_chars) {
     f.first = false;
     if (f.v->is_object()) {
       const std::string& key = f.it.key();
-      out += nlohmann::json(key.size() > max_chars ? key.substr(0, max_chars) : key).dump() + ':';
+      out += nlohmann::json(key.size() > max_chars ? key.substr(0, max_chars) : key).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ':';
     }
     const nlohmann::json& child = *f.it;
     ++f.it;

@@ -68,8 +68,30 @@ void check_xml_depth(const std::string& xml, const std::string& where) {
   }
 }
 
+// urdfdom before 5.1 passes some attribute values to console_bridge as the printf format of its
+// error messages (ros/urdfdom#243): a '%n' in a URDF writes through a garbage pointer. A '%'
+// outside comments is refused before urdfdom sees the file; URDF names and numbers never need one.
+void check_no_percent(const std::string& xml, const std::string& where) {
+  std::size_t at = 0;
+  while (at < xml.size()) {
+    const std::size_t comment = xml.find("<!--", at);
+    const std::size_t percent = xml.find('%', at);
+    if (percent == std::string::npos) return;
+    if (comment < percent) {
+      const std::size_t end = xml.find("-->", comment + 4);
+      if (end == std::string::npos) return;  // unterminated comment: urdfdom reports it
+      at = end + 3;
+      continue;
+    }
+    const auto line = 1 + std::count(xml.begin(), xml.begin() + static_cast<std::ptrdiff_t>(percent), '\n');
+    throw Error(where + ": line " + std::to_string(line) +
+                ": not a valid URDF for rdsim: '%' outside a comment (urdfdom would read it as a printf directive)");
+  }
+}
+
 urdf::ModelInterfaceSharedPtr parse_with_messages(const std::string& xml, const std::string& where) {
   check_xml_depth(xml, where);
+  check_no_percent(xml, where);
   std::lock_guard<std::mutex> lock(parser_mutex());
   MessageCollector collector;
   console_bridge::useOutputHandler(&collector);

@@ -74,6 +74,15 @@ TEST_CASE("json_excerpt is short, one line and safe on huge or deep values", "[j
   for (int i = 0; i < 200000; ++i) deep = nlohmann::json::array({std::move(deep)});
   CHECK(rdsim::json_excerpt(deep, 20).size() <= 23);
   CHECK(rdsim::json_excerpt(nlohmann::json(std::string(1 << 20, 'x')), 30).size() <= 33);
+  // The fuzzer's finding: a cut through a two-byte character (U+073C) made the excerpt throw.
+  std::string syriac;
+  for (int i = 0; i < 40; ++i) syriac += "\xdc\xbc";
+  for (std::size_t cut : {7, 30, 31, 200}) {
+    std::string e;
+    REQUIRE_NOTHROW(e = rdsim::json_excerpt(nlohmann::json(syriac), cut));
+    CHECK_NOTHROW(nlohmann::json(e).dump());  // valid UTF-8: it can go into a JSON reply
+    CHECK(e.size() <= cut + 3);
+  }
 }
 
 TEST_CASE("one_line escapes control characters and cuts long text", "[json]") {

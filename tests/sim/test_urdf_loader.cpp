@@ -136,6 +136,14 @@ TEST_CASE("Bad URDFs are rdsim::Errors naming the file", "[urdf]") {
   SECTION("floating joint") {
     require_error(dir.write("float.urdf", robot(urdf_link("a") + urdf_link("b") + urdf_joint("j", "a", "b", "floating"))), "floating");
   }
+  SECTION("a printf directive, which urdfdom 3 would expand in its error message") {
+    // The fuzzer's finding: urdfdom formatted "%n" from an attribute value and wrote through it.
+    std::string text = robot(urdf_link("a"));
+    text.insert(text.find("<link"), "<!-- 100% ours -->\n");
+    CHECK_NOTHROW(rdsim::load_urdf(dir.write("comment.urdf", text)));
+    text.insert(text.find("<link"), "<link name=\"%n%n%s%p\"><origin xyz=\"%n %n %n\"/></link>\n");
+    require_error(dir.write("percent.urdf", text), "line 2: not a valid URDF for rdsim: '%' outside a comment");
+  }
   SECTION("two roots") {
     require_error(dir.write("roots.urdf", robot(urdf_link("a") + urdf_link("b"))), "not a valid URDF");
   }
