@@ -184,6 +184,21 @@ TEST_CASE("dashboard reports an unreadable log as an error answer, not a crash",
   CHECK(body_of(answer).find("empty column name") != std::string::npos);
 }
 
+TEST_CASE("dashboard answers names that are not UTF-8 with U+FFFD, not an error", "[dashboard]") {
+  const fs::path root = scratch_dir("not_utf8");
+  make_run(root / "good", "ppo", 1, 3);
+  write_file(root / "latin1_\xe9t\xe9" / "progress.csv", "timesteps,r\xe9" "compense\n1,2\n");
+  rdsim::DashboardServer server(options_for(root));
+  const nlohmann::json runs = get_json(server.port(), "/api/runs");
+  REQUIRE(runs["runs"].size() == 2);  // the other run is still listed
+  const nlohmann::json progress = get_json(server.port(), "/api/progress?run=0:good");
+  CHECK(progress["rows"].size() == 3);
+  // The damaged header of a run whose name is fine: served, the bad byte replaced.
+  write_file(root / "good" / "progress.csv", "timesteps,r\xe9" "compense\n1,2\n");
+  const nlohmann::json damaged = get_json(server.port(), "/api/progress?run=0:good");
+  CHECK(damaged["columns"][1] == "r\xef\xbf\xbd" "compense");
+}
+
 TEST_CASE("dashboard bind addresses", "[dashboard]") {
   CHECK(rdsim::parse_bind_address("127.0.0.1:8097").port == 8097);
   CHECK(rdsim::parse_bind_address(":9000").host == "127.0.0.1");
