@@ -117,17 +117,19 @@ nlohmann::json parse_json(std::string_view text, const std::string& where, std::
 
 nlohmann::json read_json_file(const std::string& path) { return parse_json(read_file(path, max_config_bytes), path); }
 
+std::string dump_json(const nlohmann::json& value) {
+  return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 std::string json_excerpt(const nlohmann::json& value, std::size_t max_chars) {
   std::string out;
-  // Scalars are written whole except long strings, which are cut first (their dump would be long).
-  // Invalid UTF-8 (a cut through a multi-byte character, or bytes a message carried) is written
-  // as U+FFFD instead of throwing: an excerpt describes bad input, so it must accept any.
+  // Scalars are written whole except long strings, which are cut first (their dump would be long;
+  // a cut inside a character is written as U+FFFD by dump_json).
   const auto scalar = [&](const nlohmann::json& v) {
-    const auto replace = nlohmann::json::error_handler_t::replace;
     if (v.is_string() && v.get_ref<const std::string&>().size() > max_chars)
-      out += nlohmann::json(v.get_ref<const std::string&>().substr(0, max_chars)).dump(-1, ' ', false, replace);
+      out += dump_json(nlohmann::json(v.get_ref<const std::string&>().substr(0, max_chars)));
     else
-      out += v.dump(-1, ' ', false, replace);
+      out += dump_json(v);
   };
   struct Frame {
     const nlohmann::json* v;
@@ -155,7 +157,7 @@ std::string json_excerpt(const nlohmann::json& value, std::size_t max_chars) {
     f.first = false;
     if (f.v->is_object()) {
       const std::string& key = f.it.key();
-      out += nlohmann::json(key.size() > max_chars ? key.substr(0, max_chars) : key).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + ':';
+      out += dump_json(nlohmann::json(key.size() > max_chars ? key.substr(0, max_chars) : key)) + ':';
     }
     const nlohmann::json& child = *f.it;
     ++f.it;

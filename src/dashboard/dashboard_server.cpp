@@ -10,6 +10,7 @@
 #include "bounded_server.hpp"
 #include "rdsim/core/csv_reader.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/json_text.hpp"
 #include "rdsim/dashboard/run_index.hpp"
 #include "web_assets.hpp"
 
@@ -24,12 +25,12 @@ bool is_loopback(const std::string& host) {
   return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
 }
 
-// Bytes that are not UTF-8 (a column name in a damaged CSV, a folder name in another encoding) are
-// written as U+FFFD rather than throwing, so one bad name cannot turn a whole answer into an error.
+// dump_json: bytes that are not UTF-8 (a column name in a damaged CSV, a folder name in another
+// encoding) are written as U+FFFD, so one bad name cannot turn a whole answer into an error.
 void send_json(httplib::Response& res, int status, const nlohmann::json& body) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
-  res.set_content(body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
+  res.set_content(dump_json(body), "application/json");
 }
 
 void send_error(httplib::Response& res, int status, const std::string& message) {

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/json_text.hpp"
 #include "rdsim/remote/protocol.hpp"
 
 namespace rdsim::remote {
@@ -83,23 +84,17 @@ const char* to_string(DType dtype) { return dtype == DType::UInt8 ? "uint8" : "f
 
 std::size_t element_size(DType dtype) { return dtype == DType::UInt8 ? 1 : 4; }
 
-// Invalid UTF-8 in a header (an error reply quoting a client's bytes) is sent as U+FFFD rather
-// than throwing: the peer always gets a well-formed reply.
-namespace {
-std::string dump_header(const nlohmann::json& header) {
-  return header.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-}  // namespace
-
+// dump_json: invalid UTF-8 in a header (an error reply quoting a client's bytes) goes out as U+FFFD
+// rather than throwing, so the peer always gets a well-formed reply.
 std::string encode_header(const Message& m) {
-  std::string text = dump_header(m.header);
+  std::string text = dump_json(m.header);
   if (m.arrays.empty()) return text;
   nlohmann::json list = nlohmann::json::array();
   for (const ArrayFrame& a : m.arrays) list.push_back({{"name", a.name}, {"dtype", to_string(a.dtype)}, {"shape", a.shape}});
   if (m.header.contains("arrays") || text.size() < 2 || text.back() != '}') {  // not an object, or "arrays" to replace
     nlohmann::json header = m.header;
     header["arrays"] = std::move(list);
-    return dump_header(header);
+    return dump_json(header);
   }
   // Appended to the object's text rather than to a copy of the header: no copy of its values.
   text.pop_back();

@@ -25,6 +25,11 @@ nlohmann::json parse_json(std::string_view text, const std::string& where,
 // A config file read with read_file's bounds (max_config_bytes) and parsed by parse_json.
 nlohmann::json read_json_file(const std::string& path);
 
+// Compact JSON text of any value: bytes that are not UTF-8 (a string cut inside a character, a
+// name in another encoding, bytes a client sent) are written as U+FFFD instead of throwing, so a
+// reply or an error message about bad input can always be written.
+std::string dump_json(const nlohmann::json& value);
+
 // A short, single-line rendering of a value for error messages: compact JSON cut to about
 // `max_chars` characters ("..." marks the cut). Iterative and bounded: it never walks more of
 // the value than it prints, whatever the value's size or depth.
