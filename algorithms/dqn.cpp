@@ -1,8 +1,9 @@
 // Deep Q-Learning (Mnih et al. 2015) as in the common baselines: experience replay, a target
 // network refreshed every target_update_interval env steps (hard copy, or Polyak with tau < 1),
 // linear epsilon-greedy exploration, Huber TD loss, optional double Q-learning (van Hasselt et
-// al. 2016), global grad-norm clipping, train_freq env steps per env between training phases
-// of gradient_steps minibatch updates, and no learning before learning_starts. With
+// al. 2016), optional n-step returns (n_step_returns.hpp), global grad-norm clipping, train_freq
+// env steps per env between training phases of gradient_steps minibatch updates, and no learning
+// before learning_starts. With
 // demonstrations (demonstrations.hpp): a demonstration buffer that is never overwritten, a share of
 // every minibatch from it, pre-training on it, and optionally DQfD's large-margin loss.
 #include "rdsim/algorithms/dqn.hpp"
@@ -15,6 +16,7 @@
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
+#include "rdsim/algorithms/n_step_returns.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
@@ -30,7 +32,7 @@ namespace dqn {
 
 Eigen::VectorXf td_targets(const Eigen::VectorXf& rewards, const Eigen::VectorXf& terminated,
                            const Eigen::MatrixXf& next_q_target, const Eigen::MatrixXf* next_q_online,
-                           float gamma) {
+                           float gamma, const Eigen::VectorXf* steps) {
   const Eigen::Index batch = rewards.size();
   Eigen::VectorXf next_value(batch);
   for (Eigen::Index j = 0; j < batch; ++j) {
@@ -42,7 +44,9 @@ Eigen::VectorXf td_targets(const Eigen::VectorXf& rewards, const Eigen::VectorXf
       next_value[j] = next_q_target.col(j).maxCoeff();
     }
   }
-  return rewards.array() + gamma * (1.0f - terminated.array()) * next_value.array();
+  if (!steps) return rewards.array() + gamma * (1.0f - terminated.array()) * next_value.array();
+  const Eigen::ArrayXf discount = steps->array().unaryExpr([gamma](float k) { return std::pow(gamma, k); });
+  return rewards.array() + discount * (1.0f - terminated.array()) * next_value.array();
 }
 
 TdLoss huber_loss(const Eigen::VectorXf& prediction, const Eigen::VectorXf& target) {
@@ -161,6 +165,7 @@ public:
         spec_(spec),
         num_actions_(checked_num_actions(config, spec, where)),
         buffer_(config.buffer_size, spec.observation),
+        n_step_(config.n_step, config.gamma, spec.observation),
         explore_rng_(Rng::derive(seed, rng_stream::exploration)),
         replay_rng_(Rng::derive(seed, rng_stream::replay_sampling)) {
     Rng init = Rng::derive(seed, rng_stream::network_init);
@@ -197,6 +202,7 @@ private:
   QNet q_, target_;
   std::unique_ptr<nn::Adam> optimizer_;
   ReplayBuffer buffer_;
+  NStepReturns n_step_;  // each env's last n_step - 1 steps, until their return is known
   Rng explore_rng_, replay_rng_;
   long long env_calls_ = 0;       // VecEnv::step calls: the clock of target updates
   long long gradient_steps_ = 0;  // since the start of training
@@ -234,7 +240,8 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
     const EnvStep& s = steps[k];
     // After an episode ends the env has been reset: the transition's next state is the final one.
     if (!s.done()) envs.observations().copy_to(i, next_obs_);
-    buffer_.add(prev_obs_[k], actions_[k].index, s.reward, s.done() ? s.final_observation : next_obs_, s.terminated);
+    n_step_.add(i, prev_obs_[k], actions_[k].index, s.reward, s.done() ? s.final_observation : next_obs_, s.terminated,
+                s.done(), buffer_);
   }
   ++env_calls_;
   const long long interval = std::max<long long>(cfg_.target_update_interval / n, 1);
@@ -276,14 +283,15 @@ void Dqn::gradient_step(StepStats& stats) {
   join_vector(batch_.actions, demo_batch_.actions);
   join_vector(batch_.rewards, demo_batch_.rewards);
   join_vector(batch_.terminated, demo_batch_.terminated);
+  join_vector(batch_.steps, demo_batch_.steps);
   train_on(demo_count, stats);
 }
 
 void Dqn::train_on(int demo_count, StepStats& stats) {
   const Eigen::MatrixXf& next_q_target = target_.infer(batch_.next_observations);
   const Eigen::MatrixXf* next_q_online = cfg_.double_q ? &q_.infer(batch_.next_observations) : nullptr;
-  const Eigen::VectorXf targets =
-      dqn::td_targets(batch_.rewards, batch_.terminated, next_q_target, next_q_online, static_cast<float>(cfg_.gamma));
+  const Eigen::VectorXf targets = dqn::td_targets(batch_.rewards, batch_.terminated, next_q_target, next_q_online,
+                                                  static_cast<float>(cfg_.gamma), cfg_.n_step > 1 ? &batch_.steps : nullptr);
 
   const Eigen::MatrixXf& q = q_.forward(batch_.observations);
   const int b = static_cast<int>(batch_.actions.size());
@@ -396,6 +404,7 @@ void Dqn::save(std::ostream& out, bool training_state) const {
   write_u64(out, static_cast<std::uint64_t>(env_calls_));
   write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
   buffer_.save(out);
+  if (cfg_.n_step > 1) n_step_.save(out);  // absent with one-step returns: older checkpoints load
 }
 
 void Dqn::load(std::istream& in, bool training_state, const std::string& source) {
@@ -414,6 +423,7 @@ void Dqn::load(std::istream& in, bool training_state, const std::string& source)
   env_calls_ = static_cast<long long>(env_calls);
   gradient_steps_ = static_cast<long long>(gradient_steps);
   buffer_.load(in, source);
+  if (cfg_.n_step > 1) n_step_.load(in, source);
   if (buffer_.size() > 0 && buffer_.largest_action() >= num_actions_)
     throw Error(source + ": replay buffer holds an action outside the env's " + std::to_string(num_actions_) +
                 " (damaged file?)");

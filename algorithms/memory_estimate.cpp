@@ -116,7 +116,7 @@ void actor_critics(const NetworkConfig& n, const Spec& spec, int num_envs, long 
   // Weights, gradient, two Adam moments (+ a target copy): 4 or 5 floats per parameter.
   const double weights = (target_actor ? 5.0 : 4.0) * actor.params + 2.0 * 5.0 * critic.params;
   e.add("actor and critic networks, targets, gradients and optimiser state (network.hidden_sizes)", weights * kFloat);
-  const double replay = static_cast<double>(buffer_size) * (2.0 * obs + act + 2.0) * kFloat;
+  const double replay = static_cast<double>(buffer_size) * (2.0 * obs + act + 3.0) * kFloat;
   e.add(std::string("replay buffer (") + algo + ".buffer_size)", replay);
   // Actor pass, online and target critic passes on both critics, their gradients.
   e.add(std::string("training activations (") + algo + ".batch_size)",
@@ -166,7 +166,7 @@ void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int n
       const double obs_bytes = spec.observation.type == ObsType::UInt8 ? obs : obs * kFloat;
       // Online and target networks, gradients, two Adam moments.
       e.add(std::string("Q networks, gradients and optimiser state (") + network_keys(spec) + ")", 5.0 * kFloat * f.params);
-      const double replay = static_cast<double>(p.buffer_size) * (2.0 * obs_bytes + 3.0 * kFloat);
+      const double replay = static_cast<double>(p.buffer_size) * (2.0 * obs_bytes + 4.0 * kFloat);
       e.add("replay buffer (dqn.buffer_size)", replay);
       e.add("training activations (dqn.batch_size)",
             2.0 * p.batch_size * (3.0 * f.activations + 2.0 * obs) * kFloat + num_envs * (f.activations + obs) * kFloat);

@@ -14,7 +14,10 @@ constexpr std::uint32_t kReplayTag = 0x50524452;          // "RDRP": float obser
 constexpr std::uint32_t kPixelReplayTag = 0x55524452;     // "RDRU": uint8 observations, Discrete actions
 constexpr std::uint32_t kBoxReplayTag = 0x42524452;       // "RDRB": float observations, Box actions
 constexpr std::uint32_t kPixelBoxReplayTag = 0x43524452;  // "RDRC": uint8 observations, Box actions
-constexpr float kPixelScale = 1.0f / 255.0f;              // as encode_observation
+// A buffer holding n-step transitions: the same tag with its last letter in lower case ("RDRp"),
+// followed by the same content plus the step count of every transition.
+constexpr std::uint32_t kMultiStepBit = 0x20000000;
+constexpr float kPixelScale = 1.0f / 255.0f;  // as encode_observation
 
 std::uint32_t storage_tag(bool pixels, bool box) {
   return box ? (pixels ? kPixelBoxReplayTag : kBoxReplayTag) : (pixels ? kPixelReplayTag : kReplayTag);
@@ -52,6 +55,7 @@ ReplayBuffer::ReplayBuffer(long long capacity, const ObservationSpace& space, in
     actions_.resize(n);
   rewards_.resize(n);
   terminated_.resize(n);
+  steps_.resize(n);
 }
 
 int ReplayBuffer::largest_action() const {
@@ -64,11 +68,14 @@ std::size_t ReplayBuffer::observation_bytes() const {
          (pixels_ ? 1 : sizeof(float));
 }
 
-void ReplayBuffer::store_rest(int action, float reward, bool terminated) {
+void ReplayBuffer::store_rest(int action, float reward, bool terminated, int steps) {
+  if (steps < 1) throw Error("ReplayBuffer::add: a transition spans at least 1 step, got " + std::to_string(steps));
   const auto i = static_cast<Eigen::Index>(next_);
   if (action_dim_ == 0) actions_[i] = action;
   rewards_[i] = reward;
   terminated_[i] = terminated ? 1.0f : 0.0f;
+  steps_[i] = static_cast<float>(steps);
+  multi_step_ = multi_step_ || steps > 1;
   next_ = (next_ + 1) % capacity_;
   if (size_ < capacity_) ++size_;
 }
@@ -113,10 +120,10 @@ void ReplayBuffer::add(const Eigen::Ref<const Eigen::VectorXf>& observation, int
 }
 
 void ReplayBuffer::add(const Observation& observation, int action, float reward, const Observation& next_observation,
-                       bool terminated) {
+                       bool terminated, int steps) {
   if (action_dim_ > 0) throw Error("ReplayBuffer::add: this buffer stores Box actions; pass the action's values");
   store_observations(observation, next_observation);
-  store_rest(action, reward, terminated);
+  store_rest(action, reward, terminated, steps);
 }
 
 void ReplayBuffer::add(const Eigen::Ref<const Eigen::VectorXf>& observation, const Eigen::Ref<const Eigen::VectorXf>& action,
@@ -144,6 +151,7 @@ void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
     out.action_values.resize(action_dim_, action_dim_ > 0 ? batch_size : 0);
     out.rewards.resize(batch_size);
     out.terminated.resize(batch_size);
+    out.steps.resize(batch_size);
   }
   for (int j = 0; j < batch_size; ++j) {
     const auto i = static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(size_)));
@@ -160,12 +168,13 @@ void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
       out.actions[j] = actions_[i];
     out.rewards[j] = rewards_[i];
     out.terminated[j] = terminated_[i];
+    out.steps[j] = steps_[i];
   }
 }
 
 void ReplayBuffer::save(std::ostream& out) const {
   const bool box = action_dim_ > 0;
-  write_u32(out, storage_tag(pixels_, box));
+  write_u32(out, storage_tag(pixels_, box) | (multi_step_ ? kMultiStepBit : 0u));
   write_u64(out, static_cast<std::uint64_t>(capacity_));
   write_u32(out, static_cast<std::uint32_t>(observation_size_));
   if (box) write_u32(out, static_cast<std::uint32_t>(action_dim_));
@@ -185,10 +194,13 @@ void ReplayBuffer::save(std::ostream& out) const {
     write(actions_.data(), n * 4);
   write(rewards_.data(), n * 4);
   write(terminated_.data(), n * 4);
+  if (multi_step_) write(steps_.data(), n * 4);
 }
 
 void ReplayBuffer::load(std::istream& in, const std::string& source) {
-  const std::uint32_t tag = read_u32(in, source);
+  const std::uint32_t tagged = read_u32(in, source);
+  const bool multi_step = (tagged & kMultiStepBit) != 0;
+  const std::uint32_t tag = tagged & ~kMultiStepBit;
   if (tag != kReplayTag && tag != kPixelReplayTag && tag != kBoxReplayTag && tag != kPixelBoxReplayTag)
     throw Error(source + ": replay buffer not found (damaged checkpoint?)");
   const bool pixels = tag == kPixelReplayTag || tag == kPixelBoxReplayTag;
@@ -224,11 +236,17 @@ void ReplayBuffer::load(std::istream& in, const std::string& source) {
     read(actions_.data(), n * 4);
   read(rewards_.data(), n * 4);
   read(terminated_.data(), n * 4);
+  if (multi_step)
+    read(steps_.data(), n * 4);
+  else
+    steps_.head(n).setOnes();
   const bool finite = pixels_ || (observations_.leftCols(n).allFinite() && next_observations_.leftCols(n).allFinite());
   const bool actions_ok = box ? action_values_.leftCols(n).allFinite() : (n == 0 || actions_.head(n).minCoeff() >= 0);
   if (!finite || !actions_ok || !rewards_.head(n).allFinite() ||
-      !(terminated_.head(n).array() == 0.0f || terminated_.head(n).array() == 1.0f).all())
+      !(terminated_.head(n).array() == 0.0f || terminated_.head(n).array() == 1.0f).all() ||
+      !(steps_.head(n).array() >= 1.0f && steps_.head(n).array() <= 1e6f && steps_.head(n).array() == steps_.head(n).array().round()).all())
     throw Error(source + ": replay buffer holds damaged values (damaged file?)");
+  multi_step_ = multi_step;
   size_ = size;
   next_ = next;
 }

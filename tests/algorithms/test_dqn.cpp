@@ -1,8 +1,11 @@
 #include <catch2/catch.hpp>
+#include <cstring>
+#include <map>
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/dqn.hpp"
+#include "rdsim/algorithms/n_step_returns.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
 #include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/env_state.hpp"
@@ -33,6 +36,121 @@ TEST_CASE("TD targets bootstrap on truncation, never on termination", "[dqn]") {
   CHECK(yd[0] == Approx(1.0f + 0.9f * 4.0f));
   CHECK(yd[1] == Approx(2.0f));
   CHECK(yd[2] == Approx(3.0f + 0.9f * -2.0f));
+}
+
+TEST_CASE("TD targets of n-step transitions discount the bootstrap by gamma^steps", "[dqn]") {
+  const VectorXf rewards = (VectorXf(3) << 1.0f, 2.0f, 3.0f).finished();
+  const VectorXf terminated = (VectorXf(3) << 0.0f, 1.0f, 0.0f).finished();
+  const VectorXf steps = (VectorXf(3) << 3.0f, 2.0f, 1.0f).finished();
+  MatrixXf next_target(2, 3);
+  next_target << 5.0f, 7.0f, -1.0f,
+                 4.0f, 9.0f, -2.0f;
+  const VectorXf y = dqn::td_targets(rewards, terminated, next_target, nullptr, 0.9f, &steps);
+  CHECK(y[0] == Approx(1.0f + 0.729f * 5.0f));
+  CHECK(y[1] == Approx(2.0f));  // terminated: no bootstrap, whatever its steps
+  CHECK(y[2] == Approx(3.0f + 0.9f * -1.0f));
+  // All steps 1: the one-step targets, bit for bit.
+  const VectorXf ones = VectorXf::Ones(3);
+  CHECK(dqn::td_targets(rewards, terminated, next_target, nullptr, 0.9f, &ones) ==
+        dqn::td_targets(rewards, terminated, next_target, nullptr, 0.9f));
+}
+
+namespace {
+
+struct Stored {
+  float reward, next, terminated, steps;
+  int action;
+};
+
+// Every transition in `buffer` (observations of one value, distinct per transition), by observation.
+std::map<float, Stored> stored(const ReplayBuffer& buffer) {
+  std::map<float, Stored> all;
+  Rng rng(5);
+  ReplayBatch b;
+  buffer.sample(2000, rng, b);
+  for (int j = 0; j < 2000; ++j)
+    all[b.observations(0, j)] = {b.rewards[j], b.next_observations(0, j), b.terminated[j], b.steps[j], b.actions[j]};
+  return all;
+}
+
+Observation value(float v) {
+  Observation o;
+  o.values = VectorXf::Constant(1, v);
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("n-step returns sum n discounted rewards and flush at an episode's end", "[dqn]") {
+  const ObservationSpace space{ObsType::Float32, {1}, {}, {}};
+  ReplayBuffer buffer(64, 1);
+  NStepReturns n3(3, 0.5, space);
+  // Env 0: an episode of 5 steps that terminates; env 1: 2 steps, then truncated. Observation t
+  // (env 1: 10 + t), action t % 2, reward t + 1; interleaved as a VecEnv steps them.
+  for (int t = 0; t < 5; ++t) {
+    n3.add(0, value(float(t)), t % 2, float(t + 1), value(float(t + 1)), t == 4, t == 4, buffer);
+    if (t < 2) n3.add(1, value(10.0f + float(t)), t % 2, float(t + 1), value(11.0f + float(t)), false, t == 1, buffer);
+    if (t == 1) CHECK(buffer.size() == 2);  // env 1's flush; env 0 still waits for its third reward
+  }
+  const auto all = stored(buffer);
+  REQUIRE(all.size() == 7);
+  // Full windows: r_t + 0.5 r_t+1 + 0.25 r_t+2, bootstrapping from s_t+3 with gamma^3.
+  CHECK(all.at(0.0f).reward == Approx(1 + 0.5 * 2 + 0.25 * 3));
+  CHECK(all.at(0.0f).next == 3.0f);
+  CHECK(all.at(0.0f).steps == 3.0f);
+  CHECK(all.at(0.0f).terminated == 0.0f);
+  CHECK(all.at(2.0f).reward == Approx(3 + 0.5 * 4 + 0.25 * 5));
+  CHECK(all.at(2.0f).terminated == 1.0f);  // its window reaches the terminal step
+  CHECK(all.at(1.0f).action == 1);
+  // The end of the episode: the last steps with the rewards left, all to the terminal state.
+  CHECK(all.at(3.0f).reward == Approx(4 + 0.5 * 5));
+  CHECK(all.at(3.0f).steps == 2.0f);
+  CHECK(all.at(4.0f).reward == Approx(5.0f));
+  CHECK(all.at(4.0f).next == 5.0f);
+  CHECK(all.at(4.0f).terminated == 1.0f);
+  // Truncated: bootstrapped from the final observation, discounted by the steps left.
+  CHECK(all.at(10.0f).reward == Approx(1 + 0.5 * 2));
+  CHECK(all.at(10.0f).steps == 2.0f);
+  CHECK(all.at(10.0f).next == 12.0f);
+  CHECK(all.at(10.0f).terminated == 0.0f);
+  CHECK(all.at(11.0f).steps == 1.0f);
+
+  // n = 1: each step goes straight into the buffer, unchanged.
+  ReplayBuffer direct(8, 1);
+  NStepReturns n1(1, 0.5, space);
+  n1.add(0, value(7.0f), 1, 0.3f, value(8.0f), false, false, direct);
+  CHECK(direct.size() == 1);
+  CHECK(stored(direct).at(7.0f).reward == 0.3f);
+  CHECK(stored(direct).at(7.0f).steps == 1.0f);
+}
+
+TEST_CASE("n-step returns: waiting steps survive save/load, damaged or mismatched state is refused", "[dqn]") {
+  const ObservationSpace space{ObsType::Float32, {1}, {}, {}};
+  ReplayBuffer a(16, 1), b(16, 1);
+  NStepReturns first(3, 0.9, space);
+  first.add(0, value(1.0f), 0, 1.0f, value(2.0f), false, false, a);
+  first.add(0, value(2.0f), 1, 2.0f, value(3.0f), false, false, a);
+  std::stringstream bytes;
+  first.save(bytes);
+  NStepReturns second(3, 0.9, space);
+  second.load(bytes, "ckpt.bin");
+  first.add(0, value(3.0f), 0, 3.0f, value(4.0f), false, false, a);
+  second.add(0, value(3.0f), 0, 3.0f, value(4.0f), false, false, b);
+  REQUIRE(a.size() == 1);
+  REQUIRE(b.size() == 1);
+  CHECK(stored(a).at(1.0f).reward == stored(b).at(1.0f).reward);
+  CHECK(stored(b).at(1.0f).next == 4.0f);
+
+  std::stringstream again;
+  first.save(again);
+  NStepReturns other_n(2, 0.9, space);
+  CHECK_THROWS_WITH(other_n.load(again, "ckpt.bin"), Catch::Contains("ckpt.bin") && Catch::Contains("n_step"));
+  std::stringstream wider;
+  first.save(wider);
+  NStepReturns other_size(3, 0.9, ObservationSpace{ObsType::Float32, {2}, {}, {}});
+  CHECK_THROWS_WITH(other_size.load(wider, "ckpt.bin"), Catch::Contains("wrong size"));
+  std::stringstream cut(again.str().substr(0, 20));
+  CHECK_THROWS_AS(NStepReturns(3, 0.9, space).load(cut, "ckpt.bin"), Error);
 }
 
 TEST_CASE("Huber loss is quadratic near zero, linear beyond 1, with clipped gradients", "[dqn]") {
@@ -121,6 +239,36 @@ TEST_CASE("replay buffer save/load round-trips and checks its shape", "[dqn]") {
   buffer.save(again);
   ReplayBuffer other(5, 3);
   CHECK_THROWS_WITH(other.load(again, "ckpt.bin"), Catch::Contains("ckpt.bin") && Catch::Contains("buffer_size"));
+}
+
+TEST_CASE("replay buffer keeps n-step step counts through save/load, one-step buffers save as before", "[dqn]") {
+  ReplayBuffer one(4, 1), multi(4, 1);
+  for (int t = 0; t < 3; ++t) {
+    one.add(value(float(t)), 0, 1.0f, value(float(t + 1)), false);
+    multi.add(value(float(t)), 0, 1.0f, value(float(t + 1)), false, t + 1);
+  }
+  std::stringstream one_bytes, multi_bytes;
+  one.save(one_bytes);
+  multi.save(multi_bytes);
+  // The step counts are written only when some transition has more than one step.
+  CHECK(multi_bytes.str().size() == one_bytes.str().size() + 3 * sizeof(float));
+  ReplayBuffer one_copy(4, 1), multi_copy(4, 1);
+  one_copy.load(one_bytes, "ckpt.bin");
+  multi_copy.load(multi_bytes, "ckpt.bin");
+  CHECK(stored(one_copy).at(2.0f).steps == 1.0f);
+  CHECK(stored(multi_copy).at(2.0f).steps == 3.0f);
+  CHECK(stored(multi_copy).at(0.0f).steps == 1.0f);
+  CHECK_THROWS_AS(multi.add(value(9.0f), 0, 1.0f, value(9.0f), false, 0), Error);
+
+  // A damaged step count (0) is refused.
+  std::stringstream resave;
+  multi.save(resave);
+  std::string damaged = resave.str();
+  const float zero = 0.0f;
+  std::memcpy(damaged.data() + damaged.size() - sizeof(float), &zero, sizeof zero);
+  std::stringstream in(damaged);
+  ReplayBuffer target(4, 1);
+  CHECK_THROWS_WITH(target.load(in, "ckpt.bin"), Catch::Contains("damaged"));
 }
 
 namespace {
@@ -237,6 +385,27 @@ TEST_CASE("DQN learns the corridor and is deterministic", "[dqn]") {
   VecEnv envs2 = corridor_envs(4);
   auto algo2 = make_algorithm(config, envs2.spec());
   CHECK(train(*algo2, envs2, config.total_timesteps, config.total_timesteps) == metrics);
+}
+
+TEST_CASE("DQN with n-step returns learns the corridor and resumes identically", "[dqn]") {
+  Setup config = corridor_config(5);
+  config.dqn.n_step = 3;
+  VecEnv envs = corridor_envs(5);
+  auto algo = make_algorithm(config, envs.spec());
+  train(*algo, envs, 1500, config.total_timesteps);
+  std::stringstream ckpt_algo, ckpt_envs;
+  algo->save(ckpt_algo, true);
+  envs.save(ckpt_envs);
+  const std::vector<Metrics> straight = train(*algo, envs, config.total_timesteps, config.total_timesteps);
+  CHECK(envs.episodes().stats().success_rate > 0.9);
+
+  Setup other = corridor_config(99);
+  other.dqn.n_step = 3;
+  VecEnv envs2 = corridor_envs(99);
+  auto resumed = make_algorithm(other, envs2.spec());
+  resumed->load(ckpt_algo, true, "ckpt.bin");
+  REQUIRE(envs2.load(ckpt_envs, "ckpt.bin"));
+  CHECK(train(*resumed, envs2, config.total_timesteps, config.total_timesteps) == straight);
 }
 
 TEST_CASE("DQN checkpoint resumes identically, model round-trips", "[dqn]") {

@@ -29,6 +29,7 @@ struct DqnConfig {
   double max_grad_norm = 10.0;
   bool double_q = false;
   bool huber = true;
+  int n_step = 1;
 };
 
 template <class V, class C>
@@ -54,6 +55,8 @@ void describe(V& v, C& c) {
   v.field("max_grad_norm", c.max_grad_norm, config::Range{1e-9, 1e9}, "global gradient-norm clip");
   v.field("double_q", c.double_q, "double Q-learning targets (van Hasselt et al.)");
   v.field("huber", c.huber, "Huber (smooth L1) TD loss, else squared error");
+  v.field("n_step", c.n_step, config::Range{1, 1000},
+          "rewards summed per TD target (n-step returns; 1 = one-step Q-learning)");
   v.check(c.exploration_initial_eps >= c.exploration_final_eps, "exploration_final_eps",
           "expected at most exploration_initial_eps (" + nlohmann::json(c.exploration_initial_eps).dump() +
               "): epsilon falls from the initial to the final value");
@@ -70,13 +73,14 @@ std::unique_ptr<Algorithm> make_dqn(const DqnConfig& config, const NetworkConfig
 
 namespace rdsim::dqn {
 
-// One-step TD targets y_j = r_j + gamma * (1 - terminated_j) * Q_target(s'_j, a*_j).
+// TD targets y_j = r_j + gamma^k_j * (1 - terminated_j) * Q_target(s'_j, a*_j), k_j = steps[j]
+// (the env steps r_j sums: n-step returns) or 1 without `steps`.
 // a*_j = argmax_a next_q_target(:, j), or with double Q-learning (next_q_online != nullptr)
 // a*_j = argmax_a next_q_online(:, j), evaluated by the target network (van Hasselt et al.).
 // Q matrices are actions x batch. Truncated transitions carry terminated = 0: they bootstrap.
 Eigen::VectorXf td_targets(const Eigen::VectorXf& rewards, const Eigen::VectorXf& terminated,
                            const Eigen::MatrixXf& next_q_target, const Eigen::MatrixXf* next_q_online,
-                           float gamma);
+                           float gamma, const Eigen::VectorXf* steps = nullptr);
 
 // Mean over the batch of a TD loss of (prediction - target) and its gradient w.r.t. each
 // prediction (already divided by the batch size).

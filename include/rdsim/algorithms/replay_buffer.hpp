@@ -22,6 +22,8 @@ struct ReplayBatch {
   Eigen::VectorXf rewards;            // batch
   Eigen::MatrixXf next_observations;  // obs_size x batch
   Eigen::VectorXf terminated;         // batch; 1 = no bootstrap (the MDP ended), 0 otherwise
+  Eigen::VectorXf steps;              // batch; env steps the reward sums (n-step returns; 1 otherwise):
+                                      // the bootstrap is discounted by gamma^steps
 };
 
 class ReplayBuffer {
@@ -42,9 +44,11 @@ public:
   // This overload takes network-input floats and needs Float32 storage.
   void add(const Eigen::Ref<const Eigen::VectorXf>& observation, int action, float reward,
            const Eigen::Ref<const Eigen::VectorXf>& next_observation, bool terminated);
-  // Env observations as they come (values or pixels, matching the storage type).
+  // Env observations as they come (values or pixels, matching the storage type). `steps` > 1:
+  // an n-step transition (n_step_returns.hpp), `reward` the discounted sum of that many rewards and
+  // `next_observation` the observation that many steps later (or where the episode ended).
   void add(const Observation& observation, int action, float reward, const Observation& next_observation,
-           bool terminated);
+           bool terminated, int steps = 1);
   // Box actions (action_dim > 0): `action` holds action_dim values.
   void add(const Eigen::Ref<const Eigen::VectorXf>& observation, const Eigen::Ref<const Eigen::VectorXf>& action,
            float reward, const Eigen::Ref<const Eigen::VectorXf>& next_observation, bool terminated);
@@ -68,7 +72,8 @@ public:
   // The stored transitions and ring position (checkpoints). load() throws rdsim::Error naming
   // `source` when capacity, observation size, action kind or storage type differ from this buffer's,
   // or the stored values are damaged (not finite, actions out of range, terminated flags other than
-  // 0/1).
+  // 0/1, step counts below 1). A buffer of one-step transitions is saved as before n-step returns
+  // existed, so older checkpoints load and one-step checkpoints keep their size.
   void save(std::ostream& out) const;
   void load(std::istream& in, const std::string& source);
 
@@ -77,7 +82,7 @@ private:
   void store_observations(const Eigen::Ref<const Eigen::VectorXf>& observation,
                           const Eigen::Ref<const Eigen::VectorXf>& next_observation);
   void store_action(const Eigen::Ref<const Eigen::VectorXf>& action);
-  void store_rest(int action, float reward, bool terminated);
+  void store_rest(int action, float reward, bool terminated, int steps = 1);
 
   long long capacity_;
   long long size_ = 0;
@@ -90,6 +95,8 @@ private:
   Eigen::VectorXi actions_;        // Discrete
   Eigen::MatrixXf action_values_;  // Box: action_dim x capacity
   Eigen::VectorXf rewards_, terminated_;
+  Eigen::VectorXf steps_;  // per transition, see ReplayBatch::steps
+  bool multi_step_ = false;  // some transition has steps > 1 (saved with its steps only then)
 };
 
 }  // namespace rdsim
