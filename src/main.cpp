@@ -82,6 +82,9 @@ void add_plot(CLI::App& app, rdsim::PlotOptions& o) {
       ->check(CLI::IsMember({"std", "minmax"}))
       ->capture_default_str();
   cmd->add_option("--title", o.title, "Title (default: env and metric)");
+  cmd->add_option("--x-max", o.x_max,
+                  "Draw x up to this value only (e.g. 1e6 timesteps), cutting longer runs there; default: all")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--width", o.width, "Width in pixels")->check(CLI::Range(200, 8000))->capture_default_str();
   cmd->add_option("--height", o.height, "Height in pixels")->check(CLI::Range(150, 8000))->capture_default_str();
 }

@@ -46,6 +46,7 @@ int plot_command(const PlotOptions& o) {
   std::set<std::string> envs;
   for (const auto& dir : dirs) {
     curves.push_back(read_run_curve(dir, o.x, metric.column));
+    if (o.x_max > 0) curves.back() = crop_run_curve(curves.back(), o.x_max);
     if (!curves.back().info.env.empty()) envs.insert(curves.back().info.env);
   }
   const auto bands = mean_over_runs(curves, o.band == "std" ? Band::StdDev : Band::MinMax);

@@ -161,13 +161,17 @@ void draw(cairo_t* cr, const std::vector<CurveBand>& bands, const FigureText& te
 }  // namespace
 
 Rgb algorithm_colour(const std::string& algorithm, std::size_t place) {
-  // Colour-blind-safe (Okabe-Ito): blue, vermillion, bluish green, orange, reddish purple, sky blue.
-  static const Rgb palette[] = {{0.00, 0.45, 0.70}, {0.84, 0.37, 0.00}, {0.00, 0.62, 0.45},
-                                {0.90, 0.62, 0.00}, {0.80, 0.47, 0.65}, {0.34, 0.71, 0.91}};
-  if (algorithm == "ppo") return palette[0];
-  if (algorithm == "a2c") return palette[1];
-  if (algorithm == "dqn") return palette[2];
-  return palette[3 + place % 3];
+  // One colour per algorithm rdsim has, so a figure of all ten tells them apart: the Okabe-Ito
+  // colour-blind-safe set (blue, vermillion, bluish green, orange, reddish purple, sky blue, yellow,
+  // black), then grey and brown. Other names take the set's colours by their place.
+  static const std::pair<const char*, Rgb> fixed[] = {
+      {"ppo", {0.00, 0.45, 0.70}},    {"a2c", {0.84, 0.37, 0.00}},  {"dqn", {0.00, 0.62, 0.45}},
+      {"trpo", {0.90, 0.62, 0.00}},   {"sac", {0.80, 0.47, 0.65}},  {"td3", {0.34, 0.71, 0.91}},
+      {"ddpg", {0.85, 0.80, 0.10}},   {"ars", {0.00, 0.00, 0.00}},  {"cma_es", {0.55, 0.55, 0.55}},
+      {"random", {0.55, 0.34, 0.16}}, {"bc", {0.40, 0.20, 0.55}}};
+  for (const auto& [name, colour] : fixed)
+    if (algorithm == name) return colour;
+  return fixed[place % (sizeof fixed / sizeof fixed[0])].second;
 }
 
 void write_figure(const std::vector<CurveBand>& bands, const FigureText& text, const std::string& path, int width,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 
@@ -41,6 +42,25 @@ double interpolate(const RunCurve& run, double x) {
   const double x0 = run.x[i - 1], x1 = run.x[i];
   const double w = x1 > x0 ? (x - x0) / (x1 - x0) : 1.0;
   return run.y[i - 1] + w * (run.y[i] - run.y[i - 1]);
+}
+
+RunCurve crop_run_curve(const RunCurve& run, double x_max) {
+  if (run.x.empty() || run.x.front() > x_max) {
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g", x_max);
+    throw Error(run.info.dir + ": progress.csv has no row at or below x = " + limit + " (--x-max cuts every curve there)");
+  }
+  RunCurve out;
+  out.info = run.info;
+  for (std::size_t i = 0; i < run.x.size() && run.x[i] <= x_max; ++i) {
+    out.x.push_back(run.x[i]);
+    out.y.push_back(run.y[i]);
+  }
+  if (out.x.back() < x_max && out.x.size() < run.x.size()) {
+    out.x.push_back(x_max);
+    out.y.push_back(interpolate(run, x_max));
+  }
+  return out;
 }
 
 std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band band, int points) {

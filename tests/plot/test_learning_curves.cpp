@@ -54,6 +54,21 @@ TEST_CASE("learning curves: mean and standard deviation over seeds on their comm
   CHECK(range[0].high == std::vector<double>{1, 2.5, 4});
 }
 
+TEST_CASE("learning curves: --x-max cuts a run at x_max, interpolating its value there", "[plot]") {
+  rdsim::RunCurve run = curve("cma_es", {0, 10, 20, 30}, {0, 1, 3, 3});
+  run.info.dir = "runs/cma_es/seed1";
+  const rdsim::RunCurve cut = rdsim::crop_run_curve(run, 15);
+  CHECK(cut.x == std::vector<double>{0, 10, 15});
+  CHECK(cut.y == std::vector<double>{0, 1, 2});
+  CHECK(cut.info.dir == run.info.dir);
+  CHECK(rdsim::crop_run_curve(run, 20).x == std::vector<double>{0, 10, 20});  // a row at x_max: no extra point
+  CHECK(rdsim::crop_run_curve(run, 99).x == run.x);                          // shorter than x_max: whole
+  CHECK_THROWS_WITH(rdsim::crop_run_curve(curve("ppo", {5, 6}, {0, 0}), 1), Catch::Contains("--x-max"));
+  // A long run and a short one share the range up to x_max once cut.
+  const auto bands = rdsim::mean_over_runs({rdsim::crop_run_curve(run, 15), curve("ppo", {0, 40}, {0, 0})});
+  CHECK(bands[0].x.back() == 15);
+}
+
 TEST_CASE("learning curves: runs that share no range or have no values are errors", "[plot]") {
   CHECK_THROWS_WITH(rdsim::mean_over_runs({curve("ppo", {0, 1}, {0, 0}), curve("ppo", {2, 3}, {0, 0})}),
                     Catch::Contains("share no range"));

@@ -13,6 +13,7 @@ struct PlotOptions {
   std::string x = "timesteps";     // or updates, episodes, wall_time
   std::string band = "std";        // std (mean ± 1 standard deviation) or minmax
   std::string title;               // default: "<env>: <metric>"
+  double x_max = 0;                // > 0: draw only x <= x_max (every curve cut there)
   int width = 800, height = 480;
 };
 int plot_command(const PlotOptions& options);

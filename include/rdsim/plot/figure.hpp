@@ -21,7 +21,7 @@ struct FigureText {
 void write_figure(const std::vector<CurveBand>& bands, const FigureText& text, const std::string& path,
                   int width = 800, int height = 480);
 
-// The colour of an algorithm in every figure (fixed for ppo, a2c, dqn; others by their place).
+// The colour of an algorithm in every figure (fixed for each of rdsim's algorithms; other names by their place).
 struct Rgb {
   double r, g, b;
 };

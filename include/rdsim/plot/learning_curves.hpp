@@ -33,6 +33,10 @@ struct CurveBand {
 // grid points. Throws rdsim::Error when a run has no values or a group's runs share no x range.
 std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band band = Band::StdDev, int points = 300);
 
+// The run's curve up to x_max: its rows with x <= x_max, then (when the run went further) its value at
+// x_max, interpolated. Throws rdsim::Error naming the run when its first row is already past x_max.
+RunCurve crop_run_curve(const RunCurve& run, double x_max);
+
 // A run's y at x by linear interpolation between the rows around it (x must lie in the run's range;
 // x ascending, as progress.csv is).
 double interpolate(const RunCurve& run, double x);
