@@ -5,7 +5,12 @@
 # is open in headless Chromium (opened before the run starts), polling every 500 ms as a user's
 # browser does. For each run it
 # prints steps/s (timesteps / wall time of the last progress.csv row) and the CPU seconds of the
-# rdsim process (user + system: the dashboard's threads included), then the medians and ratios.
+# rdsim process (user + system: the dashboard's threads included), then the medians, the median of
+# the pairs' ratios, and (from one more run with the dashboard, sampled while it trains) how the
+# CPU time splits between the training thread and the other threads. The timed runs are not sampled:
+# reading every thread's /proc stat ten times a second slowed the runs with the dashboard's five
+# extra threads more than those without (measured on the 2-core AMD VM: -1.3 % over 42 sampled pairs,
+# +0.2 % paired over 16 unsampled ones).
 #
 # CLIENT=http replaces the browser by a small client making the page's requests at its rate (progress rows
 # since the last answer every 500 ms, the list of runs every 5 s): the server's cost alone, without
@@ -27,12 +32,12 @@ cd "$root"
 
 ticks=$(getconf CLK_TCK)
 
-# "steps/s cpu_s main_thread_s other_threads_s" of a finished run.
+# "steps/s cpu_s" of a finished run.
 measure() {
   local sps cpu
   sps=$(tail -n 1 "$1/progress.csv" | awk -F, '{ printf "%.1f", $1 / $NF }')
   cpu=$(awk '{ printf "%.2f", $2 + $3 }' "$1.time")
-  echo "$sps $cpu $(awk -v t="$ticks" '{ printf "%.3f %.3f", $1 / t, $2 / t }' "$1.threads")"
+  echo "$sps $cpu"
 }
 
 # Samples, every 0.1 s until the process ends, the CPU ticks (user + system) of its main thread
@@ -63,7 +68,7 @@ run_plain() {
   /usr/bin/time -f "%e %U %S" -o "$1.time" "$bin" train --quiet --config "$config" --seed 1 \
     --timesteps "$timesteps" --log-dir "$1" &
   local train=$!
-  watch_threads "$train" "$1.threads"
+  [ "${2:-}" = sampled ] && watch_threads "$train" "$1.threads"
   wait "$train"
 }
 
@@ -72,9 +77,10 @@ run_plain() {
 # process per request would measure process start-up instead: on the 2-core VM a curl loop aimed
 # at a closed port, no server at all, already slowed training by 3-5 %.)
 http_client() {
-  python3 - "$1" <<'PY'
+  python3 - "$1" "$2" <<'PY'
 import http.client, json, sys, time
 port = int(sys.argv[1])
+open(sys.argv[2], "w").close()  # started: the interpreter's start-up is over
 while True:
     try:
         conn = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
@@ -104,8 +110,13 @@ run_with_dashboard() {
   local port=$((20000 + RANDOM % 20000)) profile train client_pid
   profile=$(mktemp -d /tmp/rdsim_overhead_profile.XXXXXX)
   if [ "$client" = http ]; then
-    http_client "$port" &
+    # Training starts once the client's Python is up (its start-up, ~50 ms of CPU, would otherwise
+    # compete with the run's first second and be billed to the dashboard: measured -3 % at 300k
+    # steps on the 2-core AMD VM, the training thread itself taking 5 % more CPU time).
+    rm -f "$out/client_ready"
+    http_client "$port" "$out/client_ready" &
     client_pid=$!
+    for _ in $(seq 500); do [ -e "$out/client_ready" ] && break; sleep 0.01; done
   else
     cat >"$out/wait.html" <<HTML
 <script>
@@ -121,7 +132,7 @@ HTML
   /usr/bin/time -f "%e %U %S" -o "$1.time" "$bin" train --quiet --config "$config" --seed 1 \
     --timesteps "$timesteps" --log-dir "$1" --dashboard "127.0.0.1:$port" &
   train=$!
-  watch_threads "$train" "$1.threads"
+  [ "${2:-}" = sampled ] && watch_threads "$train" "$1.threads"
   wait "$train"
   kill "$client_pid" 2>/dev/null || true
   wait "$client_pid" 2>/dev/null || true
@@ -129,27 +140,29 @@ HTML
 }
 
 echo "config: $config   timesteps: $timesteps   repeats: $repeats   client: $client   binary: $bin   output: $out"
-without=() with=() cpu_without=() cpu_with=() share=()
+without=() with=() cpu_without=() cpu_with=() ratios=()
 for i in $(seq "$repeats"); do
   run_plain "$out/without_$i"
-  read -r sps cpu main other < <(measure "$out/without_$i")
-  without+=("$sps") cpu_without+=("$cpu")
-  echo "run $i without dashboard: $sps steps/s, $cpu CPU s (training thread $main s, other threads $other s)"
+  read -r sps0 cpu < <(measure "$out/without_$i")
+  without+=("$sps0") cpu_without+=("$cpu")
+  echo "run $i without dashboard: $sps0 steps/s, $cpu CPU s"
   run_with_dashboard "$out/with_$i"
-  read -r sps cpu main other < <(measure "$out/with_$i")
+  read -r sps cpu < <(measure "$out/with_$i")
   with+=("$sps") cpu_with+=("$cpu")
-  if awk -v m="$main" 'BEGIN { exit !(m > 0) }'; then
-    share+=("$(awk -v m="$main" -v o="$other" 'BEGIN { printf "%.3f", 100 * o / m }')")
-    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (training thread $main s, other threads $other s)"
-  else  # the thread sampler did not find the process (a loaded machine): no share from this run
-    echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (threads not sampled)"
-  fi
+  ratios+=("$(awk -v a="$sps0" -v b="$sps" 'BEGIN { printf "%.4f", b / a }')")
+  echo "run $i with dashboard:    $sps steps/s, $cpu CPU s (pair ratio ${ratios[-1]})"
 done
+# One more run with the dashboard, its threads sampled (not timed: the sampling costs the run).
+run_with_dashboard "$out/sampled" sampled
+read -r main other <"$out/sampled.threads"
+main=$(awk -v t="$ticks" -v v="$main" 'BEGIN { printf "%.3f", v / t }')
+other=$(awk -v t="$ticks" -v v="$other" 'BEGIN { printf "%.3f", v / t }')
 median() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { print (NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2) }'; }
-m0=$(median "${without[@]}") m1=$(median "${with[@]}")
+m0=$(median "${without[@]}") m1=$(median "${with[@]}") r=$(median "${ratios[@]}")
 c0=$(median "${cpu_without[@]}") c1=$(median "${cpu_with[@]}")
-sh=$(median "${share[@]:-0}")
-awk -v a="$m0" -v b="$m1" -v c="$c0" -v d="$c1" -v s="$sh" 'BEGIN {
-  printf "median CPU time of the other threads (env workers + dashboard; num_threads 1 leaves the dashboard alone): %.2f%% of the training thread'"'"'s\n", s
+awk -v a="$m0" -v b="$m1" -v c="$c0" -v d="$c1" -v r="$r" -v m="$main" -v o="$other" 'BEGIN {
   printf "median steps/s: %.1f without, %.1f with the dashboard and its client: %+.2f%%\n", a, b, (b / a - 1) * 100
-  printf "median CPU seconds of rdsim: %.2f without, %.2f with: %+.2f%%\n", c, d, (d / c - 1) * 100 }'
+  printf "median of the %s pairs'"'"' ratios (with / without): %.4f (%+.2f%%)\n", "'"$repeats"'", r, (r - 1) * 100
+  printf "median CPU seconds of rdsim: %.2f without, %.2f with: %+.2f%%\n", c, d, (d / c - 1) * 100
+  if (m > 0) printf "sampled run: training thread %.2f s, other threads (env workers, dashboard) %.2f s of CPU\n", m, o
+  else print "sampled run: threads not sampled (the sampler did not find the process)" }'
