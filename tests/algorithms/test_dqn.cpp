@@ -387,29 +387,21 @@ TEST_CASE("DQN learns the corridor and is deterministic", "[dqn]") {
   CHECK(train(*algo2, envs2, config.total_timesteps, config.total_timesteps) == metrics);
 }
 
-TEST_CASE("DQN with n-step returns learns the corridor and resumes identically", "[dqn]") {
+TEST_CASE("DQN with n-step returns learns the corridor", "[dqn]") {
   Setup config = corridor_config(5);
   config.dqn.n_step = 3;
   VecEnv envs = corridor_envs(5);
   auto algo = make_algorithm(config, envs.spec());
-  train(*algo, envs, 1500, config.total_timesteps);
-  std::stringstream ckpt_algo, ckpt_envs;
-  algo->save(ckpt_algo, true);
-  envs.save(ckpt_envs);
-  const std::vector<Metrics> straight = train(*algo, envs, config.total_timesteps, config.total_timesteps);
+  train(*algo, envs, config.total_timesteps, config.total_timesteps);
   CHECK(envs.episodes().stats().success_rate > 0.9);
-
-  Setup other = corridor_config(99);
-  other.dqn.n_step = 3;
-  VecEnv envs2 = corridor_envs(99);
-  auto resumed = make_algorithm(other, envs2.spec());
-  resumed->load(ckpt_algo, true, "ckpt.bin");
-  REQUIRE(envs2.load(ckpt_envs, "ckpt.bin"));
-  CHECK(train(*resumed, envs2, config.total_timesteps, config.total_timesteps) == straight);
 }
 
 TEST_CASE("DQN checkpoint resumes identically, model round-trips", "[dqn]") {
-  const Setup config = corridor_config(7);
+  // One-step returns, and 3-step returns whose waiting steps are part of the checkpoint.
+  const int n_step = GENERATE(1, 3);
+  CAPTURE(n_step);
+  Setup config = corridor_config(7);
+  config.dqn.n_step = n_step;
   VecEnv envs = corridor_envs(7);
   auto algo = make_algorithm(config, envs.spec());
   train(*algo, envs, 1000, config.total_timesteps);
@@ -419,7 +411,9 @@ TEST_CASE("DQN checkpoint resumes identically, model round-trips", "[dqn]") {
   const std::vector<Metrics> straight = train(*algo, envs, 1500, config.total_timesteps);
 
   VecEnv envs2 = corridor_envs(99);
-  auto resumed = make_algorithm(corridor_config(99), envs2.spec());
+  Setup other = corridor_config(99);
+  other.dqn.n_step = n_step;
+  auto resumed = make_algorithm(other, envs2.spec());
   resumed->load(ckpt_algo, true, "ckpt.bin");
   REQUIRE(envs2.load(ckpt_envs, "ckpt.bin"));
   CHECK(train(*resumed, envs2, 1500, config.total_timesteps) == straight);
