@@ -15,7 +15,7 @@ NStepReturns::NStepReturns(int n, double gamma, const ObservationSpace& space) :
 
 void NStepReturns::emit_front(std::deque<Pending>& queue, const Observation& next_observation, bool terminated,
                               ReplayBuffer& buffer) const {
-  // Accumulated in double; one step adds 0 + 1 * r, so n = 1 stores each reward unchanged.
+  // Accumulated in double: a window of one step stores its reward unchanged (0 + 1 * r).
   double sum = 0.0, discount = 1.0;
   for (const Pending& p : queue) {
     sum += discount * static_cast<double>(p.reward);
@@ -29,6 +29,10 @@ void NStepReturns::emit_front(std::deque<Pending>& queue, const Observation& nex
 
 void NStepReturns::add(int env, const Observation& observation, int action, float reward,
                        const Observation& next_observation, bool terminated, bool done, ReplayBuffer& buffer) {
+  if (n_ == 1) {  // nothing waits: straight into the buffer, no copy of the observation
+    buffer.add(observation, action, reward, next_observation, terminated);
+    return;
+  }
   if (env < 0) throw Error("NStepReturns::add: negative env index");
   if (static_cast<std::size_t>(env) >= pending_.size()) pending_.resize(static_cast<std::size_t>(env) + 1);
   std::deque<Pending>& queue = pending_[static_cast<std::size_t>(env)];
