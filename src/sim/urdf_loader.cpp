@@ -89,6 +89,12 @@ void check_no_percent(const std::string& xml, const std::string& where) {
   }
 }
 
+// TinyXML 2.6 (urdfdom's XML parser on Debian 12) steps over a UTF-8 character by the length its
+// lead byte announces, up to 4 bytes, without looking for the end of the text: a file ending in
+// the middle of a character made it read past the end of the buffer (found by fuzz_urdf). The
+// text goes to it followed by this many NUL bytes, so such a step lands on a NUL and parsing stops.
+constexpr std::size_t kTinyXmlPadding = 8;
+
 urdf::ModelInterfaceSharedPtr parse_with_messages(const std::string& xml, const std::string& where) {
   check_xml_depth(xml, where);
   check_no_percent(xml, where);
@@ -98,7 +104,7 @@ urdf::ModelInterfaceSharedPtr parse_with_messages(const std::string& xml, const 
   urdf::ModelInterfaceSharedPtr model;
   std::string thrown;
   try {
-    model = urdf::parseURDF(xml);
+    model = urdf::parseURDF(xml + std::string(kTinyXmlPadding, '\0'));
   } catch (const std::exception& e) {
     thrown = e.what();
   }

@@ -144,6 +144,11 @@ TEST_CASE("Bad URDFs are rdsim::Errors naming the file", "[urdf]") {
     text.insert(text.find("<link"), "<link name=\"%n%n%s%p\"><origin xyz=\"%n %n %n\"/></link>\n");
     require_error(dir.write("percent.urdf", text), "line 2: not a valid URDF for rdsim: '%' outside a comment");
   }
+  SECTION("a file ending inside a UTF-8 character, past whose end TinyXML 2.6 used to read") {
+    // The fuzzer's finding: a lead byte announcing 2 or 4 bytes made TinyXML step over the text's end.
+    require_error(dir.write("utf8.urdf", robot(urdf_link("a")).substr(0, 60) + "s{\x9f]\x92\xcej\xf4\n"), "not a valid URDF");
+    require_error(dir.write("utf8_tag.urdf", robot(urdf_link("a")).substr(0, 60) + "<\xde\xde m\xde"), "not a valid URDF");
+  }
   SECTION("two roots") {
     require_error(dir.write("roots.urdf", robot(urdf_link("a") + urdf_link("b"))), "not a valid URDF");
   }
