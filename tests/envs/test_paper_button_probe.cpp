@@ -10,6 +10,7 @@
 
 #include "env_test_util.hpp"
 #include "rdsim/core/env_state.hpp"
+#include "rdsim/core/rng.hpp"
 
 using namespace rdsim;
 using namespace rdsim::test;
@@ -76,4 +77,45 @@ TEST_CASE("paper jaka_button probe: opposite moves alternated do not cancel", "[
     std::printf("actions %d/%d alternated 100 steps: net (%.3f, %.3f, %.3f), %.3f m\n", 2 * pair, 2 * pair + 1,
                 net.x(), net.y(), net.z(), net.norm());
   }
+}
+
+TEST_CASE("paper jaka_button probe: how far one move carries the effector", "[.paper_probe]") {
+  // From states along random-action episodes (every 25th step of 1000, targets by seeds 100-109),
+  // each of the six moves is tried (state saved and restored): how far the effector goes in one
+  // env step, the shortest of the six, and how close to the button the best move ends.
+  auto env = make_env(paper_env_config("jaka_button"));
+  auto* state = dynamic_cast<EnvState*>(env.get());
+  REQUIRE(state);
+  std::vector<float> shortest, longest, best_after, now;
+  Rng rng(7);
+  for (int ep = 0; ep < 10; ++ep) {
+    Observation o = env->reset(100 + ep);
+    for (int t = 0; t < 1000; ++t) {
+      if (t % 25 == 24) {
+        const std::string start = state->save_state();
+        const Eigen::Vector3f offset = -to_target(o);  // target - effector
+        float lo = 1e9f, hi = 0.0f, best = 1e9f;
+        for (int a = 0; a < 6; ++a) {
+          state->load_state(start, "probe");
+          const StepResult r = env->step(Action::discrete(a));
+          const float moved = (-to_target(r.observation) - offset).norm();  // the target does not move
+          lo = std::min(lo, moved), hi = std::max(hi, moved), best = std::min(best, r.info.distance);
+        }
+        state->load_state(start, "probe");
+        shortest.push_back(lo), longest.push_back(hi), best_after.push_back(best), now.push_back(offset.norm());
+      }
+      const StepResult r = env->step(Action::discrete(static_cast<int>(rng.next_u64() % 6)));
+      o = r.observation;
+      if (r.terminated || r.truncated) break;
+    }
+  }
+  auto quartiles = [](std::vector<float> v) {
+    std::sort(v.begin(), v.end());
+    return Eigen::Vector3f(v[v.size() / 4], v[v.size() / 2], v[3 * v.size() / 4]);
+  };
+  const Eigen::Vector3f s = quartiles(shortest), l = quartiles(longest), d = quartiles(now), b = quartiles(best_after);
+  std::printf("%zu states: one move's displacement, shortest of six: quartiles %.3f %.3f %.3f m; longest: %.3f %.3f %.3f m\n",
+              shortest.size(), s[0], s[1], s[2], l[0], l[1], l[2]);
+  std::printf("distance to the button now: %.3f %.3f %.3f m; after the best move: %.3f %.3f %.3f m\n", d[0], d[1], d[2],
+              b[0], b[1], b[2]);
 }
