@@ -43,19 +43,41 @@ std::vector<std::unique_ptr<Env>> checked(std::vector<std::unique_ptr<Env>> envs
   return envs;
 }
 
+int worker_count(int num_threads, std::size_t envs) { return std::clamp(num_threads, 1, static_cast<int>(envs)); }
+
 }  // namespace
 
-VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window, int num_threads)
+EnvWorkers auto_env_workers(const EnvConfig& env) {
+  const bool cpu_pixels = env.observation == ObservationMode::RawPixels && env.renderer == "osmesa";
+  return cpu_pixels ? EnvWorkers::processes : EnvWorkers::threads;
+}
+
+VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window, int num_threads,
+               EnvWorkers workers)
     : envs_(checked(std::move(envs))),
-      pool_(std::clamp(num_threads, 1, static_cast<int>(envs_.size()))),
+      local_(static_cast<int>(envs_.size())),
+      pool_(workers == EnvWorkers::threads ? worker_count(num_threads, envs_.size()) : 1),
       tracker_(static_cast<int>(envs_.size()), stats_window),
       seed_(seed),
       start_(std::chrono::steady_clock::now()) {
   batch_.resize(spec().observation, size());
   results_.resize(envs_.size());
   all_active_.assign(envs_.size(), true);
+  const int blocks = worker_count(num_threads, envs_.size());
+  if (workers == EnvWorkers::processes && blocks > 1) {
+    // The same split as the threads': block w is envs [w n / T, (w + 1) n / T).
+    const int n = size();
+    local_ = n / blocks;
+    for (int w = 1; w < blocks; ++w) {
+      const int first = w * n / blocks, end = (w + 1) * n / blocks;
+      std::vector<std::unique_ptr<Env>> block;
+      for (int i = first; i < end; ++i) block.push_back(std::move(envs_[static_cast<std::size_t>(i)]));
+      processes_.push_back(std::make_unique<EnvProcess>(std::move(block), spec(), first));
+      process_first_.push_back(first);
+    }
+  }
   // The first reset on the owning worker too: a pixel env's renderer binds its context there.
-  for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
+  reset_all(seed);
 }
 
 VecEnv::~VecEnv() {
@@ -64,12 +86,31 @@ VecEnv::~VecEnv() {
 
 template <class Fn>
 void VecEnv::for_each_env(Fn fn) {
-  const int n = size(), workers = pool_.size();
+  const int n = local_, workers = pool_.size();
   pool_.run([&](int w) {
     // Worker w owns envs [w n / T, (w + 1) n / T): the same ones every step.
     const int end = (w + 1) * n / workers;
     for (int i = w * n / workers; i < end; ++i) fn(i);
   });
+}
+
+void VecEnv::reset_all(std::uint64_t seed) {
+  for (std::size_t p = 0; p < processes_.size(); ++p) {
+    std::vector<std::uint64_t> seeds;
+    for (int j = 0; j < processes_[p]->size(); ++j) seeds.push_back(env_seed(seed, process_first_[p] + j));
+    processes_[p]->start_reset(seeds);
+  }
+  for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
+  for (std::size_t p = 0; p < processes_.size(); ++p) {
+    processes_[p]->finish();
+    for (int j = 0; j < processes_[p]->size(); ++j) processes_[p]->copy_observation(j, batch_.column(process_first_[p] + j));
+  }
+}
+
+Env& VecEnv::env(int i) {
+  Env* e = envs_[static_cast<std::size_t>(i)].get();
+  if (!e) throw Error("VecEnv::env(" + std::to_string(i) + "): the env lives in a worker process");
+  return *e;
 }
 
 Observation VecEnv::observation(int i) const {
@@ -105,13 +146,17 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   if (actions.size() != envs_.size() || active.size() != envs_.size())
     throw Error("VecEnv::step: one action and one active flag per env expected");
   for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
-  // The workers only read `active` and write their own envs' results.
-  for_each_env([&](int i) {
-    if (active[static_cast<std::size_t>(i)])
-      step_env(i, actions[static_cast<std::size_t>(i)]);
-    else
-      results_[static_cast<std::size_t>(i)] = EnvStep{};
-  });
+  if (processes_.empty()) {
+    // The workers only read `active` and write their own envs' results.
+    for_each_env([&](int i) {
+      if (active[static_cast<std::size_t>(i)])
+        step_env(i, actions[static_cast<std::size_t>(i)]);
+      else
+        results_[static_cast<std::size_t>(i)] = EnvStep{};
+    });
+  } else {
+    step_with_processes(actions, active);
+  }
   double now = -1.0;  // read the clock only when an episode ended (it costs as much as a cartpole step)
   for (int i = 0; i < size(); ++i) {
     if (!active[static_cast<std::size_t>(i)]) continue;
@@ -122,16 +167,63 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   return results_;
 }
 
+void VecEnv::step_with_processes(const std::vector<Action>& actions, const std::vector<bool>& active) {
+  std::vector<bool> block_active;
+  for (std::size_t p = 0; p < processes_.size(); ++p) {
+    const auto first = active.begin() + process_first_[p];
+    block_active.assign(first, first + processes_[p]->size());
+    processes_[p]->start_step(actions.data() + process_first_[p], block_active);
+  }
+  for (int i = 0; i < local_; ++i) {
+    if (active[static_cast<std::size_t>(i)])
+      step_env(i, actions[static_cast<std::size_t>(i)]);
+    else
+      results_[static_cast<std::size_t>(i)] = EnvStep{};
+  }
+  for (std::size_t p = 0; p < processes_.size(); ++p) {
+    EnvProcess& block = *processes_[p];
+    block.finish();
+    for (int j = 0; j < block.size(); ++j) {
+      const int i = process_first_[p] + j;
+      EnvStep& s = results_[static_cast<std::size_t>(i)];
+      if (!active[static_cast<std::size_t>(i)]) {
+        s = EnvStep{};
+        continue;
+      }
+      const StepOutcome o = block.outcome(j);
+      s.reward = o.reward;
+      s.terminated = o.terminated;
+      s.truncated = o.truncated;
+      s.info = o.info;
+      block.copy_observation(j, batch_.column(i));
+      if (s.done()) block.copy_final_observation(j, s.final_observation);
+    }
+  }
+}
+
+// Every env's EnvState::save_state(), or nullopt for an env without one.
+std::vector<std::optional<std::string>> VecEnv::env_states() const {
+  std::vector<std::optional<std::string>> states(envs_.size());
+  for (int i = 0; i < local_; ++i)
+    if (const auto* state = dynamic_cast<const EnvState*>(envs_[static_cast<std::size_t>(i)].get()))
+      states[static_cast<std::size_t>(i)] = state->save_state();
+  for (std::size_t p = 0; p < processes_.size(); ++p) {
+    auto block = processes_[p]->save_states();
+    std::move(block.begin(), block.end(), states.begin() + process_first_[p]);
+  }
+  return states;
+}
+
 void VecEnv::save(std::ostream& out) const {
   write_u64(out, static_cast<std::uint64_t>(timesteps_));
   write_f64(out, wall_time());
-  bool stateful = true;
-  for (const auto& e : envs_) stateful = stateful && dynamic_cast<const EnvState*>(e.get()) != nullptr;
+  const auto states = env_states();
+  const bool stateful = std::all_of(states.begin(), states.end(), [](const auto& s) { return s.has_value(); });
   write_u32(out, stateful ? 1 : 0);
   if (stateful) {
     Observation o;
     for (std::size_t i = 0; i < envs_.size(); ++i) {
-      write_string(out, dynamic_cast<const EnvState*>(envs_[i].get())->save_state());
+      write_string(out, *states[i]);
       batch_.copy_to(static_cast<int>(i), o);
       write_observation(out, o);
     }
@@ -140,10 +232,12 @@ void VecEnv::save(std::ostream& out) const {
 }
 
 void VecEnv::drop_caches() {
+  for (auto& p : processes_) p->start_drop_caches();
   // On each env's own worker, like every other call into an env.
   for_each_env([&](int i) {
     if (auto* state = dynamic_cast<EnvState*>(envs_[static_cast<std::size_t>(i)].get())) state->drop_caches();
   });
+  for (auto& p : processes_) p->finish();
 }
 
 bool VecEnv::load(std::istream& in, const std::string& source) {
@@ -160,18 +254,25 @@ bool VecEnv::load(std::istream& in, const std::string& source) {
   if (stateful_flag > 1) throw Error(source + ": checkpoint is damaged (bad env-state flag)");
   const bool stateful = stateful_flag != 0;
   if (stateful) {
+    std::vector<std::string> states;
     for (std::size_t i = 0; i < envs_.size(); ++i) {
-      auto* state = dynamic_cast<EnvState*>(envs_[i].get());
-      if (!state) throw Error(source + ": checkpoint holds env states this env cannot load");
-      state->load_state(read_string(in, source), source);
+      states.push_back(read_string(in, source));
       batch_.assign(static_cast<int>(i), read_observation(in, spec().observation, source));
+    }
+    for (int i = 0; i < local_; ++i) {
+      auto* state = dynamic_cast<EnvState*>(envs_[static_cast<std::size_t>(i)].get());
+      if (!state) throw Error(source + ": checkpoint holds env states this env cannot load");
+      state->load_state(states[static_cast<std::size_t>(i)], source);
+    }
+    for (std::size_t p = 0; p < processes_.size(); ++p) {
+      const auto first = states.begin() + process_first_[p];
+      processes_[p]->load_states(std::vector<std::string>(first, first + processes_[p]->size()), source);
     }
   }
   tracker_.load(in, source);
   if (!stateful) {
     // Fresh episodes from seeds that differ from the run's first ones.
-    const std::uint64_t seed = seed_ ^ static_cast<std::uint64_t>(timesteps_);
-    for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
+    reset_all(seed_ ^ static_cast<std::uint64_t>(timesteps_));
     tracker_.forget_running();
   }
   return stateful;

@@ -62,8 +62,8 @@ void add_train(CLI::App& app, rdsim::TrainOptions& o, std::string& seed, std::st
   cmd->add_option("--max-memory", max_memory,
                   "Memory limit in GB for the run's estimated needs (default: 80% of the machine's memory)")
       ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
-  cmd->add_option("--threads", threads, "Override the config's num_threads (threads stepping the envs; "
-                                        "results do not depend on it)")->check(CLI::Range(1, 4096));
+  cmd->add_option("--threads", threads, "Override the config's num_threads (workers stepping the envs: threads, "
+                                        "or for pixel envs processes; results do not depend on it)")->check(CLI::Range(1, 4096));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress line");
   cmd->footer("Data-parallel on several processes or machines: mpirun -np K rdsim train --config FILE "
               "(each rank its own envs; total_timesteps counts all ranks; rank 0 writes the run folder).");

@@ -75,6 +75,7 @@ double timed(Stepper& s, const std::vector<std::vector<Action>>& actions, long l
 
 struct ThreadRow {
   int threads = 1;
+  bool processes = false;  // workers 2.. are processes
   std::vector<double> runs;
   double steps_per_s = 0;
 };
@@ -94,9 +95,16 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
   CaseResult result{c, envs, {}, 0, {}};
   PlainLoop plain(make_envs(c, envs));
   std::vector<std::unique_ptr<VecEnv>> vecs;
+  // Where training's env_workers "auto" picks processes, the same counts on threads too: the
+  // comparison in one run.
+  const bool processes = auto_env_workers(row_config(c.entry->name, c.mode, c.image_size)) == EnvWorkers::processes;
   for (int t : counts) {
-    vecs.push_back(std::make_unique<VecEnv>(make_envs(c, envs), kSeed, 20, t));
-    result.rows.push_back({vecs.back()->num_threads(), {}, 0});
+    for (bool p : {false, true}) {
+      if (p && (t == 1 || !processes)) continue;
+      vecs.push_back(std::make_unique<VecEnv>(make_envs(c, envs), kSeed, 20, t,
+                                              p ? EnvWorkers::processes : EnvWorkers::threads));
+      result.rows.push_back({vecs.back()->num_threads(), p, {}, 0});
+    }
   }
   // Random actions drawn before any clock starts: up to 512 batches, reused in turn.
   const long long batch_steps = std::max<long long>(1, (o.steps + envs - 1) / envs);
@@ -123,19 +131,23 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
                o.scaling ? "scaling" : "threads");
   std::fprintf(out, "median of %d runs x %lld env steps (all envs together), runs of every row interleaved; "
                "%d cores available to this process\n\n", o.runs, o.steps, available_cores());
-  std::fprintf(out, "%-16s %-13s %9s %6s %11s %12s %9s\n", "env", "observation", "image", "envs", "threads",
-               "steps/s", "speed-up");
+  std::fprintf(out, "%-16s %-13s %9s %6s %11s %12s %9s %s\n", "env", "observation", "image", "envs", "workers",
+               "steps/s", "speed-up", "  as");
   for (const auto& r : results) {
     const std::string image = image_label(r.c.image_size);
     std::fprintf(out, "%-16s %-13s %9s %6d %11s %12.0f %9s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
                  image.c_str(), r.envs, "plain loop", r.plain_per_s, "-");
     for (const auto& t : r.rows) {
-      std::fprintf(out, "%-16s %-13s %9s %6d %11d %12.0f %8.2fx\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
-                   image.c_str(), r.envs, t.threads, t.steps_per_s, t.steps_per_s / r.rows.front().steps_per_s);
+      const char* as = t.threads == 1 ? "" : t.processes ? "  this thread + processes" : "  threads";
+      std::fprintf(out, "%-16s %-13s %9s %6d %11d %12.0f %8.2fx%s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
+                   image.c_str(), r.envs, t.threads, t.steps_per_s, t.steps_per_s / r.rows.front().steps_per_s, as);
     }
   }
   std::fprintf(out, "\nspeed-up: steps/s over those of 1 thread in the same run. plain loop: the same envs stepped "
-               "one after another\non one thread, no pool, no episode bookkeeping. Pool overhead per env step, "
+               "one after another\non one thread, no pool, no episode bookkeeping. workers: the training config's "
+               "num_threads; pixel envs drawn by osmesa\nare measured on threads and on worker processes (what "
+               "env_workers \"auto\" picks for them: Mesa's llvmpipe\ndraws one frame at a time per process). "
+               "Pool overhead per env step, "
                "VecEnv on 1 thread vs the plain loop:\n");
   for (const auto& r : results) {
     std::fprintf(out, "  %-16s %-13s %9s %+8.0f ns (%.0f vs %.0f ns per env step)\n", r.c.entry->name.c_str(),
@@ -150,7 +162,8 @@ nlohmann::json to_json(const std::vector<CaseResult>& results, const BenchFpsOpt
   for (const auto& r : results) {
     nlohmann::json threads = nlohmann::json::array();
     for (const auto& t : r.rows)
-      threads.push_back({{"threads", t.threads}, {"steps_per_s", t.steps_per_s}, {"runs_steps_per_s", t.runs},
+      threads.push_back({{"threads", t.threads}, {"env_workers", t.processes ? "processes" : "threads"},
+                         {"steps_per_s", t.steps_per_s}, {"runs_steps_per_s", t.runs},
                          {"speedup", t.steps_per_s / r.rows.front().steps_per_s}});
     j["rows"].push_back({{"env", r.c.entry->name}, {"observation", r.c.mode},
                          {"image_size", r.c.image_size > 0 ? nlohmann::json(r.c.image_size) : nlohmann::json(nullptr)},

@@ -182,7 +182,7 @@ int train_command(const TrainOptions& o) {
   std::unique_ptr<Algorithm> algo;
   on_every_rank(comm, [&] {  // an env or algorithm that refuses the config: one message
     vec_owner = std::make_unique<VecEnv>(open_envs(config), seed, config.stats_window,
-                                         resolve_num_threads(config, comm.local_size()));
+                                         resolve_num_threads(config, comm.local_size()), resolve_env_workers(config));
     algo = make_algorithm(config.algorithm, seed, vec_owner->spec());
   });
   VecEnv& vec = *vec_owner;

@@ -5,6 +5,7 @@
 #include <thread>
 #include <nlohmann/json.hpp>
 
+#include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/json_text.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -129,6 +130,21 @@ int resolve_num_threads(const TrainConfig& c, int local_ranks) {
     threads = cores < machine ? cores : cores / std::max(local_ranks, 1);
   }
   return std::clamp(threads, 1, c.num_envs);
+}
+
+EnvWorkers resolve_env_workers(const TrainConfig& c) {
+  if (c.remote.enabled()) {
+    if (c.env_workers == "processes")
+      throw Error("env_workers: \"processes\" cannot step a remote env (its connection does not survive fork); "
+                  "use \"threads\" or \"auto\"");
+    return EnvWorkers::threads;
+  }
+  if (c.env_workers == "auto") return auto_env_workers(c.env);
+  const bool draws = c.env.observation == ObservationMode::RawPixels || c.env.render_mode != RenderMode::None;
+  if (c.env_workers == "processes" && draws && c.env.renderer != "osmesa")
+    throw Error("env_workers: \"processes\" needs \"renderer\": \"osmesa\" (a GPU context does not survive fork); "
+                "use \"threads\" or \"auto\"");
+  return c.env_workers == "processes" ? EnvWorkers::processes : EnvWorkers::threads;
 }
 
 void upgrade_v1_config(nlohmann::json& config) {

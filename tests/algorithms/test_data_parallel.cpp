@@ -2,6 +2,7 @@
 // communicator; the real MPI runs are in tests/app and tests/mpi).
 #include <catch2/catch.hpp>
 #include <sstream>
+#include <unistd.h>
 #include <utility>
 
 #include "rdsim/algorithms/flat_policy.hpp"
@@ -119,6 +120,138 @@ TEST_CASE("VecEnv: an env's error on a worker thread reaches the caller", "[vec_
   CHECK(vec.observations().values == Eigen::RowVector4f(1, 2, 3, 4));
   actions[3] = rdsim::Action::discrete(9);  // env 3 lives on worker 1
   CHECK_THROWS_WITH(vec.step(actions), "picky: action 9");
+}
+
+TEST_CASE("VecEnv in worker processes: the same steps as on one thread", "[vec_env][processes]") {
+  using rdsim::EnvWorkers;
+  const bool discrete = GENERATE(true, false);
+  std::vector<rdsim::Action> actions;
+  for (int i = 0; i < 7; ++i)
+    actions.push_back(discrete ? rdsim::Action::discrete(i % 2) : rdsim::Action::continuous(toy::vec({0.3f * (i % 3) - 0.3f})));
+  for (int workers : {2, 3, 7}) {
+    INFO(workers << " workers, discrete " << discrete);
+    rdsim::VecEnv ref(toy::make_envs(7, discrete, 6, 4), 11, 20, 1);
+    rdsim::VecEnv many(toy::make_envs(7, discrete, 6, 4), 11, 20, workers, EnvWorkers::processes);
+    CHECK(many.processes());
+    CHECK(many.num_threads() == workers);
+    CHECK(ref.observations().values == many.observations().values);
+    for (int t = 0; t < 40; ++t) {
+      // Now and then only some envs step (the population methods' way).
+      std::vector<bool> active(7, true);
+      if (t % 5 == 4) active = {true, false, true, false, false, true, true};
+      const auto& a = ref.step(actions, active);
+      const auto& b = many.step(actions, active);
+      REQUIRE(ref.observations().values == many.observations().values);
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        CHECK(a[i].reward == b[i].reward);
+        CHECK(a[i].terminated == b[i].terminated);
+        CHECK(a[i].truncated == b[i].truncated);
+        if (a[i].done()) CHECK(a[i].final_observation.values == b[i].final_observation.values);
+      }
+    }
+    CHECK(ref.timesteps() == many.timesteps());
+    const auto ea = ref.episodes().take_finished(), eb = many.episodes().take_finished();
+    REQUIRE(ea.size() == eb.size());
+    for (std::size_t k = 0; k < ea.size(); ++k) CHECK(ea[k].episode_return == eb[k].episode_return);
+    CHECK_THROWS_WITH(many.env(6), Catch::Matchers::Contains("worker process"));
+    CHECK(many.env(0).spec().env_name == "sign");  // block 0 is this process's
+  }
+}
+
+TEST_CASE("VecEnv in worker processes: checkpoints continue identically, across worker kinds", "[vec_env][processes]") {
+  using rdsim::EnvWorkers;
+  const std::vector<rdsim::Action> actions(4, rdsim::Action::discrete(0));
+  rdsim::VecEnv a(toy::make_envs(4, true, 5), 1, 20, 2, EnvWorkers::processes);
+  for (int t = 0; t < 7; ++t) a.step(actions);
+  a.drop_caches();
+  std::stringstream saved;
+  a.save(saved);
+  // Loaded by processes and by one thread: both continue as `a` does.
+  rdsim::VecEnv b(toy::make_envs(4, true, 5), 99, 20, 2, EnvWorkers::processes), c(toy::make_envs(4, true, 5), 98);
+  std::stringstream copy(saved.str());
+  CHECK(b.load(saved, "test"));
+  CHECK(c.load(copy, "test"));
+  for (int t = 0; t < 9; ++t) {
+    a.step(actions);
+    b.step(actions);
+    c.step(actions);
+    CHECK(a.observations().values == b.observations().values);
+    CHECK(a.observations().values == c.observations().values);
+  }
+}
+
+namespace {
+
+// An env whose process ends on action 8 (a crash in an env's library, as the OS reports it).
+class DyingEnv final : public rdsim::Env {
+public:
+  DyingEnv() {
+    spec_.observation.shape = {1};
+    spec_.action.n = 10;
+    spec_.max_episode_steps = 3;
+  }
+  const rdsim::Spec& spec() const override { return spec_; }
+  rdsim::Observation reset(std::optional<std::uint64_t> = std::nullopt) override {
+    rdsim::Observation o;
+    o.values = Eigen::VectorXf::Zero(1);
+    return o;
+  }
+  rdsim::StepResult step(const rdsim::Action& a) override {
+    if (a.index == 8) _exit(3);
+    rdsim::StepResult r;
+    r.observation.values = Eigen::VectorXf::Constant(1, static_cast<float>(a.index));
+    return r;
+  }
+
+private:
+  rdsim::Spec spec_;
+};
+
+}  // namespace
+
+TEST_CASE("VecEnv in worker processes: an env's error or a dead process reaches the caller", "[vec_env][processes]") {
+  using rdsim::EnvWorkers;
+  std::vector<rdsim::Action> actions = {rdsim::Action::discrete(1), rdsim::Action::discrete(2),
+                                        rdsim::Action::discrete(3), rdsim::Action::discrete(4)};
+  SECTION("an exception: its message, and the processes still answer") {
+    std::vector<std::unique_ptr<rdsim::Env>> envs;
+    for (int i = 0; i < 4; ++i) envs.push_back(std::make_unique<PickyEnv>());
+    rdsim::VecEnv vec(std::move(envs), 1, 20, 2, EnvWorkers::processes);
+    vec.step(actions);
+    CHECK(vec.observations().values == Eigen::RowVector4f(1, 2, 3, 4));
+    actions[3] = rdsim::Action::discrete(9);  // env 3 lives in the worker process
+    CHECK_THROWS_WITH(vec.step(actions), "picky: action 9");
+    actions[3] = rdsim::Action::discrete(5);
+    vec.step(actions);
+    CHECK(vec.observations().values == Eigen::RowVector4f(1, 2, 3, 5));
+  }
+  SECTION("a process that dies: an error naming its envs, not a hang") {
+    std::vector<std::unique_ptr<rdsim::Env>> envs;
+    for (int i = 0; i < 4; ++i) envs.push_back(std::make_unique<DyingEnv>());
+    rdsim::VecEnv vec(std::move(envs), 1, 20, 2, EnvWorkers::processes);
+    actions[2] = rdsim::Action::discrete(8);
+    CHECK_THROWS_WITH(vec.step(actions), Catch::Matchers::Contains("envs 2-3 (worker process)") &&
+                                             Catch::Matchers::Contains("exited with status 3"));
+  }  // and the VecEnv is destroyed without waiting for it
+  SECTION("a wrong-sized continuous action is refused before it is sent") {
+    rdsim::VecEnv vec(toy::make_envs(2, false), 1, 20, 2, EnvWorkers::processes);
+    const std::vector<rdsim::Action> bad = {rdsim::Action::continuous(toy::vec({0.1f})),
+                                            rdsim::Action::continuous(toy::vec({0.1f, 0.2f}))};
+    CHECK_THROWS_WITH(vec.step(bad), "env 1: action of size 2, expected 1");
+  }
+}
+
+TEST_CASE("every algorithm trains identically with VecEnv threads and worker processes", "[vec_env][processes]") {
+  const std::pair<const char*, bool> algorithms[] = {{"ppo", true}, {"dqn", true}, {"cma_es", true}, {"sac", false}};
+  for (const auto& [name, discrete] : algorithms) {
+    const Setup s = small(name);
+    rdsim::VecEnv v1(toy::make_envs(6, discrete, 8), 3, 20, 1),
+        vp(toy::make_envs(6, discrete, 8), 3, 20, 3, rdsim::EnvWorkers::processes);
+    auto a1 = make_algorithm(s, v1.spec()), ap = make_algorithm(s, vp.spec());
+    for (int u = 0; u < 4; ++u) CHECK(a1->update(v1, {v1.timesteps(), 2000}) == ap->update(vp, {vp.timesteps(), 2000}));
+    INFO(name);
+    CHECK(weights(*a1) == weights(*ap));
+  }
 }
 
 TEST_CASE("every algorithm trains identically on 1 and 3 VecEnv threads", "[vec_env][threads]") {

@@ -74,3 +74,26 @@ TEST_CASE("bench-fps --paper: each mode's paper preset next to the defaults, wit
     CHECK(row.at("steps_per_s").get<double>() > 0.0);
   }
 }
+
+TEST_CASE("bench-fps --threads: pixel envs on threads and on worker processes with speed-ups over one worker", "[bench]") {
+  BenchFpsOptions o;
+  o.envs = {"jaka_button"};
+  o.image_sizes = {16};
+  o.threads = 2;
+  o.num_envs = 4;
+  const nlohmann::json rows = run_bench(o).at("rows");
+  REQUIRE(rows.size() == 2);  // ground truth, pixels 16x16
+  auto kinds = [](const nlohmann::json& row) {
+    std::vector<std::pair<int, std::string>> out;
+    for (const auto& t : row.at("threads")) {
+      out.emplace_back(t.at("threads").get<int>(), t.at("env_workers").get<std::string>());
+      CHECK(t.at("steps_per_s").get<double>() > 0.0);
+    }
+    return out;
+  };
+  using Kinds = std::vector<std::pair<int, std::string>>;
+  CHECK(kinds(rows[0]) == Kinds{{1, "threads"}, {2, "threads"}});
+  CHECK(kinds(rows[1]) == Kinds{{1, "threads"}, {2, "threads"}, {2, "processes"}});
+  CHECK(rows[1].at("threads")[0].at("speedup") == 1.0);
+  CHECK(rows[1].at("envs") == 4);
+}

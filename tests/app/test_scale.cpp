@@ -71,7 +71,44 @@ TEST_CASE("train: the same CSV and weights on 1 and 2 threads", "[cli][threads]"
   }
 }
 
-TEST_CASE("VecEnv: pixel envs render the same images on 1 and 3 threads", "[threads][pixels]") {
+TEST_CASE("train: pixel envs in worker processes give the CSV and weights of one thread", "[cli][threads][pixels]") {
+  ScratchDir dir("env_processes");
+  const std::string config = dir / "pixels.json";
+  rltest::spit(config, R"({
+    "algorithm": "ppo", "env": {"name": "jaka_button", "observation": "raw_pixels", "image_width": 32,
+    "image_height": 32, "random_target": true, "max_steps": 20}, "seed": 4, "total_timesteps": 256, "num_envs": 4,
+    "stats_window": 5, "network": {"cnn": {"preset": "small"}},
+    "ppo": {"n_steps": 32, "batch_size": 64, "n_epochs": 1}
+  })");
+  for (const std::string threads : {"1", "2"}) {
+    const auto r = rltest::run_rdsim("train --quiet --config " + config + " --threads " + threads + " --log-dir " +
+                                         (dir / ("t" + threads)), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  CHECK(logs(dir / "t1") == logs(dir / "t2"));
+  CHECK(rltest::lines(rltest::slurp(dir / "t1/episodes.csv")).size() > 5);
+  CHECK_THAT(rltest::slurp(dir / "t2/config.json"), Contains("\"env_workers\": \"auto\""));
+  // A remote env cannot be forked: asking for processes is refused, with the key named.
+  rdsim::TrainConfig remote;
+  remote.remote.remote = "tcp://127.0.0.1:7777";
+  CHECK(rdsim::resolve_env_workers(remote) == rdsim::EnvWorkers::threads);
+  remote.env_workers = "processes";
+  CHECK_THROWS_WITH(rdsim::resolve_env_workers(remote), Contains("env_workers"));
+  rdsim::TrainConfig pixels;
+  pixels.env.observation = rdsim::ObservationMode::RawPixels;
+  CHECK(rdsim::resolve_env_workers(pixels) == rdsim::EnvWorkers::processes);
+  pixels.env_workers = "threads";
+  CHECK(rdsim::resolve_env_workers(pixels) == rdsim::EnvWorkers::threads);
+  pixels.env.renderer = "egl";
+  CHECK(rdsim::resolve_env_workers(pixels) == rdsim::EnvWorkers::threads);
+  pixels.env_workers = "auto";
+  CHECK(rdsim::resolve_env_workers(pixels) == rdsim::EnvWorkers::threads);
+  pixels.env_workers = "processes";
+  CHECK_THROWS_WITH(rdsim::resolve_env_workers(pixels), Contains("\"renderer\": \"osmesa\""));
+}
+
+TEST_CASE("VecEnv: pixel envs render the same images on 1 and 3 threads or worker processes", "[threads][pixels]") {
   // Every backend built here that can make a context: the renderers are made on this thread and
   // draw on the workers (an egl context binds to one thread: the strict case).
   std::vector<std::string> backends;
@@ -96,7 +133,11 @@ TEST_CASE("VecEnv: pixel envs render the same images on 1 and 3 threads", "[thre
     for (int i = 0; i < 3; ++i) v.push_back(rdsim::make_env(config));
     return v;
   };
-  rdsim::VecEnv one(envs(), 4, 20, 1), three(envs(), 4, 20, 3);
+  // Threads, or (what env_workers "auto" picks for osmesa) this thread and two worker processes.
+  const rdsim::EnvWorkers workers = GENERATE(rdsim::EnvWorkers::threads, rdsim::EnvWorkers::processes);
+  if (workers == rdsim::EnvWorkers::processes && rdsim::auto_env_workers(config) != workers) return;  // a GPU context is not forked
+  INFO((workers == rdsim::EnvWorkers::processes ? "processes" : "threads"));
+  rdsim::VecEnv one(envs(), 4, 20, 1), three(envs(), 4, 20, 3, workers);
   REQUIRE(three.num_threads() == 3);
   rdsim::Rng rng(1);
   std::vector<rdsim::Action> actions(3);

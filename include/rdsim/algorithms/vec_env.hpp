@@ -3,12 +3,15 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "rdsim/algorithms/episode_tracker.hpp"
 #include "rdsim/algorithms/observation_batch.hpp"
 #include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/parallel/env_process.hpp"
 #include "rdsim/parallel/worker_pool.hpp"
 
 // Several instances of one environment stepped together, with automatic reset, a timestep
@@ -20,7 +23,20 @@
 // observation straight into its column of observations() (Env::step_into), and everything that
 // is shared (the timestep counter, the episode tracker) is updated on the calling thread after
 // the workers finish, in env order: results are identical for any thread count.
+//
+// Processes (EnvWorkers::processes): block 0 is stepped on the calling thread as before, blocks
+// 1..T-1 each in a child process of its own (EnvProcess), for envs that cannot share a process
+// well (pixel envs: Mesa draws one frame at a time per process). Same results again: each env is
+// the same object stepped with the same actions, wherever it runs.
 namespace rdsim {
+
+enum class EnvWorkers { threads, processes };
+
+// What suits local envs made from `env` on several workers: processes for pixel observations drawn
+// by the CPU renderer (osmesa: Mesa's llvmpipe draws one frame at a time per process), threads
+// otherwise (cheaper to hand over; a GPU context, as "egl" may hold, must not be forked). Envs that
+// hold connections (RemoteEnv) must stay in this process whatever this says.
+EnvWorkers auto_env_workers(const EnvConfig& env);
 
 // What one env did in a VecEnv step. When the episode ended (terminated || truncated), the env
 // has already been reset: VecEnv::observations() holds the new episode's first observation and
@@ -43,7 +59,8 @@ public:
   // Env i is first reset with a seed drawn from Rng::derive(seed, rng_stream::env_base + i);
   // later resets continue that env's own stream. All envs must share one Spec. num_threads
   // (>= 1) is capped at the number of envs.
-  VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window = 20, int num_threads = 1);
+  VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int stats_window = 20, int num_threads = 1,
+         EnvWorkers workers = EnvWorkers::threads);
   // Destroys every env on the worker that stepped it: a pixel env's renderer releases its GL
   // context in the thread where it is current (an EGL context current in a finished thread
   // would never be freed).
@@ -52,10 +69,13 @@ public:
   VecEnv& operator=(const VecEnv&) = delete;
 
   int size() const { return static_cast<int>(envs_.size()); }
-  int num_threads() const { return pool_.size(); }
+  // Workers stepping the envs: threads, or (processes()) this thread and T-1 child processes.
+  int num_threads() const { return processes_.empty() ? pool_.size() : static_cast<int>(processes_.size()) + 1; }
+  bool processes() const { return !processes_.empty(); }
   const Spec& spec() const { return envs_.front()->spec(); }
-  // Env i itself (e.g. to render it). Call it only between steps, from the thread that steps.
-  Env& env(int i) { return *envs_[static_cast<std::size_t>(i)]; }
+  // Env i itself (e.g. to render it). Call it only between steps, from the thread that steps;
+  // rdsim::Error for an env that lives in a worker process.
+  Env& env(int i);
 
   // The current observation of every env (after any automatic reset), one column per env.
   const ObservationBatch& observations() const { return batch_; }
@@ -92,9 +112,16 @@ private:
   template <class Fn>
   void for_each_env(Fn fn);
   void step_env(int i, const Action& action);
+  // reset (seeds) or step every env, worker processes and this thread side by side.
+  void reset_all(std::uint64_t seed);
+  void step_with_processes(const std::vector<Action>& actions, const std::vector<bool>& active);
+  std::vector<std::optional<std::string>> env_states() const;
 
-  std::vector<std::unique_ptr<Env>> envs_;
+  std::vector<std::unique_ptr<Env>> envs_;  // null where the env lives in a worker process
+  int local_ = 0;                           // envs [0, local_) live in this process
   WorkerPool pool_;
+  std::vector<std::unique_ptr<EnvProcess>> processes_;  // the blocks after the local one, in order
+  std::vector<int> process_first_;                      // first env of each
   ObservationBatch batch_;
   std::vector<EnvStep> results_;
   std::vector<bool> all_active_;

@@ -31,6 +31,7 @@ struct TrainConfig {
   double checkpoint_seconds = 60.0;
   int stats_window = 20;
   int num_threads = 0;  // 0: resolved by resolve_num_threads()
+  std::string env_workers = "auto";  // resolved by resolve_env_workers()
   int sync_check_interval = 10;
 };
 
@@ -50,8 +51,14 @@ void describe(V& v, C& c) {
   v.field("stats_window", c.stats_window, config::Range{1, 1'000'000},
           "episodes behind progress.csv's return/length/success columns");
   v.field("num_threads", c.num_threads, config::Range{0, 4096},
-          "threads stepping the envs (results do not depend on it); 0 = every core this process may use "
+          "workers stepping the envs (threads, or processes: env_workers; results do not depend on it); "
+          "0 = every core this process may use "
           "(shared among the MPI ranks on one machine), at most num_envs");
+  v.choice("env_workers", c.env_workers, {"auto", "threads", "processes"},
+           "what the num_threads workers are: threads, or processes (this one and num_threads - 1 children, "
+           "each stepping its share of the envs; for pixel envs, whose drawing Mesa serialises within a "
+           "process); auto = processes for pixel observations drawn by osmesa, threads otherwise and for a remote env. "
+           "Results do not depend on it");
   v.field("sync_check_interval", c.sync_check_interval, config::Range{0, 1'000'000},
           "MPI runs: updates between comparisons of a hash of the weights across ranks; 0 = at the end only");
 }
@@ -60,6 +67,12 @@ void describe(V& v, C& c) {
 // (available_cores) divided among `local_ranks` processes of one MPI job on this machine; at
 // least 1, at most num_envs.
 int resolve_num_threads(const TrainConfig& config, int local_ranks);
+
+enum class EnvWorkers;  // rdsim/algorithms/vec_env.hpp
+
+// The run's `env_workers`: "auto" is auto_env_workers(config.env), and threads for a remote env
+// (its connection does not survive fork); rdsim::Error for "processes" with a remote env.
+EnvWorkers resolve_env_workers(const TrainConfig& config);
 
 // A run setting given on the command line instead of the config file ("--seed 4" sets "seed").
 // It is read with the config file's rules (type, range; read_train_config) and errors name the
