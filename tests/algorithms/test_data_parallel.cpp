@@ -24,6 +24,17 @@ std::string weights(const rdsim::Algorithm& algo) {
   return out.str();
 }
 
+// Two VecEnvs' results of one step agree env by env.
+void check_same_steps(const std::vector<rdsim::EnvStep>& a, const std::vector<rdsim::EnvStep>& b) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CHECK(a[i].reward == b[i].reward);
+    CHECK(a[i].terminated == b[i].terminated);
+    CHECK(a[i].truncated == b[i].truncated);
+    if (a[i].done()) CHECK(a[i].final_observation.values == b[i].final_observation.values);
+  }
+}
+
 Setup small(const std::string& algorithm) {
   Setup c;
   c.algorithm = algorithm;
@@ -63,12 +74,7 @@ TEST_CASE("VecEnv gives the same steps on 1, 2, 3 and 7 threads", "[vec_env][thr
       const auto& a = ref.step(actions);
       const auto& b = many.step(actions);
       CHECK(ref.observations().values == many.observations().values);
-      for (std::size_t i = 0; i < a.size(); ++i) {
-        CHECK(a[i].reward == b[i].reward);
-        CHECK(a[i].terminated == b[i].terminated);
-        CHECK(a[i].truncated == b[i].truncated);
-        if (a[i].done()) CHECK(a[i].final_observation.values == b[i].final_observation.values);
-      }
+      check_same_steps(a, b);
     }
     const auto ea = ref.episodes().take_finished(), eb = many.episodes().take_finished();
     REQUIRE(ea.size() == eb.size());
@@ -83,7 +89,8 @@ TEST_CASE("VecEnv gives the same steps on 1, 2, 3 and 7 threads", "[vec_env][thr
 namespace {
 
 // An env that rejects action 9, through the plain interface only (VecEnv uses the default
-// step_into, which calls step()).
+// step_into, which calls step()); its process ends on action 8 (a crash in an env's library, as
+// the OS reports it: for worker processes only).
 class PickyEnv final : public rdsim::Env {
 public:
   PickyEnv() {
@@ -99,6 +106,7 @@ public:
   }
   rdsim::StepResult step(const rdsim::Action& a) override {
     if (a.index == 9) throw rdsim::Error("picky: action 9");
+    if (a.index == 8) _exit(3);
     rdsim::StepResult r;
     r.observation.values = Eigen::VectorXf::Constant(1, static_cast<float>(a.index));
     return r;
@@ -142,12 +150,7 @@ TEST_CASE("VecEnv in worker processes: the same steps as on one thread", "[vec_e
       const auto& a = ref.step(actions, active);
       const auto& b = many.step(actions, active);
       REQUIRE(ref.observations().values == many.observations().values);
-      for (std::size_t i = 0; i < a.size(); ++i) {
-        CHECK(a[i].reward == b[i].reward);
-        CHECK(a[i].terminated == b[i].terminated);
-        CHECK(a[i].truncated == b[i].truncated);
-        if (a[i].done()) CHECK(a[i].final_observation.values == b[i].final_observation.values);
-      }
+      check_same_steps(a, b);
     }
     CHECK(ref.timesteps() == many.timesteps());
     const auto ea = ref.episodes().take_finished(), eb = many.episodes().take_finished();
@@ -180,35 +183,6 @@ TEST_CASE("VecEnv in worker processes: checkpoints continue identically, across 
   }
 }
 
-namespace {
-
-// An env whose process ends on action 8 (a crash in an env's library, as the OS reports it).
-class DyingEnv final : public rdsim::Env {
-public:
-  DyingEnv() {
-    spec_.observation.shape = {1};
-    spec_.action.n = 10;
-    spec_.max_episode_steps = 3;
-  }
-  const rdsim::Spec& spec() const override { return spec_; }
-  rdsim::Observation reset(std::optional<std::uint64_t> = std::nullopt) override {
-    rdsim::Observation o;
-    o.values = Eigen::VectorXf::Zero(1);
-    return o;
-  }
-  rdsim::StepResult step(const rdsim::Action& a) override {
-    if (a.index == 8) _exit(3);
-    rdsim::StepResult r;
-    r.observation.values = Eigen::VectorXf::Constant(1, static_cast<float>(a.index));
-    return r;
-  }
-
-private:
-  rdsim::Spec spec_;
-};
-
-}  // namespace
-
 TEST_CASE("VecEnv in worker processes: an env's error or a dead process reaches the caller", "[vec_env][processes]") {
   using rdsim::EnvWorkers;
   std::vector<rdsim::Action> actions = {rdsim::Action::discrete(1), rdsim::Action::discrete(2),
@@ -227,7 +201,7 @@ TEST_CASE("VecEnv in worker processes: an env's error or a dead process reaches 
   }
   SECTION("a process that dies: an error naming its envs, not a hang") {
     std::vector<std::unique_ptr<rdsim::Env>> envs;
-    for (int i = 0; i < 4; ++i) envs.push_back(std::make_unique<DyingEnv>());
+    for (int i = 0; i < 4; ++i) envs.push_back(std::make_unique<PickyEnv>());
     rdsim::VecEnv vec(std::move(envs), 1, 20, 2, EnvWorkers::processes);
     actions[2] = rdsim::Action::discrete(8);
     CHECK_THROWS_WITH(vec.step(actions), Catch::Matchers::Contains("envs 2-3 (worker process)") &&
