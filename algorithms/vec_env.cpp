@@ -1,6 +1,7 @@
 #include "rdsim/algorithms/vec_env.hpp"
 
 #include <algorithm>
+#include <exception>
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/core/binary_io.hpp"
@@ -94,17 +95,35 @@ void VecEnv::for_each_env(Fn fn) {
   });
 }
 
+template <class Local>
+void VecEnv::alongside_processes(Local local) {
+  std::exception_ptr error;
+  try {
+    local();
+  } catch (...) {
+    error = std::current_exception();
+  }
+  for (auto& p : processes_) {
+    try {
+      p->finish();
+    } catch (...) {
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
 void VecEnv::reset_all(std::uint64_t seed) {
   for (std::size_t p = 0; p < processes_.size(); ++p) {
     std::vector<std::uint64_t> seeds;
     for (int j = 0; j < processes_[p]->size(); ++j) seeds.push_back(env_seed(seed, process_first_[p] + j));
     processes_[p]->start_reset(seeds);
   }
-  for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
-  for (std::size_t p = 0; p < processes_.size(); ++p) {
-    processes_[p]->finish();
+  alongside_processes([&] {
+    for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i), env_seed(seed, i)); });
+  });
+  for (std::size_t p = 0; p < processes_.size(); ++p)
     for (int j = 0; j < processes_[p]->size(); ++j) processes_[p]->copy_observation(j, batch_.column(process_first_[p] + j));
-  }
 }
 
 Env& VecEnv::env(int i) {
@@ -174,15 +193,16 @@ void VecEnv::step_with_processes(const std::vector<Action>& actions, const std::
     block_active.assign(first, first + processes_[p]->size());
     processes_[p]->start_step(actions.data() + process_first_[p], block_active);
   }
-  for (int i = 0; i < local_; ++i) {
-    if (active[static_cast<std::size_t>(i)])
-      step_env(i, actions[static_cast<std::size_t>(i)]);
-    else
-      results_[static_cast<std::size_t>(i)] = EnvStep{};
-  }
+  alongside_processes([&] {
+    for (int i = 0; i < local_; ++i) {
+      if (active[static_cast<std::size_t>(i)])
+        step_env(i, actions[static_cast<std::size_t>(i)]);
+      else
+        results_[static_cast<std::size_t>(i)] = EnvStep{};
+    }
+  });
   for (std::size_t p = 0; p < processes_.size(); ++p) {
     EnvProcess& block = *processes_[p];
-    block.finish();
     for (int j = 0; j < block.size(); ++j) {
       const int i = process_first_[p] + j;
       EnvStep& s = results_[static_cast<std::size_t>(i)];
@@ -234,10 +254,11 @@ void VecEnv::save(std::ostream& out) const {
 void VecEnv::drop_caches() {
   for (auto& p : processes_) p->start_drop_caches();
   // On each env's own worker, like every other call into an env.
-  for_each_env([&](int i) {
-    if (auto* state = dynamic_cast<EnvState*>(envs_[static_cast<std::size_t>(i)].get())) state->drop_caches();
+  alongside_processes([&] {
+    for_each_env([&](int i) {
+      if (auto* state = dynamic_cast<EnvState*>(envs_[static_cast<std::size_t>(i)].get())) state->drop_caches();
+    });
   });
-  for (auto& p : processes_) p->finish();
 }
 
 bool VecEnv::load(std::istream& in, const std::string& source) {

@@ -198,6 +198,11 @@ TEST_CASE("VecEnv in worker processes: an env's error or a dead process reaches 
     actions[3] = rdsim::Action::discrete(5);
     vec.step(actions);
     CHECK(vec.observations().values == Eigen::RowVector4f(1, 2, 3, 5));
+    actions[0] = rdsim::Action::discrete(9);  // env 0 lives in this process: the worker finishes its share
+    CHECK_THROWS_WITH(vec.step(actions), "picky: action 9");
+    actions[0] = rdsim::Action::discrete(6);
+    vec.step(actions);
+    CHECK(vec.observations().values == Eigen::RowVector4f(6, 2, 3, 5));
   }
   SECTION("a process that dies: an error naming its envs, not a hang") {
     std::vector<std::unique_ptr<rdsim::Env>> envs;

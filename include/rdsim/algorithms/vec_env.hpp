@@ -112,6 +112,11 @@ private:
   template <class Fn>
   void for_each_env(Fn fn);
   void step_env(int i, const Action& action);
+  // Runs this process's share (`local`) while the worker processes run the command started on
+  // them, then waits for every process even after an error, so that all are idle again before the
+  // first error (this process's, else the lowest block's) goes up.
+  template <class Local>
+  void alongside_processes(Local local);
   // reset (seeds) or step every env, worker processes and this thread side by side.
   void reset_all(std::uint64_t seed);
   void step_with_processes(const std::vector<Action>& actions, const std::vector<bool>& active);
