@@ -187,12 +187,7 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
 }
 
 void VecEnv::step_with_processes(const std::vector<Action>& actions, const std::vector<bool>& active) {
-  std::vector<bool> block_active;
-  for (std::size_t p = 0; p < processes_.size(); ++p) {
-    const auto first = active.begin() + process_first_[p];
-    block_active.assign(first, first + processes_[p]->size());
-    processes_[p]->start_step(actions.data() + process_first_[p], block_active);
-  }
+  for (auto& p : processes_) p->start_step(actions, active);
   alongside_processes([&] {
     for (int i = 0; i < local_; ++i) {
       if (active[static_cast<std::size_t>(i)])

@@ -27,7 +27,8 @@ namespace {
 enum Command : std::uint32_t { kReset = 1, kStep, kDropCaches, kSave, kLoad, kQuit };
 
 constexpr std::size_t kAlign = 64;  // slots on their own cache lines
-constexpr std::uint64_t kFailedBlob = ~0ull;
+constexpr std::uint64_t kNoState = ~0ull;     // in a packed state list: the env has no EnvState
+constexpr std::uint64_t kSaveFailed = ~0ull;  // as the length of the save reply: see the error instead
 constexpr int kSpinMicros = 50;  // as WorkerPool: back-to-back steps hand over without a system call
 
 std::size_t aligned(std::size_t n) { return (n + kAlign - 1) / kAlign * kAlign; }
@@ -110,7 +111,7 @@ bool send_blob(int fd, const std::string& blob) {
 std::string pack(const std::vector<std::optional<std::string>>& states) {
   std::string out;
   for (const auto& s : states) {
-    const std::uint64_t n = s ? s->size() : kFailedBlob;
+    const std::uint64_t n = s ? s->size() : kNoState;
     out.append(reinterpret_cast<const char*>(&n), sizeof n);
     if (s) out += *s;
   }
@@ -124,7 +125,7 @@ std::vector<std::optional<std::string>> unpack(const std::string& blob, int coun
     RDSIM_ASSERT(at + sizeof n <= blob.size(), "EnvProcess: short state blob");
     std::memcpy(&n, blob.data() + at, sizeof n);
     at += sizeof n;
-    if (n == kFailedBlob) {
+    if (n == kNoState) {
       out.emplace_back();
       continue;
     }
@@ -261,16 +262,17 @@ void EnvProcess::start_reset(const std::vector<std::uint64_t>& seeds) {
   start(kReset);
 }
 
-void EnvProcess::start_step(const Action* actions, const std::vector<bool>& active) {
+void EnvProcess::start_step(const std::vector<Action>& actions, const std::vector<bool>& active) {
   for (int i = 0; i < count_; ++i) {
+    const auto k = static_cast<std::size_t>(first_ + i);
     auto* head = reinterpret_cast<SlotHead*>(slot(i));
-    head->active = active[static_cast<std::size_t>(i)] ? 1 : 0;
+    head->active = active[k] ? 1 : 0;
     if (!head->active) continue;
-    const Action& a = actions[i];
+    const Action& a = actions[k];
     head->action_index = a.index;
     if (action_floats_ > 0) {
-      // A wrong-sized action is the env's error to report: the child sees NaN-free zeros
-      // in the missing places, so it is caught here instead.
+      // The slot holds exactly the env's action size: a wrong-sized action is refused here, as the
+      // env itself would refuse it, before anything is sent.
       if (static_cast<std::size_t>(a.values.size()) != action_floats_)
         throw Error("env " + std::to_string(first_ + i) + ": action of size " + std::to_string(a.values.size()) +
                     ", expected " + std::to_string(action_floats_));
@@ -300,7 +302,7 @@ std::vector<std::optional<std::string>> EnvProcess::save_states() {
   start(kSave);
   std::uint64_t n = 0;
   std::string blob;
-  if (recv_all(socket_, &n, sizeof n) && n != kFailedBlob) {
+  if (recv_all(socket_, &n, sizeof n) && n != kSaveFailed) {
     blob.resize(n);
     if (!recv_all(socket_, blob.data(), n)) blob.clear();
   }
@@ -394,7 +396,7 @@ void EnvProcess::child_run(std::vector<std::unique_ptr<Env>>& envs, std::uint32_
         }
         blob = pack(states);
       } catch (...) {
-        const std::uint64_t failed = kFailedBlob;
+        const std::uint64_t failed = kSaveFailed;
         send_all(socket_, &failed, sizeof failed);
         throw;
       }

@@ -38,9 +38,9 @@ public:
 
   // Resets every env with seeds[i] (nullopt-free: a seed each).
   void start_reset(const std::vector<std::uint64_t>& seeds);
-  // Steps env i with actions[i] where active[i] (both indexed within the block); an env whose
-  // episode ends is reset and its final observation kept.
-  void start_step(const Action* actions, const std::vector<bool>& active);
+  // Steps each env of the block with its action where it is active (both vectors indexed by the
+  // VecEnv's env number: first + i); an env whose episode ends is reset and its final observation kept.
+  void start_step(const std::vector<Action>& actions, const std::vector<bool>& active);
   void start_drop_caches();
   // Waits for the command started last; rdsim::Error on the child's error or death.
   void finish();
