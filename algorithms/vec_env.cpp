@@ -63,6 +63,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
       start_(std::chrono::steady_clock::now()) {
   batch_.resize(spec().observation, size());
   results_.resize(envs_.size());
+  begun_.assign(envs_.size(), 0);
   all_active_.assign(envs_.size(), true);
   const int blocks = worker_count(num_threads, envs_.size());
   if (workers == EnvWorkers::processes && blocks > 1) {
@@ -86,12 +87,16 @@ VecEnv::~VecEnv() {
 }
 
 template <class Fn>
-void VecEnv::for_each_env(Fn fn) {
+void VecEnv::for_each_block(Fn fn) {
   const int n = local_, workers = pool_.size();
-  pool_.run([&](int w) {
-    // Worker w owns envs [w n / T, (w + 1) n / T): the same ones every step.
-    const int end = (w + 1) * n / workers;
-    for (int i = w * n / workers; i < end; ++i) fn(i);
+  // Worker w owns envs [w n / T, (w + 1) n / T): the same ones every step.
+  pool_.run([&](int w) { fn(w * n / workers, (w + 1) * n / workers); });
+}
+
+template <class Fn>
+void VecEnv::for_each_env(Fn fn) {
+  for_each_block([&](int first, int end) {
+    for (int i = first; i < end; ++i) fn(i);
   });
 }
 
@@ -142,18 +147,50 @@ double VecEnv::wall_time() const {
   return wall_offset_ + std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-// On env i's worker: touches only env i, its column and its result.
-void VecEnv::step_env(int i, const Action& action) {
-  Env& env = *envs_[static_cast<std::size_t>(i)];
+// On the worker that owns envs [first, end): touches only those envs, their columns and results.
+// Envs that split a step (Env::begin_step: remote envs) all send theirs before any is finished, so
+// their round trips overlap; the others step in env order as always. After an error no further
+// step starts, but the ones already begun are finished (each remote env stays in step with its
+// server) before the first error goes up.
+void VecEnv::step_block(int first, int end, const std::vector<Action>& actions, const std::vector<bool>& active) {
+  std::exception_ptr error;
+  for (int i = first; i < end; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    begun_[k] = 0;
+    if (!active[k] || error) continue;
+    try {
+      begun_[k] = envs_[k]->begin_step(actions[k]) ? 1 : 0;
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
+  for (int i = first; i < end; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    if (!active[k]) {
+      results_[k] = EnvStep{};
+      continue;
+    }
+    if (error && !begun_[k]) continue;
+    try {
+      Env& env = *envs_[k];
+      finish_env(i, begun_[k] ? env.finish_step(batch_.column(i)) : env.step_into(actions[k], batch_.column(i)));
+    } catch (...) {
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+// Env i's step outcome into its result; an episode that ended is reset (its final observation kept).
+void VecEnv::finish_env(int i, const StepOutcome& o) {
   EnvStep& s = results_[static_cast<std::size_t>(i)];
-  const StepOutcome o = env.step_into(action, batch_.column(i));
   s.reward = o.reward;
   s.terminated = o.terminated;
   s.truncated = o.truncated;
   s.info = o.info;
   if (s.done()) {
     batch_.copy_to(i, s.final_observation);
-    env.reset_into(batch_.column(i));
+    envs_[static_cast<std::size_t>(i)]->reset_into(batch_.column(i));
   }
 }
 
@@ -167,12 +204,7 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
   if (processes_.empty()) {
     // The workers only read `active` and write their own envs' results.
-    for_each_env([&](int i) {
-      if (active[static_cast<std::size_t>(i)])
-        step_env(i, actions[static_cast<std::size_t>(i)]);
-      else
-        results_[static_cast<std::size_t>(i)] = EnvStep{};
-    });
+    for_each_block([&](int first, int end) { step_block(first, end, actions, active); });
   } else {
     step_with_processes(actions, active);
   }
@@ -188,14 +220,7 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
 
 void VecEnv::step_with_processes(const std::vector<Action>& actions, const std::vector<bool>& active) {
   for (auto& p : processes_) p->start_step(actions, active);
-  alongside_processes([&] {
-    for (int i = 0; i < local_; ++i) {
-      if (active[static_cast<std::size_t>(i)])
-        step_env(i, actions[static_cast<std::size_t>(i)]);
-      else
-        results_[static_cast<std::size_t>(i)] = EnvStep{};
-    }
-  });
+  alongside_processes([&] { step_block(0, local_, actions, active); });
   for (std::size_t p = 0; p < processes_.size(); ++p) {
     EnvProcess& block = *processes_[p];
     for (int j = 0; j < block.size(); ++j) {
@@ -251,7 +276,7 @@ void VecEnv::drop_caches() {
   // On each env's own worker, like every other call into an env.
   alongside_processes([&] {
     for_each_env([&](int i) {
-      if (auto* state = dynamic_cast<EnvState*>(envs_[static_cast<std::size_t>(i)].get())) state->drop_caches();
+      if (auto* caches = dynamic_cast<EnvCaches*>(envs_[static_cast<std::size_t>(i)].get())) caches->drop_caches();
     });
   });
 }

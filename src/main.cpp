@@ -208,6 +208,7 @@ void add_bench_remote(CLI::App& app, rdsim::BenchRemoteOptions& o) {
   cmd->add_option("--env", o.env, "Env to measure")->capture_default_str();
   cmd->add_option("--steps", o.steps, "Env steps per measurement")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--clients", o.clients, "Clients of the concurrent row")->check(CLI::Range(1, 64))->capture_default_str();
+  cmd->add_option("--envs", o.envs, "Envs of the one-client VecEnv rows (1: none)")->check(CLI::Range(1, 64))->capture_default_str();
   cmd->add_option("--image-size", o.image_size, "Side of the raw-pixel row's images")->check(CLI::Range(8, 1024))->capture_default_str();
   cmd->add_option("--runs", o.runs, "Runs per row; the median is reported")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_flag("--insecure", o.insecure, "Plain text instead of CurveZMQ (to see what encryption costs)");

@@ -55,6 +55,7 @@ VALID = [
     {"request": "cameras", "width": 32, "height": 24},
     {"request": "cameras", "width": 16, "height": 16, "cameras": ["wrist"]},
     {"request": "state"},
+    {"request": "drop_caches"},
     {"request": "close"},
 ]
 

@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <latch>
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 #include <thread>
 
+#include "rdsim/algorithms/vec_env.hpp"
 #include "rdsim/app/bench_run.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -60,6 +62,7 @@ struct LocalServer {
 struct Row {
   std::string what;
   int clients = 1;
+  int envs = 1;           // envs per client (> 1: one VecEnv on one thread)
   double in_process = 0;  // steps/s, median; 0 when not measured
   double remote = 0;      // steps/s, median (all clients together)
   double p50_us = 0, p99_us = 0;
@@ -111,6 +114,42 @@ double remote_rate(const EnvConfig& config, const RemoteEnvConfig& link, int cli
   return median(runs);
 }
 
+// One VecEnv of `envs` made by `make` stepped by this thread with random actions (drawn before
+// the clock starts), resets included; returns env steps/s per run. Local envs step one after
+// another; remote ones have all their requests in flight at once (Env::begin_step).
+std::vector<double> vec_env_rates(const std::function<std::unique_ptr<Env>()>& make, int envs,
+                                  const BenchRemoteOptions& o, double& cpu_us) {
+  std::vector<std::unique_ptr<Env>> list;
+  for (int e = 0; e < envs; ++e) list.push_back(make());
+  VecEnv vec(std::move(list), 12345);
+  Rng rng = Rng::derive(12345, 1);
+  std::vector<std::vector<Action>> actions(512);
+  for (auto& a : actions)
+    for (int e = 0; e < envs; ++e) a.push_back(random_action(vec.spec().action, rng));
+  const long long batches = std::max<long long>(o.steps / envs, 1);
+  for (long long b = 0; b < std::max<long long>(batches / 10, 10); ++b) vec.step(actions[static_cast<std::size_t>(b) % 512]);
+  std::vector<double> runs;
+  const double cpu0 = process_cpu_seconds();
+  for (int r = 0; r < o.runs; ++r) {
+    const auto t0 = Clock::now();
+    for (long long b = 0; b < batches; ++b) vec.step(actions[static_cast<std::size_t>(b) % 512]);
+    runs.push_back(static_cast<double>(batches * envs) / std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  cpu_us = 1e6 * (process_cpu_seconds() - cpu0) / static_cast<double>(batches * envs * o.runs);
+  return runs;
+}
+
+// One client with `envs` remote envs in one VecEnv against the same VecEnv of local envs.
+Row measure_vec_env(const std::string& what, const EnvConfig& config, const RemoteEnvConfig& link, int envs,
+                    const BenchRemoteOptions& o) {
+  std::fprintf(stderr, "bench-remote: %s, 1 client with %d envs ...\n", what.c_str(), envs);
+  Row row{what, 1, envs};
+  row.in_process = median(vec_env_rates([&] { return make_env(config); }, envs, o, row.in_cpu_us));
+  row.remote = median(vec_env_rates([&] { return std::unique_ptr<Env>(connect_remote_env(link, config)); }, envs, o,
+                                    row.remote_cpu_us));
+  return row;
+}
+
 Row measure(const std::string& what, const EnvConfig& config, const RemoteEnvConfig& link, int clients,
             const BenchRemoteOptions& o, bool with_in_process) {
   std::fprintf(stderr, "bench-remote: %s, %d client%s ...\n", what.c_str(), clients, clients == 1 ? "" : "s");
@@ -127,24 +166,30 @@ void print_table(std::FILE* out, const std::vector<Row>& rows, const BenchRemote
   std::fprintf(out, "\nrdsim bench-remote: %s over loopback TCP, %s; random actions, resets included;\n",
                o.env.c_str(), o.insecure ? "plain text" : "CurveZMQ (encrypted, authenticated)");
   std::fprintf(out, "median of %d runs x %lld steps per client; latency = one step's request and reply\n\n", o.runs, o.steps);
-  std::fprintf(out, "%-24s %8s %14s %14s %10s %10s %10s %12s %12s\n", "observation", "clients", "in-process/s",
-               "remote/s", "remote/in", "p50 us", "p99 us", "cpu us in", "cpu us rem");
+  std::fprintf(out, "%-24s %8s %5s %14s %14s %10s %10s %10s %12s %12s\n", "observation", "clients", "envs",
+               "in-process/s", "remote/s", "remote/in", "p50 us", "p99 us", "cpu us in", "cpu us rem");
   for (const Row& r : rows) {
-    char in[32] = "-", ratio[32] = "-", in_cpu[32] = "-";
+    char in[32] = "-", ratio[32] = "-", in_cpu[32] = "-", p50[32] = "-", p99[32] = "-";
     if (r.in_process > 0) {
       std::snprintf(in, sizeof in, "%.0f", r.in_process);
       std::snprintf(ratio, sizeof ratio, "%.2f", r.remote / r.in_process);
       std::snprintf(in_cpu, sizeof in_cpu, "%.1f", r.in_cpu_us);
     }
-    std::fprintf(out, "%-24s %8d %14s %14.0f %10s %10.1f %10.1f %12s %12.1f\n", r.what.c_str(), r.clients, in, r.remote,
-                 ratio, r.p50_us, r.p99_us, in_cpu, r.remote_cpu_us);
+    if (r.envs == 1) {
+      std::snprintf(p50, sizeof p50, "%.1f", r.p50_us);
+      std::snprintf(p99, sizeof p99, "%.1f", r.p99_us);
+    }
+    std::fprintf(out, "%-24s %8d %5d %14s %14.0f %10s %10s %10s %12s %12.1f\n", r.what.c_str(), r.clients, r.envs, in,
+                 r.remote, ratio, p50, p99, in_cpu, r.remote_cpu_us);
   }
   std::fprintf(out, "\ncpu us = CPU time of the whole process per step (all threads: for remote, the client, the\n"
                     "server, ZeroMQ's I/O threads and the kernel's socket work); unlike steps/s it hardly depends\n"
                     "on other programs sharing the cores\n");
-  if (rows.size() >= 3 && rows[0].clients == 1 && rows.back().clients > 1)
-    std::fprintf(out, "\n%d clients at once: %.2fx the steps/s of one client\n", rows.back().clients,
-                 rows.back().remote / rows[0].remote);
+  std::fprintf(out, "envs > 1: one client stepping a VecEnv of that many envs on one thread, as `rdsim train` does\n"
+                    "(remote: every env's request in flight at once), against the same VecEnv of local envs\n");
+  for (const Row& r : rows)
+    if (r.clients > 1 && rows[0].clients == 1)
+      std::fprintf(out, "\n%d clients at once: %.2fx the steps/s of one client\n", r.clients, r.remote / rows[0].remote);
 }
 
 nlohmann::json to_json(const std::vector<Row>& rows, const BenchRemoteOptions& o) {
@@ -152,9 +197,11 @@ nlohmann::json to_json(const std::vector<Row>& rows, const BenchRemoteOptions& o
                       {"curve", !o.insecure}, {"cores", std::thread::hardware_concurrency()},
                       {"rows", nlohmann::json::array()}};
   for (const Row& r : rows)
-    j["rows"].push_back({{"observation", r.what}, {"clients", r.clients},
+    j["rows"].push_back({{"observation", r.what}, {"clients", r.clients}, {"envs", r.envs},
                          {"in_process_steps_per_s", r.in_process > 0 ? nlohmann::json(r.in_process) : nlohmann::json(nullptr)},
-                         {"remote_steps_per_s", r.remote}, {"p50_us", r.p50_us}, {"p99_us", r.p99_us},
+                         {"remote_steps_per_s", r.remote},
+                         {"p50_us", r.envs == 1 ? nlohmann::json(r.p50_us) : nlohmann::json(nullptr)},
+                         {"p99_us", r.envs == 1 ? nlohmann::json(r.p99_us) : nlohmann::json(nullptr)},
                          {"in_process_cpu_us_per_step", r.in_process > 0 ? nlohmann::json(r.in_cpu_us) : nlohmann::json(nullptr)},
                          {"remote_cpu_us_per_step", r.remote_cpu_us}});
   return j;
@@ -173,7 +220,7 @@ int bench_remote_command(const BenchRemoteOptions& o) {
   remote::ServerOptions server;
   server.bind = "tcp://127.0.0.1:*";
   server.insecure = o.insecure;
-  server.max_sessions = o.clients + 4;
+  server.max_sessions = std::max(o.clients, o.envs) + 4;
   server.log = [](const std::string&) {};  // no session lines in the bench's output
   RemoteEnvConfig link;
   if (!o.insecure) {
@@ -194,6 +241,12 @@ int bench_remote_command(const BenchRemoteOptions& o) {
     rows.push_back(measure("raw pixels " + std::to_string(o.image_size) + "x" + std::to_string(o.image_size), pixels, link,
                            1, o, true));
   if (o.clients > 1) rows.push_back(measure("ground truth", ground, link, o.clients, o, false));
+  if (o.envs > 1) {
+    rows.push_back(measure_vec_env("ground truth", ground, link, o.envs, o));
+    if (has_pixels)
+      rows.push_back(measure_vec_env("raw pixels " + std::to_string(o.image_size) + "x" + std::to_string(o.image_size),
+                                     pixels, link, o.envs, o));
+  }
 
   print_table(table_stream(o.json_path), rows, o);
   write_bench_json(o.json_path, to_json(rows, o));

@@ -46,6 +46,10 @@ StepOutcome Env::step_into(const Action& action, ObservationOut out) {
   return {r.reward, r.terminated, r.truncated, r.info};
 }
 
+StepOutcome Env::finish_step(ObservationOut /*out*/) {
+  throw Error(spec().env_name + ": finish_step without a step begun (this env does not split steps)");
+}
+
 Observation reset_through_into(Env& env, std::optional<std::uint64_t> seed) {
   Observation obs = make_observation(env.spec().observation);
   env.reset_into(observation_out(obs), seed);

@@ -384,7 +384,7 @@ void EnvProcess::child_run(std::vector<std::unique_ptr<Env>>& envs, std::uint32_
     }
     case kDropCaches:
       for (auto& env : envs)
-        if (auto* state = dynamic_cast<EnvState*>(env.get())) state->drop_caches();
+        if (auto* caches = dynamic_cast<EnvCaches*>(env.get())) caches->drop_caches();
       return;
     case kSave: {
       std::string blob;

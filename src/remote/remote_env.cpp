@@ -46,7 +46,10 @@ RemoteEnv::~RemoteEnv() {
 
 const std::string& RemoteEnv::endpoint() const { return link_->endpoint(); }
 
-remote::Message RemoteEnv::call(remote::Message request) { return link_->call(std::move(request)); }
+remote::Message RemoteEnv::call(remote::Message request) {
+  if (pending_) throw Error(endpoint() + ": a request was sent before the step begun was finished");
+  return link_->call(std::move(request));
+}
 
 Observation RemoteEnv::reset(std::optional<std::uint64_t> seed) {
   remote::Message m = request("reset");
@@ -54,11 +57,30 @@ Observation RemoteEnv::reset(std::optional<std::uint64_t> seed) {
   return remote::get_observation(call(std::move(m)), spec_);
 }
 
-StepResult RemoteEnv::step(const Action& action) {
+remote::Message RemoteEnv::step_request(const Action& action) const {
+  if (pending_) throw Error(endpoint() + ": a step was sent before the step begun was finished");
   remote::Message m = request("step");
   if (spec_.action.discrete) m.header["action"] = action.index;
   else m.header["action"] = float_list(action.values.data(), action.values.size());
-  return remote::get_step_result(call(std::move(m)), spec_);
+  return m;
+}
+
+StepResult RemoteEnv::step(const Action& action) { return remote::get_step_result(call(step_request(action)), spec_); }
+
+bool RemoteEnv::begin_step(const Action& action) {
+  pending_ = link_->send_request(step_request(action));
+  return true;
+}
+
+void RemoteEnv::drop_caches() { (void)call(request("drop_caches")); }
+
+StepOutcome RemoteEnv::finish_step(ObservationOut out) {
+  if (!pending_) throw Error(endpoint() + ": finish_step without a step begun");
+  const long long id = *pending_;
+  pending_.reset();  // whatever happens next, the link is ready for a new request
+  const StepResult r = remote::get_step_result(link_->wait_reply(id), spec_);
+  copy_observation(r.observation, spec_.observation, out);
+  return {r.reward, r.terminated, r.truncated, r.info};
 }
 
 RemoteRobotEnv::RemoteRobotEnv(std::unique_ptr<remote::RemoteLink> link, const remote::Message& hello, RobotInfo info)

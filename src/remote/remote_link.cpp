@@ -100,9 +100,14 @@ void RemoteLink::check_monitor() {
   }
 }
 
-Message RemoteLink::call(Message request) {
+Message RemoteLink::call(Message request) { return wait_reply(send_request(std::move(request))); }
+
+long long RemoteLink::send_request(Message request) {
   send(request);
-  const long long id = next_id_ - 1;
+  return next_id_ - 1;
+}
+
+Message RemoteLink::wait_reply(long long id) {
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout_));
   while (true) {

@@ -21,6 +21,10 @@ public:
   // the server's message for an error reply, when the server refuses this client's key, or when no
   // reply comes within the timeout.
   Message call(Message request);
+  // call() in two halves, so several links can have a request in flight at once: send_request
+  // returns the id that wait_reply(id) then waits for (with call()'s errors and timeout).
+  long long send_request(Message request);
+  Message wait_reply(long long id);
   // Sends `request` without waiting for its reply (close at exit).
   void post(Message request);
 

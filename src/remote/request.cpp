@@ -16,7 +16,7 @@ const std::vector<std::pair<const char*, RequestKind>>& kinds() {
   static const std::vector<std::pair<const char*, RequestKind>> k = {
       {"hello", RequestKind::Hello},   {"reset", RequestKind::Reset},     {"step", RequestKind::Step},
       {"position", RequestKind::Position}, {"joints", RequestKind::Joints}, {"cameras", RequestKind::Cameras},
-      {"state", RequestKind::State},   {"close", RequestKind::Close}};
+      {"state", RequestKind::State},   {"drop_caches", RequestKind::DropCaches}, {"close", RequestKind::Close}};
   return k;
 }
 
@@ -93,6 +93,7 @@ void read_body(ConfigReader& r, const nlohmann::json& header, Request& q) {
       break;
     }
     case RequestKind::State:
+    case RequestKind::DropCaches:
     case RequestKind::Close: break;
   }
 }
@@ -116,7 +117,7 @@ ParsedRequest parse_request(const std::vector<std::string_view>& frames) {
     Request q;
     top.read("id", q.id, 0, kMaxId);
     out.id = q.id;
-    require(top, "request", "one of hello, reset, step, position, joints, cameras, state, close");
+    require(top, "request", "one of hello, reset, step, position, joints, cameras, state, drop_caches, close");
     std::string name;
     static const std::vector<std::string> names = [] {  // built once, not per request
       std::vector<std::string> v;

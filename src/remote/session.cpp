@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "rdsim/core/config_reader.hpp"
+#include "rdsim/core/env_caches.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/codec.hpp"
@@ -146,6 +147,9 @@ Message Session::handle(const Request& q) {
       return m;
     }
     case RequestKind::Hello: throw Error("hello: this connection already has a session: send close first");
+    case RequestKind::DropCaches:
+      if (auto* caches = dynamic_cast<EnvCaches*>(env_.get())) caches->drop_caches();
+      return reply_to(q.id, q.kind);
     case RequestKind::Close: return reply_to(q.id, q.kind);
   }
   throw Error("unknown request");

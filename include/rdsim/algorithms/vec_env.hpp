@@ -96,7 +96,8 @@ public:
   // Seconds of training so far (includes the time before a resume).
   double wall_time() const;
 
-  // Brings every env's engine caches to the state a checkpoint restores (EnvState::drop_caches).
+  // Brings every env's engine caches to the state a checkpoint restores (EnvCaches::drop_caches;
+  // remote envs forward it to their server).
   // The training loop calls it at every update boundary, so a resumed run matches an
   // uninterrupted one bit for bit.
   void drop_caches();
@@ -108,10 +109,14 @@ public:
   bool load(std::istream& in, const std::string& source);
 
 private:
+  // Runs fn(first, end) for each worker's block of envs [first, end), on that worker.
+  template <class Fn>
+  void for_each_block(Fn fn);
   // Runs fn(i) for every env i, each on the worker that owns it.
   template <class Fn>
   void for_each_env(Fn fn);
-  void step_env(int i, const Action& action);
+  void step_block(int first, int end, const std::vector<Action>& actions, const std::vector<bool>& active);
+  void finish_env(int i, const StepOutcome& outcome);
   // Runs this process's share (`local`) while the worker processes run the command started on
   // them, then waits for every process even after an error, so that all are idle again before the
   // first error (this process's, else the lowest block's) goes up.
@@ -129,6 +134,7 @@ private:
   std::vector<int> process_first_;                      // first env of each
   ObservationBatch batch_;
   std::vector<EnvStep> results_;
+  std::vector<char> begun_;  // per env: its step was begun (Env::begin_step); bytes, as workers write side by side
   std::vector<bool> all_active_;
   EpisodeTracker tracker_;
   std::uint64_t seed_;

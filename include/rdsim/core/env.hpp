@@ -130,6 +130,16 @@ public:
   virtual void reset_into(ObservationOut out, std::optional<std::uint64_t> seed = std::nullopt);
   virtual StepOutcome step_into(const Action& action, ObservationOut out);
 
+  // Split-phase step, for envs whose step is mostly waiting (a RemoteEnv: one network round trip).
+  // begin_step starts the step and returns true; the next call on the env must then be
+  // finish_step, which waits for that step and returns exactly what step_into would have. An env
+  // that cannot split a step returns false (the default) and the caller uses step_into. VecEnv
+  // begins the steps of all the envs of a worker before it finishes any, so N remote envs cost
+  // about one round trip per batch step instead of N, with the same results.
+  virtual bool begin_step(const Action& /*action*/) { return false; }
+  // Default: rdsim::Error (no env that returns false from begin_step gets this call).
+  virtual StepOutcome finish_step(ObservationOut out);
+
   // Advances only the physics world by what one env step simulates, with no control,
   // observation or reward work: lets benchmarks show the env's own overhead.
   // Returns false for envs without a physics world.

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "rdsim/core/env.hpp"
+#include "rdsim/core/env_caches.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/robot_control.hpp"
 #include "rdsim/remote/message.hpp"
@@ -24,13 +25,20 @@ namespace remote {
 class RemoteLink;
 }
 
-class RemoteEnv : public Env {
+class RemoteEnv : public Env, public EnvCaches {
 public:
   ~RemoteEnv() override;  // closes the session (without waiting)
 
   const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
   StepResult step(const Action& action) override;
+  // A step split around its round trip: begin_step sends the request, finish_step waits for the
+  // reply (Env::begin_step), so a VecEnv of remote envs has all their requests in flight at once.
+  bool begin_step(const Action& action) override;
+  StepOutcome finish_step(ObservationOut out) override;
+  // The server's env drops its engine caches (a drop_caches request), as a local env does at
+  // every training update, so remote training matches local training over any length.
+  void drop_caches() override;
 
   // The env config the server made the env from: every key with the value it uses.
   const EnvConfig& resolved_config() const { return resolved_; }
@@ -41,6 +49,7 @@ public:
 protected:
   RemoteEnv(std::unique_ptr<remote::RemoteLink> link, const remote::Message& hello);
   remote::Message call(remote::Message request);
+  remote::Message step_request(const Action& action) const;
 
 private:
   friend std::unique_ptr<RemoteEnv> connect_remote_env(const RemoteEnvConfig&, const EnvConfig&);
@@ -48,6 +57,7 @@ private:
   Spec spec_;
   EnvConfig resolved_;
   std::string server_;
+  std::optional<long long> pending_;  // the request id of a step begun and not yet finished
 };
 
 class RemoteRobotEnv final : public RemoteEnv, public RobotControl {

@@ -12,7 +12,7 @@
 // (tests/fuzz/fuzz_request.cpp). The requests and their keys are docs/protocol.md's.
 namespace rdsim::remote {
 
-enum class RequestKind { Hello, Reset, Step, Position, Joints, Cameras, State, Close };
+enum class RequestKind { Hello, Reset, Step, Position, Joints, Cameras, State, DropCaches, Close };
 
 const char* to_string(RequestKind kind);
 
