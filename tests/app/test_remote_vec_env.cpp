@@ -14,6 +14,15 @@ using Catch::Matchers::Contains;
 
 namespace {
 
+// A CurveZMQ server on a free loopback port that admits one client key, for one test.
+struct Served {
+  test::Scratch dir;
+  test::TestKeys keys{dir};
+  test::ServerThread server{test::curve_options(keys)};
+  explicit Served(const std::string& tag) : dir(tag) {}
+  RemoteEnvConfig link() const { return keys.link(server.endpoint()); }
+};
+
 EnvConfig short_jaka() {
   EnvConfig config = default_env_config("jaka_button");
   config.random_target = true;
@@ -47,15 +56,13 @@ void require_same_batch(VecEnv& a, VecEnv& b) {
 
 TEST_CASE("VecEnv of remote envs: all requests in flight at once, the same steps and resets as local envs",
           "[remote][vec_env]") {
-  test::Scratch dir("vec_env_pipelined");
-  test::TestKeys keys(dir);
-  test::ServerThread server(test::curve_options(keys));
+  Served served("vec_env_pipelined");
   const EnvConfig config = short_jaka();
   const int n = 5;
   for (int threads : {1, 2}) {
     INFO("threads " << threads);
     VecEnv local(local_envs(config, n), 11, 20, threads);
-    VecEnv remote(remote_envs(keys.link(server.endpoint()), config, n), 11, 20, threads);
+    VecEnv remote(remote_envs(served.link(), config, n), 11, 20, threads);
     require_same_batch(remote, local);
     for (int t = 0; t < 60; ++t) {
       const auto actions = actions_at(t, n);
@@ -76,13 +83,11 @@ TEST_CASE("VecEnv of remote envs: all requests in flight at once, the same steps
 
 TEST_CASE("VecEnv of remote envs: a refused action is an error and every env's next step still works",
           "[remote][vec_env]") {
-  test::Scratch dir("vec_env_refused");
-  test::TestKeys keys(dir);
-  test::ServerThread server(test::curve_options(keys));
+  Served served("vec_env_refused");
   const EnvConfig config = short_jaka();
   const int n = 4;
   VecEnv local(local_envs(config, n), 5, 20, 1);
-  VecEnv remote(remote_envs(keys.link(server.endpoint()), config, n), 5, 20, 1);
+  VecEnv remote(remote_envs(served.link(), config, n), 5, 20, 1);
   // The last env's action is out of range: a local env refuses it before moving and after the
   // envs before it stepped; the server refuses it the same way while the others' steps complete.
   auto bad = actions_at(0, n);
@@ -99,11 +104,9 @@ TEST_CASE("VecEnv of remote envs: a refused action is an error and every env's n
 }
 
 TEST_CASE("RemoteEnv: a begun step must be finished before the next request, and equals step()", "[remote][vec_env]") {
-  test::Scratch dir("vec_env_split");
-  test::TestKeys keys(dir);
-  test::ServerThread server(test::curve_options(keys));
+  Served served("vec_env_split");
   const EnvConfig config = short_jaka();
-  const auto remote = connect_remote_env(keys.link(server.endpoint()), config);
+  const auto remote = connect_remote_env(served.link(), config);
   const auto local = make_env(config);
   CHECK(remote->reset(4).values == local->reset(4).values);
   CHECK_FALSE(local->begin_step(Action::discrete(1)));  // a local env does not split a step
@@ -122,14 +125,12 @@ TEST_CASE("RemoteEnv: a begun step must be finished before the next request, and
 
 TEST_CASE("VecEnv of remote envs: drop_caches reaches the server's envs, so long runs stay identical to local ones",
           "[remote][vec_env]") {
-  test::Scratch dir("vec_env_caches");
-  test::TestKeys keys(dir);
-  test::ServerThread server(test::curve_options(keys));
+  Served served("vec_env_caches");
   EnvConfig config = default_env_config("jaka_button");
   config.random_target = true;
   const int n = 8;
   VecEnv local(local_envs(config, n), 3, 20, 1);
-  VecEnv remote(remote_envs(keys.link(server.endpoint()), config, n), 3, 20, 1);
+  VecEnv remote(remote_envs(served.link(), config, n), 3, 20, 1);
   // Mostly down (action 4: -z), pressing the effector on the floor, with random moves: contacts
   // that last across the drop points, where Bullet's contact caches change later steps unless
   // both sides drop them at the same time.
