@@ -215,6 +215,7 @@ int bench_remote_command(const BenchRemoteOptions& o) {
   pixels.observation = ObservationMode::RawPixels;
   pixels.image_width = pixels.image_height = o.image_size;
   const bool has_pixels = env_entry(o.env).supports_pixels;
+  const std::string pixels_name = "raw pixels " + std::to_string(o.image_size) + "x" + std::to_string(o.image_size);
 
   KeyFolder keys;
   remote::ServerOptions server;
@@ -238,14 +239,12 @@ int bench_remote_command(const BenchRemoteOptions& o) {
   std::vector<Row> rows;
   rows.push_back(measure("ground truth", ground, link, 1, o, true));
   if (has_pixels)
-    rows.push_back(measure("raw pixels " + std::to_string(o.image_size) + "x" + std::to_string(o.image_size), pixels, link,
-                           1, o, true));
+    rows.push_back(measure(pixels_name, pixels, link, 1, o, true));
   if (o.clients > 1) rows.push_back(measure("ground truth", ground, link, o.clients, o, false));
   if (o.envs > 1) {
     rows.push_back(measure_vec_env("ground truth", ground, link, o.envs, o));
     if (has_pixels)
-      rows.push_back(measure_vec_env("raw pixels " + std::to_string(o.image_size) + "x" + std::to_string(o.image_size),
-                                     pixels, link, o.envs, o));
+      rows.push_back(measure_vec_env(pixels_name, pixels, link, o.envs, o));
   }
 
   print_table(table_stream(o.json_path), rows, o);
