@@ -104,3 +104,25 @@ TEST_CASE("keygen and serve: key files, refusals and errors as a user sees them"
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains("env.server_key: needed for tcp://10.1.2.3:7777"));
 }
+
+// A short run of the benchmark's real path (the figures themselves are tools/bench/remote.sh's).
+TEST_CASE("bench-remote: every row measured, the VecEnv rows against the same local VecEnv", "[cli][remote]") {
+  ScratchDir dir("cli_bench_remote");
+  const auto r = run_rdsim("bench-remote --steps 200 --runs 1 --clients 2 --envs 3 --image-size 16 --json -", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["curve"] == true);
+  REQUIRE(j["rows"].size() == 5);  // GT and pixels for 1 env, 2 clients, GT and pixels for a VecEnv of 3
+  for (const auto& row : j["rows"]) {
+    CHECK(row["remote_steps_per_s"].get<double>() > 0.0);
+    if (row["envs"] == 3) {
+      CHECK(row["clients"] == 1);
+      CHECK(row["in_process_steps_per_s"].get<double>() > 0.0);
+      CHECK(row["p50_us"].is_null());  // one batch step is not one round trip
+    } else {
+      CHECK(row["p50_us"].get<double>() > 0.0);
+    }
+  }
+  CHECK(j["rows"][4]["observation"] == "raw pixels 16x16");
+}
