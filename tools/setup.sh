@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages rdsim needs (if missing) and builds it into build/.
+# Installs the Debian packages rdsim needs (if missing), the project's Python environment (.venv)
+# and builds rdsim into build/.
 # Safe to run again: it only installs what is missing and rebuilds what changed.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -16,6 +17,21 @@ if [ ${#missing[@]} -gt 0 ]; then
   [ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
   $sudo_cmd apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+# The project's Python environment (.venv): the Python package, its tests and the docs site. The
+# pinned requirements are installed again only when tools/requirements.txt changes.
+venv=$root/.venv
+if [ ! -x "$venv/bin/python" ]; then
+  echo "rdsim setup: creating $venv"
+  python3 -m venv "$venv"
+fi
+stamp=$venv/.rdsim-requirements.sha256
+wanted_sha=$(sha256sum tools/requirements.txt | cut -d' ' -f1)
+if [ "$(cat "$stamp" 2>/dev/null)" != "$wanted_sha" ]; then
+  echo "rdsim setup: installing tools/requirements.txt into $venv"
+  "$venv/bin/pip" install -q --disable-pip-version-check -r tools/requirements.txt
+  echo "$wanted_sha" > "$stamp"
 fi
 
 build_type=${RDSIM_BUILD_TYPE:-Release}
