@@ -50,7 +50,18 @@ bool is_atomic_write_leftover(const std::string& name) {
   return name[name.size() - kTmpSuffix.size() - 7] == '.';
 }
 
+void create_parent_folders(const std::string& path) {
+  const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (dir.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  // create_directories reports no error for an existing non-folder on some libstdc++ versions.
+  if (!ec && !std::filesystem::is_directory(dir, ec)) ec = std::make_error_code(std::errc::not_a_directory);
+  if (ec) throw Error(path + ": cannot create its folder " + dir.string() + ": " + ec.message());
+}
+
 void write_file_atomic(const std::string& path, std::string_view data) {
+  create_parent_folders(path);
   const std::filesystem::path target(path);
   const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
   std::string name = ".";

@@ -13,6 +13,7 @@ extern "C" {
 #include <filesystem>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 #include "writers.hpp"
 
 namespace rdsim {
@@ -29,6 +30,7 @@ public:
   Mp4Writer(std::string path, int width, int height, int fps)
       : path_(std::move(path)), temp_(path_ + ".part"), width_(width), height_(height) {
     try {
+      create_parent_folders(path_);  // like every other output file: its folder is made
       open(fps);
     } catch (...) {
       release();

@@ -24,7 +24,21 @@ TEST_CASE("atomic write replaces the file and leaves no temporary behind", "[fil
 
 TEST_CASE("file errors name the file", "[files]") {
   CHECK_THROWS_WITH(rdsim::read_file("/nonexistent/rdsim.bin"), Catch::Matchers::Contains("/nonexistent/rdsim.bin"));
-  CHECK_THROWS_AS(rdsim::write_file_atomic("/nonexistent/dir/x.bin", "x"), rdsim::Error);
+  CHECK_THROWS_AS(rdsim::write_file_atomic("/proc/rdsim/x.bin", "x"), rdsim::Error);  // /proc takes no folders
+}
+
+TEST_CASE("atomic write creates the missing folders above the file (demos/x.demo on a clean clone)", "[files]") {
+  const fs::path dir = fs::temp_directory_path() / ("rdsim_test_files_parents_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const std::string path = (dir / "demos" / "deeper" / "x.demo").string();
+  rdsim::write_file_atomic(path, "bytes");
+  CHECK(rdsim::read_file(path) == "bytes");
+  // A file where a folder must go: one clear error naming the file and the folder.
+  rdsim::write_file_atomic((dir / "plain").string(), "x");
+  CHECK_THROWS_WITH(rdsim::write_file_atomic((dir / "plain" / "y.csv").string(), "y"),
+                    Catch::Matchers::Contains("y.csv: cannot create its folder") &&
+                        Catch::Matchers::Contains("plain"));
+  fs::remove_all(dir);
 }
 
 TEST_CASE("atomic writes from several writers never mix: each reader sees one whole file", "[files]") {

@@ -5,7 +5,13 @@
 
 namespace rdsim {
 
-// Writes `data` to a uniquely named temporary file beside `path` (mkstemp: ".NAME.XXXXXX.tmp"),
+// Creates the folders above `path` that do not exist yet (`demos/x.demo` on a clean clone: every
+// output file rdsim writes gets its folder, as `train --log-dir` does). rdsim::Error naming `path`
+// and the folder when one cannot be made (a file in the way, no permission).
+void create_parent_folders(const std::string& path);
+
+// Creates the parent folders (create_parent_folders), then
+// writes `data` to a uniquely named temporary file beside `path` (mkstemp: ".NAME.XXXXXX.tmp"),
 // fsyncs it, renames it over `path` and fsyncs the folder, so a reader (or a crash, or a second
 // writer) never sees a half-written model or log: the old file or the new one. Throws
 // rdsim::Error on failure and removes the temporary.
