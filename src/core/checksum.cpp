@@ -6,25 +6,31 @@
 namespace rdsim {
 namespace {
 
-constexpr std::array<std::uint32_t, 256> make_crc_table() {
+// Byte-at-a-time table of a reflected CRC-32 with this polynomial.
+constexpr std::array<std::uint32_t, 256> make_crc_table(std::uint32_t polynomial) {
   std::array<std::uint32_t, 256> table{};
   for (std::uint32_t n = 0; n < 256; ++n) {
     std::uint32_t c = n;
-    for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+    for (int k = 0; k < 8; ++k) c = (c & 1u) ? polynomial ^ (c >> 1) : c >> 1;
     table[n] = c;
   }
   return table;
 }
 
-constexpr auto kCrcTable = make_crc_table();
+constexpr auto kCrcTable = make_crc_table(0xEDB88320u);
+constexpr auto kCrc32cTable = make_crc_table(0x82F63B78u);
+
+std::uint32_t reflected_crc(const std::array<std::uint32_t, 256>& table, std::string_view data, std::uint32_t crc) {
+  std::uint32_t c = ~crc;
+  for (unsigned char byte : data) c = table[(c ^ byte) & 0xFFu] ^ (c >> 8);
+  return ~c;
+}
 
 }  // namespace
 
-std::uint32_t crc32(std::string_view data, std::uint32_t crc) {
-  std::uint32_t c = ~crc;
-  for (unsigned char byte : data) c = kCrcTable[(c ^ byte) & 0xFFu] ^ (c >> 8);
-  return ~c;
-}
+std::uint32_t crc32(std::string_view data, std::uint32_t crc) { return reflected_crc(kCrcTable, data, crc); }
+
+std::uint32_t crc32c(std::string_view data, std::uint32_t crc) { return reflected_crc(kCrc32cTable, data, crc); }
 
 std::uint32_t adler32(std::string_view data, std::uint32_t adler) {
   constexpr std::uint32_t kMod = 65521;

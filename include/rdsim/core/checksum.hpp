@@ -8,6 +8,10 @@ namespace rdsim {
 // Pass the previous result as `crc` to continue over split data.
 std::uint32_t crc32(std::string_view data, std::uint32_t crc = 0);
 
+// CRC-32C (Castagnoli: reflected polynomial 0x82F63B78, init and final xor ~0), the checksum of
+// TFRecord files (TensorBoard's event files); pass the previous result to continue.
+std::uint32_t crc32c(std::string_view data, std::uint32_t crc = 0);
+
 // Adler-32 as in RFC 1950 (zlib streams); pass the previous result to continue.
 std::uint32_t adler32(std::string_view data, std::uint32_t adler = 1);
 
