@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/suggest.hpp"
 #include "rdsim/envs/cartpole.hpp"
 #include "rdsim/envs/inmoov_tomato.hpp"
 #include "rdsim/envs/jaka_button.hpp"
@@ -58,11 +59,13 @@ const std::vector<EnvEntry>& env_registry() {
 
 const EnvEntry& env_entry(const std::string& name) {
   std::string known;
+  std::vector<std::string> names;
   for (const auto& e : env_registry()) {
     if (e.name == name) return e;
     known += (known.empty() ? "" : ", ") + e.name;
+    names.push_back(e.name);
   }
-  throw Error("unknown environment \"" + name + "\" (known: " + known + ")");
+  throw Error("unknown environment \"" + one_line(name, 60) + "\"" + did_you_mean(name, names) + " (known: " + known + ")");
 }
 
 EnvConfig default_env_config(const std::string& name) {

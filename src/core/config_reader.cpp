@@ -9,6 +9,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/json_text.hpp"
+#include "rdsim/core/suggest.hpp"
 
 namespace rdsim {
 namespace {
@@ -210,7 +211,7 @@ void ConfigReader::read_choice(const std::string& key, std::string& out,
   }
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "" : ", ") + ("\"" + c + "\"");
-  fail(key, "expected one of " + list + ", got " + describe(nlohmann::json(value)));
+  fail(key, "expected one of " + list + ", got " + describe(nlohmann::json(value)) + did_you_mean(value, choices));
 }
 
 ConfigReader ConfigReader::child(const std::string& key) {
@@ -226,7 +227,9 @@ void ConfigReader::finish() const {
     if (!seen_.count(it.key())) {
       std::string known;
       for (const auto& k : seen_) known += (known.empty() ? "" : ", ") + k;
-      fail(one_line(it.key(), 60), "unknown key (known keys here: " + known + ")");
+      const std::vector<std::string> names(seen_.begin(), seen_.end());
+      fail(one_line(it.key(), 60),
+           "unknown key" + did_you_mean(it.key(), names) + " (known keys here: " + known + ")");
     }
   }
 }

@@ -121,4 +121,11 @@ std::string read_file(const std::string& path, std::uint64_t max_bytes) {
   return out;
 }
 
+std::string read_file_or_hint(const std::string& path, const std::string& how_to_make_it, std::uint64_t max_bytes) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec) && !ec)
+    throw Error(path + ": cannot open: " + std::strerror(ENOENT) + "; make it with: " + how_to_make_it);
+  return read_file(path, max_bytes);
+}
+
 }  // namespace rdsim

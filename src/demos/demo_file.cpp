@@ -400,6 +400,9 @@ DemoFile decode_demo_file(std::string_view bytes, const std::string& source) {
   return file;
 }
 
-DemoFile read_demo_file(const std::string& path) { return decode_demo_file(read_file(path), path); }
+DemoFile read_demo_file(const std::string& path) {
+  const std::string how = "rdsim demos record --config TRAINING_CONFIG.json --out " + path + " (or --env NAME)";
+  return decode_demo_file(read_file_or_hint(path, how), path);
+}
 
 }  // namespace rdsim

@@ -45,6 +45,13 @@ std::string field(const std::string& text, const std::string& label) {
   return "";
 }
 
+// The keygen command that writes the key file `path` (DIR/NAME.key or DIR/NAME.key_secret).
+std::string keygen_command_for(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::string dir = p.has_parent_path() ? p.parent_path().string() : ".";
+  return "rdsim keygen " + p.stem().string() + " --dir " + dir;
+}
+
 }  // namespace
 
 bool is_curve_key(const std::string& text) {
@@ -80,7 +87,7 @@ std::vector<std::string> write_key_files(const std::string& dir, const std::stri
 }
 
 std::string read_public_key(const std::string& path) {
-  const std::string key = field(read_file(path), "public");
+  const std::string key = field(read_file_or_hint(path, keygen_command_for(path)), "public");
   if (!is_curve_key(key)) throw Error(path + ": no public key in it (expected a line \"public <40 Z85 characters>\", as rdsim keygen writes)");
   return key;
 }
@@ -91,7 +98,7 @@ CurveKeyPair read_secret_key(const std::string& path) {
     throw Error(path + ": other users may read this secret key (mode " +
                 [&] { char m[8]; std::snprintf(m, sizeof m, "%04o", st.st_mode & 07777); return std::string(m); }() +
                 "); make it private: chmod 600 " + path);
-  const std::string text = read_file(path);
+  const std::string text = read_file_or_hint(path, keygen_command_for(path));
   CurveKeyPair keys{field(text, "public"), field(text, "secret")};
   if (!is_curve_key(keys.secret_key))
     throw Error(path + ": no secret key in it (expected a line \"secret <40 Z85 characters>\", as rdsim keygen writes)");

@@ -81,3 +81,9 @@ TEST_CASE("leftovers of a killed atomic write are recognised by name", "[files]"
   CHECK_FALSE(rdsim::is_atomic_write_leftover(".rdsim.lock"));
   CHECK_FALSE(rdsim::is_atomic_write_leftover("notes.tmp"));
 }
+
+TEST_CASE("a missing file another command makes: the error says how to make it", "[files]") {
+  CHECK_THROWS_WITH(rdsim::read_file_or_hint("/nonexistent/k.key", "rdsim keygen k"),
+                    Catch::Matchers::Equals("/nonexistent/k.key: cannot open: No such file or directory; make it with: rdsim keygen k"));
+  CHECK_THROWS_WITH(rdsim::read_file_or_hint("/", "x"), Catch::Matchers::Contains("is a folder"));  // other errors unchanged
+}

@@ -297,3 +297,9 @@ TEST_CASE("foreign files and other versions are named as such", "[demos][bad-fil
   CHECK_THROWS_WITH(rdsim::decode_demo_file(bytes, "v2.demo"),
                     Contains("v2.demo: demonstration format version 2 is not supported"));
 }
+
+TEST_CASE("a missing demonstration file names the command that records it", "[demos]") {
+  CHECK_THROWS_WITH(rdsim::read_demo_file("demos/none_here.demo"),
+                    Contains("demos/none_here.demo: cannot open: No such file or directory; make it with: rdsim demos "
+                             "record --config TRAINING_CONFIG.json --out demos/none_here.demo"));
+}

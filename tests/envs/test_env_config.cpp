@@ -20,6 +20,12 @@ rdsim::EnvConfig read(const char* text) {
 
 }  // namespace
 
+TEST_CASE("a mistyped env name names the env meant", "[config][suggest]") {
+  CHECK_THAT(error_of([] { read(R"({"name": "jaka_buton"})"); }),
+             Contains("unknown environment \"jaka_buton\" (did you mean \"jaka_button\"?) (known: cartpole"));
+  CHECK_THAT(error_of([] { read(R"({"name": "pong"})"); }), !Contains("did you mean"));
+}
+
 TEST_CASE("env config rejects a bad observation mode and unknown keys", "[config]") {
   CHECK_THAT(error_of([] { read(R"({"name": "jaka_button", "observation": "pixels"})"); }),
              Contains("env.observation") && Contains("raw_pixels"));

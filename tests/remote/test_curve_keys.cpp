@@ -93,3 +93,10 @@ TEST_CASE("env link keys: read beside the env's own keys, checked, written back 
   CHECK_THROWS_WITH(read_link({{"remote", 7777}}), Contains("env.remote: expected a string"));
   CHECK_NOTHROW(read_link({{"remote", "tcp://127.0.0.1:7777"}}));  // plain text to loopback
 }
+
+TEST_CASE("keys: a missing key file names the keygen command that makes it", "[keys]") {
+  CHECK_THROWS_WITH(read_public_key("nowhere/keys/server.key"),
+                    Contains("nowhere/keys/server.key: cannot open: No such file or directory; make it with: "
+                             "rdsim keygen server --dir nowhere/keys"));
+  CHECK_THROWS_WITH(read_secret_key("alice.key_secret"), Contains("make it with: rdsim keygen alice --dir ."));
+}

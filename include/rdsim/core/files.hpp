@@ -25,4 +25,9 @@ bool is_atomic_write_leftover(const std::string& name);
 // rdsim::Error naming the file when it cannot be read.
 std::string read_file(const std::string& path, std::uint64_t max_bytes = UINT64_MAX);
 
+// read_file, for a file another rdsim command makes: when it does not exist, the error says how to
+// make it ("keys/server.key: cannot open: No such file or directory; make it with: rdsim keygen ...").
+std::string read_file_or_hint(const std::string& path, const std::string& how_to_make_it,
+                              std::uint64_t max_bytes = UINT64_MAX);
+
 }  // namespace rdsim
