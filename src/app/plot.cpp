@@ -2,9 +2,9 @@
 #include "rdsim/app/plot.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <set>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/run_files.hpp"
@@ -31,6 +31,14 @@ Metric metric_named(const std::string& name) {
 
 std::string x_label(const std::string& x) { return x == "wall_time" ? "wall time (s)" : metric_named(x).label; }
 
+// An x value as the summary prints it: whole numbers (timesteps, updates) in full, others (wall
+// time in seconds) to 4 significant digits, so a short run never reads "at wall_time 0".
+std::string x_value(double x) {
+  char text[40];
+  std::snprintf(text, sizeof text, x == std::floor(x) && std::abs(x) < 1e15 ? "%.0f" : "%.4g", x);
+  return text;
+}
+
 }  // namespace
 
 int plot_command(const PlotOptions& o) {
@@ -43,29 +51,43 @@ int plot_command(const PlotOptions& o) {
   }
   const Metric metric = metric_named(o.metric);
   std::vector<RunCurve> curves;
-  std::set<std::string> envs;
   for (const auto& dir : dirs) {
     curves.push_back(read_run_curve(dir, o.x, metric.column));
     if (o.x_max > 0) curves.back() = crop_run_curve(curves.back(), o.x_max);
-    if (!curves.back().info.env.empty()) envs.insert(curves.back().info.env);
   }
-  const auto bands = mean_over_runs(curves, o.band == "std" ? Band::StdDev : Band::MinMax);
 
-  FigureText text;
-  std::string env_names;
-  for (const auto& e : envs) env_names += (env_names.empty() ? "" : ", ") + e;
-  text.title = !o.title.empty() ? o.title : (env_names.empty() ? "" : env_names + ": ") + metric.label;
-  text.x_label = x_label(o.x);
-  text.y_label = metric.label;
-  const bool several = std::any_of(bands.begin(), bands.end(), [](const CurveBand& b) { return b.runs > 1; });
-  if (several) text.band_label = o.band == "std" ? "mean ± 1 std over runs" : "mean, min to max over runs";
-  write_figure(bands, text, o.out, o.width, o.height);
+  // One panel per env: runs of different envs are never averaged together (their returns differ).
+  const auto groups = runs_by_env(curves);
+  std::vector<FigurePanel> panels;
+  for (const auto& [env, runs] : groups) {
+    FigurePanel panel;
+    panel.bands = mean_over_runs(runs, o.band == "std" ? Band::StdDev : Band::MinMax);
+    const std::string env_name = env.empty() ? "(env unknown)" : env;
+    panel.text.title = o.title.empty() ? env_name + ": " + metric.label
+                                       : (groups.size() == 1 ? o.title : o.title + " (" + env_name + ")");
+    panel.text.x_label = x_label(o.x);
+    panel.text.y_label = metric.label;
+    const bool several = std::any_of(panel.bands.begin(), panel.bands.end(), [](const CurveBand& b) { return b.runs > 1; });
+    const bool cut = std::any_of(panel.bands.begin(), panel.bands.end(), [](const CurveBand& b) { return b.cut(); });
+    if (several) panel.text.band_label = o.band == "std" ? "mean ± 1 std over runs" : "mean, min to max over runs";
+    if (cut) panel.text.band_label += std::string(several ? ", " : "") + "to the shortest run";
+    panels.push_back(std::move(panel));
+  }
+  write_figure(panels, o.out, o.width, o.height);
 
-  std::printf("rdsim plot: %s from %zu run%s\n", o.out.c_str(), dirs.size(), dirs.size() == 1 ? "" : "s");
-  for (const auto& b : bands) {
-    std::printf("  %s (%d run%s): %s at %s %.0f: %.3f (band %.3f to %.3f)\n",
-                b.algorithm.empty() ? "(unknown)" : b.algorithm.c_str(), b.runs, b.runs == 1 ? "" : "s",
-                metric.label.c_str(), o.x.c_str(), b.x.back(), b.mean.back(), b.low.back(), b.high.back());
+  std::printf("rdsim plot: %s from %zu run%s, %zu env%s (one panel each)\n", o.out.c_str(), dirs.size(),
+              dirs.size() == 1 ? "" : "s", panels.size(), panels.size() == 1 ? "" : "s");
+  for (std::size_t p = 0; p < panels.size(); ++p) {
+    const std::string& env = groups[p].first;
+    for (const auto& b : panels[p].bands) {
+      std::printf("  %s, %s (%d run%s): %s at %s %s: %.3f (band %.3f to %.3f)", env.empty() ? "(env unknown)" : env.c_str(),
+                  b.algorithm.empty() ? "(algorithm unknown)" : b.algorithm.c_str(), b.runs, b.runs == 1 ? "" : "s",
+                  metric.label.c_str(), o.x.c_str(), x_value(b.x.back()).c_str(), b.mean.back(), b.low.back(), b.high.back());
+      if (b.cut())
+        std::printf("; cut at the shortest run (the longest reached %s %s)", o.x.c_str(), x_value(b.longest_x).c_str());
+      if (b.x.size() == 1) std::printf("; the runs share this one x only");
+      std::printf("\n");
+    }
   }
   return 0;
 }

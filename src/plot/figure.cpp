@@ -52,8 +52,6 @@ std::string legend_entry(const CurveBand& b) {
 }
 
 void draw(cairo_t* cr, const std::vector<CurveBand>& bands, const FigureText& text, int width, int height) {
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
 
   // The legend sits right of the plot, so it never hides a curve.
@@ -174,15 +172,38 @@ Rgb algorithm_colour(const std::string& algorithm, std::size_t place) {
   return fixed[place % (sizeof fixed / sizeof fixed[0])].second;
 }
 
+namespace {
+
+// A white page, then each panel in its band of the page.
+void draw_panels(cairo_t* cr, const std::vector<FigurePanel>& panels, int width, int panel_height) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  for (std::size_t i = 0; i < panels.size(); ++i) {
+    cairo_save(cr);
+    cairo_translate(cr, 0, static_cast<double>(i) * panel_height);
+    draw(cr, panels[i].bands, panels[i].text, width, panel_height);
+    cairo_restore(cr);
+  }
+}
+
+}  // namespace
+
 void write_figure(const std::vector<CurveBand>& bands, const FigureText& text, const std::string& path, int width,
                   int height) {
-  if (bands.empty()) throw Error(path + ": no curves to draw");
+  write_figure(std::vector<FigurePanel>{{bands, text}}, path, width, height);
+}
+
+void write_figure(const std::vector<FigurePanel>& panels, const std::string& path, int width, int panel_height) {
+  for (const auto& p : panels)
+    if (p.bands.empty()) throw Error(path + ": no curves to draw");
+  if (panels.empty()) throw Error(path + ": no curves to draw");
+  const int height = panel_height * static_cast<int>(panels.size());
   const std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
   std::string bytes;
   if (ext == ".png") {
     Surface surface(cairo_image_surface_create(CAIRO_FORMAT_ARGB32, width, height));
     Context cr(cairo_create(surface.get()));
-    draw(cr.get(), bands, text, width, height);
+    draw_panels(cr.get(), panels, width, panel_height);
     cairo_surface_flush(surface.get());
     if (cairo_surface_write_to_png_stream(surface.get(), append_bytes, &bytes) != CAIRO_STATUS_SUCCESS) {
       throw Error(path + ": cannot encode the PNG");
@@ -191,7 +212,7 @@ void write_figure(const std::vector<CurveBand>& bands, const FigureText& text, c
     Surface surface(cairo_svg_surface_create_for_stream(append_bytes, &bytes, width, height));
     {
       Context cr(cairo_create(surface.get()));
-      draw(cr.get(), bands, text, width, height);
+      draw_panels(cr.get(), panels, width, panel_height);
     }
     cairo_surface_finish(surface.get());
     if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) throw Error(path + ": cannot encode the SVG");

@@ -63,18 +63,29 @@ RunCurve crop_run_curve(const RunCurve& run, double x_max) {
   return out;
 }
 
+std::vector<std::pair<std::string, std::vector<RunCurve>>> runs_by_env(const std::vector<RunCurve>& runs) {
+  std::map<std::string, std::vector<RunCurve>> groups;
+  for (const auto& run : runs) groups[run.info.env].push_back(run);
+  return {groups.begin(), groups.end()};
+}
+
 std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band band, int points) {
   std::map<std::string, std::vector<const RunCurve*>> groups;
   for (const auto& run : runs) {
     if (run.x.empty()) throw Error(run.info.dir + ": progress.csv has no row with both values yet");
+    if (run.info.env != runs.front().info.env) {
+      throw Error(run.info.dir + ": its env (" + run.info.env + ") differs from " + runs.front().info.dir + "'s (" +
+                  runs.front().info.env + "): runs of different envs are never averaged together");
+    }
     groups[run.info.algorithm].push_back(&run);
   }
   std::vector<CurveBand> bands;
   for (const auto& [algorithm, members] : groups) {
-    double first = -INFINITY, last = INFINITY;
+    double first = -INFINITY, last = INFINITY, longest = -INFINITY;
     for (const RunCurve* r : members) {
       first = std::max(first, r->x.front());
       last = std::min(last, r->x.back());
+      longest = std::max(longest, r->x.back());
     }
     if (first > last) {
       throw Error("the " + (algorithm.empty() ? std::string("unnamed") : algorithm) +
@@ -83,6 +94,7 @@ std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band ba
     CurveBand b;
     b.algorithm = algorithm;
     b.runs = static_cast<int>(members.size());
+    b.longest_x = longest;
     const int n = first < last ? std::max(points, 2) : 1;
     std::vector<double> ys(members.size());
     for (int k = 0; k < n; ++k) {

@@ -7,15 +7,16 @@ namespace fs = std::filesystem;
 
 namespace {
 
-void fake_run(const fs::path& dir, const std::string& algorithm, int seed, double speed) {
+void fake_run(const fs::path& dir, const std::string& algorithm, int seed, double speed,
+              const std::string& env = "jaka_button", int updates = 50) {
   fs::create_directories(dir);
   rltest::spit((dir / "config.json").string(), "{\"algorithm\": \"" + algorithm +
-                                                   "\", \"env\": {\"name\": \"jaka_button\"}, \"seed\": " +
+                                                   "\", \"env\": {\"name\": \"" + env + "\"}, \"seed\": " +
                                                    std::to_string(seed) + "}");
-  std::string csv = "timesteps,updates,mean_return,success_rate\n";
-  for (int i = 1; i <= 50; ++i) {
+  std::string csv = "timesteps,updates,mean_return,success_rate,wall_time\n";
+  for (int i = 1; i <= updates; ++i) {
     csv += std::to_string(i * 2048) + "," + std::to_string(i) + "," + std::to_string(-50 + i * speed) + "," +
-           std::to_string(std::min(1.0, i * speed / 50)) + "\n";
+           std::to_string(std::min(1.0, i * speed / 50)) + "," + std::to_string(0.0125 * i) + "\n";
   }
   rltest::spit((dir / "progress.csv").string(), csv);
 }
@@ -54,4 +55,36 @@ TEST_CASE("plot: missing runs, columns and bad file names fail with one message"
   r = rltest::run_rdsim("plot " + dir / "run" + " --out " + dir / "x.gif", dir);
   CHECK(r.exit_code == 1);
   CHECK(r.err.find(".png or .svg") != std::string::npos);
+}
+
+TEST_CASE("plot: runs of different envs get a panel each, never one pooled curve", "[cli][plot]") {
+  rltest::ScratchDir dir("plot_cli_envs");
+  fake_run(dir.path / "runs" / "ppo_button", "ppo", 1, 1.0, "jaka_button");
+  fake_run(dir.path / "runs" / "ppo_cartpole", "ppo", 1, 2.0, "cartpole");
+  fake_run(dir.path / "runs" / "ppo_cartpole_2", "ppo", 2, 2.0, "cartpole");
+  const auto r = rltest::run_rdsim("plot " + dir / "runs" + " --out " + dir / "figures/success.png", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);  // the figure's folder is made
+  CHECK_THAT(r.out, Catch::Contains("from 3 runs, 2 envs (one panel each)"));
+  CHECK_THAT(r.out, Catch::Contains("  cartpole, ppo (2 runs): success rate at timesteps 102400"));
+  CHECK_THAT(r.out, Catch::Contains("  jaka_button, ppo (1 run): success rate at timesteps 102400"));
+  // Two panels of the default 480 pixels, one below the other: the PNG's height (IHDR, bytes 20..23).
+  const std::string png = rltest::slurp(dir / "figures/success.png");
+  REQUIRE(png.size() > 24);
+  CHECK((static_cast<unsigned char>(png[22]) << 8 | static_cast<unsigned char>(png[23])) == 960);
+}
+
+TEST_CASE("plot: runs of different lengths: the cut at the shortest is said, x values are not rounded to 0", "[cli][plot]") {
+  rltest::ScratchDir dir("plot_cli_lengths");
+  fake_run(dir.path / "runs" / "long", "ppo", 1, 1.0, "jaka_button", 50);
+  fake_run(dir.path / "runs" / "short", "ppo", 2, 1.0, "jaka_button", 20);
+  auto r = rltest::run_rdsim("plot " + dir / "runs" + " --out " + dir / "s.png", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Catch::Contains("ppo (2 runs): success rate at timesteps 40960: 0.400 (band 0.400 to 0.400); cut at "
+                                    "the shortest run (the longest reached timesteps 102400)"));
+  r = rltest::run_rdsim("plot " + dir / "runs" + " --out " + dir / "w.png --x wall_time", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Catch::Contains("success rate at wall_time 0.25: ") &&
+                        Catch::Contains("(the longest reached wall_time 0.625)"));
 }

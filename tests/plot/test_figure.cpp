@@ -79,5 +79,31 @@ TEST_CASE("figure: an SVG of the same drawing, other extensions are refused", "[
   CHECK(text.str().find("<path") != std::string::npos);
   CHECK_THROWS_WITH(rdsim::write_figure(two_algorithms(), {}, scratch("curves.jpg")), Catch::Contains(".png or .svg"));
   CHECK_THROWS_WITH(rdsim::write_figure({}, {}, scratch("none.png")), Catch::Contains("no curves"));
-  CHECK_THROWS_AS(rdsim::write_figure(two_algorithms(), {}, "/nonexistent-folder/x.png"), rdsim::Error);
+  CHECK_THROWS_AS(rdsim::write_figure(two_algorithms(), {}, "/proc/nonexistent-folder/x.png"), rdsim::Error);
+}
+
+TEST_CASE("figure: one panel per env, one below the other", "[plot]") {
+  const std::string path = scratch("panels.png");
+  rdsim::FigureText a, b;
+  a.title = "cartpole: success rate";
+  b.title = "jaka_button: success rate";
+  rdsim::write_figure(std::vector<rdsim::FigurePanel>{{two_algorithms(), a}, {two_algorithms(), b}}, path, 640, 300);
+  cairo_surface_t* png = cairo_image_surface_create_from_png(path.c_str());
+  REQUIRE(cairo_surface_status(png) == CAIRO_STATUS_SUCCESS);
+  CHECK(cairo_image_surface_get_width(png) == 640);
+  CHECK(cairo_image_surface_get_height(png) == 600);
+  // Both panels hold the curves: PPO's colour in the top half and in the bottom half.
+  cairo_surface_t* top = cairo_surface_create_for_rectangle(png, 0, 0, 640, 300);
+  cairo_surface_t* bottom = cairo_surface_create_for_rectangle(png, 0, 300, 640, 300);
+  cairo_surface_t* top_image = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 640, 300);
+  cairo_surface_t* bottom_image = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 640, 300);
+  for (auto [from, to] : {std::pair{top, top_image}, std::pair{bottom, bottom_image}}) {
+    cairo_t* cr = cairo_create(to);
+    cairo_set_source_surface(cr, from, 0, 0);
+    cairo_paint(cr);
+    cairo_destroy(cr);
+    cairo_surface_flush(to);
+    CHECK(count_near(to, rdsim::algorithm_colour("ppo", 0)) > 300);
+  }
+  for (auto* s : {top, bottom, top_image, bottom_image, png}) cairo_surface_destroy(s);
 }

@@ -89,3 +89,33 @@ TEST_CASE("learning curves: a run's curve from progress.csv, skipping empty and 
                     Catch::Contains("no column \"loss\" (it has: timesteps, success_rate, mean_return)"));
   CHECK_THROWS_AS(rdsim::read_run_curve((dir / "absent").string(), "timesteps", "success_rate"), rdsim::Error);
 }
+
+TEST_CASE("learning curves: runs are grouped by env, never averaged across envs", "[plot]") {
+  auto on = [](rdsim::RunCurve c, const std::string& env) {
+    c.info.env = env;
+    c.info.dir = "runs/" + env + "_" + c.info.algorithm;
+    return c;
+  };
+  const std::vector<rdsim::RunCurve> runs = {on(curve("ppo", {0, 10}, {0, 1}), "jaka_button"),
+                                             on(curve("ppo", {0, 10}, {400, 500}), "cartpole"),
+                                             on(curve("sac", {0, 10}, {0, 1}), "jaka_button")};
+  CHECK_THROWS_WITH(rdsim::mean_over_runs(runs),
+                    Catch::Contains("runs/cartpole_ppo: its env (cartpole) differs from runs/jaka_button_ppo's (jaka_button)"));
+  const auto groups = rdsim::runs_by_env(runs);
+  REQUIRE(groups.size() == 2);
+  CHECK(groups[0].first == "cartpole");  // envs in name order
+  CHECK(groups[0].second.size() == 1);
+  CHECK(groups[1].first == "jaka_button");
+  REQUIRE(groups[1].second.size() == 2);
+  CHECK(rdsim::mean_over_runs(groups[1].second).size() == 2);  // ppo and sac, each its own band
+}
+
+TEST_CASE("learning curves: a band of runs of different lengths says it was cut at the shortest", "[plot]") {
+  const auto cut = rdsim::mean_over_runs({curve("ppo", {0, 10, 20}, {0, 1, 2}), curve("ppo", {0, 10}, {0, 1})});
+  REQUIRE(cut.size() == 1);
+  CHECK(cut[0].x.back() == 10);
+  CHECK(cut[0].longest_x == 20);
+  CHECK(cut[0].cut());
+  const auto whole = rdsim::mean_over_runs({curve("ppo", {0, 10}, {0, 1}), curve("ppo", {0, 10}, {2, 3})});
+  CHECK_FALSE(whole[0].cut());
+}

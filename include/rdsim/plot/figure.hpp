@@ -21,6 +21,16 @@ struct FigureText {
 void write_figure(const std::vector<CurveBand>& bands, const FigureText& text, const std::string& path,
                   int width = 800, int height = 480);
 
+// One plot of a figure with several (one per env): its curves and texts.
+struct FigurePanel {
+  std::vector<CurveBand> bands;
+  FigureText text;
+};
+
+// The panels one below the other, each width x panel_height, in one file (as write_figure above).
+void write_figure(const std::vector<FigurePanel>& panels, const std::string& path, int width = 800,
+                  int panel_height = 480);
+
 // The colour of an algorithm in every figure (fixed for each of rdsim's algorithms; other names by their place).
 struct Rgb {
   double r, g, b;

@@ -27,11 +27,21 @@ struct CurveBand {
   std::string algorithm;  // config.json's algorithm ("ppo"); "" when unknown
   int runs = 0;
   std::vector<double> x, mean, low, high;
+  // The last x of the run that went furthest: above x.back() when the runs have different lengths
+  // and the band was cut at the shortest one (say so: the longer runs' ends are not drawn).
+  double longest_x = 0;
+  bool cut() const { return !x.empty() && longest_x > x.back(); }
 };
 
 // Groups runs by algorithm (bands sorted by algorithm name) and averages each group on `points`
-// grid points. Throws rdsim::Error when a run has no values or a group's runs share no x range.
+// grid points. Throws rdsim::Error when a run has no values or a group's runs share no x range,
+// and when the runs are of different envs (their returns are not comparable: split them with
+// runs_by_env first).
 std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band band = Band::StdDev, int points = 300);
+
+// The runs of each env (config.json's env.name; "" when unknown), envs in name order, runs in
+// their given order: one figure panel per env.
+std::vector<std::pair<std::string, std::vector<RunCurve>>> runs_by_env(const std::vector<RunCurve>& runs);
 
 // The run's curve up to x_max: its rows with x <= x_max, then (when the run went further) its value at
 // x_max, interpolated. Throws rdsim::Error naming the run when its first row is already past x_max.
