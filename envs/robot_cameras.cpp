@@ -1,5 +1,7 @@
 #include "rdsim/envs/robot_cameras.hpp"
 
+#include <cmath>
+
 #include "rdsim/core/error.hpp"
 #include "rdsim/render/camera.hpp"
 
@@ -9,9 +11,16 @@ CameraMount jaka_wrist_camera() {
   CameraMount m;
   m.name = "wrist";
   m.link = "flange_link";  // z: out of the flange face (the tool axis)
-  m.position = Eigen::Vector3f(0.05f, 0.0f, 0.005f);
-  m.forward = Eigen::Vector3f::UnitZ();
-  m.up = Eigen::Vector3f::UnitX();
+  // Looking straight down the tool axis, the camera saw only the table under the flange (a plain
+  // brown square at jaka_obstacle's home, 12 cm above it): tilted 25 deg off the axis towards the
+  // flange's -x with a 90 deg field of view (a RealSense-like wide lens), it still sees the point
+  // under the tool (jaka_button's button at home) and, ahead, jaka_obstacle's column, which stands
+  // between that env's home and its button. The far side is at the top of the image.
+  constexpr float tilt = 25.0f * static_cast<float>(M_PI) / 180.0f;
+  m.position = Eigen::Vector3f(-0.05f, 0.0f, 0.005f);
+  m.forward = Eigen::Vector3f(-std::sin(tilt), 0.0f, std::cos(tilt));
+  m.up = Eigen::Vector3f(-std::cos(tilt), 0.0f, -std::sin(tilt));
+  m.fov_deg = 90.0f;
   return m;
 }
 

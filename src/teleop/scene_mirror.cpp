@@ -26,6 +26,32 @@ void SceneMirror::update(const RobotSnapshot& state) {
   if (state.joint_positions.size() == task.robot().dof()) task.robot().reset_joints(state.joint_positions);
   task.set_target(state.target);
   update_poses(scene_, task.world());
+  mark_target(state.target);
+}
+
+void SceneMirror::mark_target(const Eigen::Vector3f& target) {
+  // An item "is" the target when its centre lies within 1 cm of the target point (the tomatoes
+  // are spheres centred on their links, which the targets are: envs/inmoov_tomato.cpp).
+  constexpr float kCentreTolerance = 0.01f;  // m
+  // Only a target among several alike (the env's target_choices) needs a mark; a lone button does not.
+  if (env_->terms().target_choices.size() < 2) return;
+  int found = -1;
+  float best = kCentreTolerance;
+  for (const ScenePart& part : scene_.parts) {
+    if (part.link != -1) continue;  // robot items: never the target
+    const float d = (scene_.scene.items[static_cast<size_t>(part.item)].pose.translation() - target).norm();
+    if (d < best) {
+      best = d;
+      found = part.item;
+    }
+  }
+  if (found == target_item_) return;
+  if (target_item_ >= 0) scene_.scene.items[static_cast<size_t>(target_item_)].rgba = target_item_rgba_;
+  target_item_ = found;
+  if (found >= 0) {
+    target_item_rgba_ = scene_.scene.items[static_cast<size_t>(found)].rgba;
+    scene_.scene.items[static_cast<size_t>(found)].rgba = target_colour();
+  }
 }
 
 OrbitView SceneMirror::main_view() const { return env_->terms().main_view; }

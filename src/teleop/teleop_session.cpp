@@ -53,6 +53,9 @@ void TeleopSession::reset() {
   const long long saved = status_.saved_episodes;
   status_ = TeleopStatus{};
   status_.saved_episodes = saved;
+  // The distance to the target from the start, before any step (the task's distance: effector to target).
+  const RobotSnapshot start = control_.robot_state();
+  status_.info.distance = (start.effector_position - start.target).norm();
   status_.message = "new episode (seed " + std::to_string(episode_seed_) + ")";
 }
 

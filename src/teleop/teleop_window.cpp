@@ -328,6 +328,11 @@ void TeleopUi::draw_status() {
   ImGui::Text("env %s   actions %s", spec.env_name.c_str(), describe_action_space(spec.action).c_str());
   ImGui::Text("step %d / %d   reward %.3f   return %.2f", s.steps, spec.max_episode_steps, s.last_reward, s.episode_return);
   ImGui::Text("distance to target %.3f m", s.info.distance);
+  if (mirror_.target_item() >= 0) {  // a target among several alike (inmoov_tomato): say which the mark is
+    const Eigen::Vector4f c = SceneMirror::target_colour();
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(c[0], c[1], c[2], c[3]), "(the yellow one)");
+  }
   const ImVec4 green(0.3f, 0.9f, 0.3f, 1.0f), red(1.0f, 0.35f, 0.3f, 1.0f), grey(0.6f, 0.6f, 0.6f, 1.0f);
   ImGui::TextColored(s.info.success ? green : grey, "success");
   ImGui::SameLine();

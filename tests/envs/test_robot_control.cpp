@@ -194,3 +194,32 @@ TEST_CASE("robot control: the same calls from the same seed give bit-identical s
   };
   CHECK(run() == run());
 }
+
+namespace {
+
+// Share of the image's pixels for which `is` holds (RGB bytes).
+template <typename Predicate>
+double share(const Image& image, Predicate is) {
+  int n = 0;
+  for (std::size_t i = 0; i + 2 < image.rgb.size(); i += 3) n += is(image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]);
+  return static_cast<double>(n) / (image.width * image.height);
+}
+
+}  // namespace
+
+TEST_CASE("robot control: the Jaka's wrist camera at home sees the task, not only the table under it", "[envs][robot_control]") {
+  // jaka_obstacle's home: the column ahead (orange: red well above green, no blue); before the
+  // camera was tilted off the tool axis this was a plain square of table.
+  auto obstacle = make_env(env_config("jaka_obstacle"));
+  obstacle->reset(0);
+  Image image;
+  control(*obstacle).camera_image(0, 160, 120, image);
+  const auto orange = [](int r, int g, int b) { return r > 2 * g && b < 30 && r > 40; };
+  CHECK(share(image, orange) > 0.05);
+  // jaka_button's home: the red button under the flange is still in view.
+  auto button = make_env(env_config("jaka_button"));
+  button->reset(0);
+  control(*button).camera_image(0, 160, 120, image);
+  const auto red = [](int r, int g, int b) { return r > 120 && g < 60 && b < 60; };
+  CHECK(share(image, red) > 0.008);
+}

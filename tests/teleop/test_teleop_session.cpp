@@ -2,6 +2,7 @@
 // the window draws.
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <set>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
@@ -144,4 +145,52 @@ TEST_CASE("the window's scene mirror poses the robot as the env has it", "[teleo
       CHECK(own.scene.items[i].pose.matrix().isApprox(mirror.scene().items[i].pose.matrix(), 1e-4f));
   }
   CHECK_THROWS_WITH(SceneMirror(default_env_config("cartpole")), Contains("env cartpole has no robot scene"));
+}
+
+TEST_CASE("the status shows the real distance to the target before the first step", "[teleop]") {
+  for (const char* name : {"jaka_button", "jaka_obstacle", "inmoov_tomato"}) {
+    INFO(name);
+    EnvConfig c = default_env_config(name);
+    c.random_target = true;
+    auto env = make_env(c);
+    TeleopSession session(*env, 3, nullptr, to_json(c));
+    const RobotSnapshot start = session.control().robot_state();
+    const float expected = (start.effector_position - start.target).norm();
+    CHECK(expected > 0.05f);  // the robot starts away from its target
+    CHECK(session.status().info.distance == Approx(expected));
+    CHECK(session.status().steps == 0);
+    // The first step's distance is the env's own, a small move from the start's.
+    session.act(move_action(Move::PlusZ, env->spec().action));
+    CHECK(std::abs(session.status().info.distance - expected) < 0.1f);
+    session.reset();
+    CHECK(session.status().info.distance > 0.05f);
+  }
+}
+
+TEST_CASE("the scene mirror marks the target tomato among the tree's tomatoes, and only it", "[teleop]") {
+  EnvConfig config = default_env_config("inmoov_tomato");
+  config.random_target = true;
+  auto env = make_env(config);
+  auto& reach = dynamic_cast<ReachEnv&>(*env);
+  SceneMirror mirror(config);
+  std::set<int> marked;
+  for (std::uint64_t seed = 0; seed < 12; ++seed) {
+    env->reset(seed);
+    const RobotSnapshot state = reach.robot_state();
+    mirror.update(state);
+    const int item = mirror.target_item();
+    REQUIRE(item >= 0);
+    marked.insert(item);
+    CHECK((mirror.scene().items[static_cast<size_t>(item)].pose.translation() - state.target).norm() < 0.01f);
+    int yellow = 0;
+    for (const auto& it : mirror.scene().items) yellow += it.rgba.isApprox(SceneMirror::target_colour());
+    CHECK(yellow == 1);  // the previous target took its own colour back
+  }
+  CHECK(marked.size() > 2);  // random targets: the mark moved from tomato to tomato
+
+  SceneMirror button(default_env_config("jaka_button"));
+  auto button_env = make_env(default_env_config("jaka_button"));
+  button_env->reset(0);
+  button.update(dynamic_cast<ReachEnv&>(*button_env).robot_state());
+  CHECK(button.target_item() == -1);  // one button: nothing to tell apart
 }

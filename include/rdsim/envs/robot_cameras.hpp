@@ -28,8 +28,9 @@ struct CameraMount {
   float znear = 0.01f;    // m: the camera sits on the robot's surface
 };
 
-// The Jaka Zu 7's wrist camera: on the flange, 5 cm off the tool axis, looking along it (down at
-// the table in the home pose), fov 60 deg.
+// The Jaka Zu 7's wrist camera: on the flange, 5 cm off the tool axis (flange -x), looking 25 deg
+// off the axis towards that side, fov 90 deg: the point under the tool and the table ahead of it
+// (jaka_obstacle's column from its home pose).
 CameraMount jaka_wrist_camera();
 // The InMoov's eyes: at the front of each eyeball (l_eye / r_eye, 1.6 cm ahead of its centre,
 // just clear of the head's face), looking straight ahead (+x of the eye, which the eye pan/tilt

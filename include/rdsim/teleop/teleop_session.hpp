@@ -27,7 +27,8 @@ struct TeleopStatus {
   int steps = 0;                 // env steps in this episode
   double episode_return = 0.0;
   float last_reward = 0.0f;
-  StepInfo info;                 // of the last step (distance, success, collision, out of bounds)
+  StepInfo info;                 // of the last step (distance, success, collision, out of bounds);
+                                 // after a reset: the distance from the start, nothing else set
   bool ended = false;            // terminated or truncated: Reset starts the next episode
   bool terminated = false, truncated = false;
   bool recording = false;
