@@ -35,7 +35,8 @@ int demos_info_command(const std::string& path) {
 }
 
 int demos_record_command(const DemosRecordOptions& o) {
-  if (!o.expert) throw Error("demos record: only the scripted expert records here (--expert); people record with `rdsim teleop --record`");
+  // The scripted expert is the only recorder here, so --expert is optional (kept for the commands
+  // already written down); people record with `rdsim teleop --record`.
   if (o.env.empty() == o.config_path.empty()) throw Error("demos record: give --env NAME or --config FILE");
   EnvConfig env_config;
   if (!o.config_path.empty()) {

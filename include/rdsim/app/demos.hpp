@@ -10,7 +10,7 @@ namespace rdsim {
 int demos_info_command(const std::string& path);
 
 struct DemosRecordOptions {
-  bool expert = false;         // the scripted expert records (the only recorder of this command)
+  bool expert = false;         // --expert: optional, the scripted expert is this command's only recorder
   std::string env;             // registry name: its default options, random targets (see below)
   std::string config_path;     // or the "env" object of this training config, as it is
   int episodes = 20;           // episodes written
