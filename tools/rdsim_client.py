@@ -3,12 +3,20 @@
 
 Needs only Debian's python3-zmq and python3-numpy (run it with /usr/bin/python3):
 
+    import numpy as np
     from rdsim_client import RemoteEnv
     with RemoteEnv("tcp://127.0.0.1:7777", {"name": "jaka_button"},
                    server_key="keys/server.key", client_key="keys/alice/alice.key_secret") as env:
         obs, info = env.reset(seed=1)
         obs, reward, terminated, truncated, info = env.step(3)   # Gymnasium-style
-        obs, reward, terminated, truncated, info = env.position([0.5, 0.0, 0.1])
+        # position() is ONE env step towards the point, not a move that waits until the arm is there:
+        # the joint drives are speed-limited, so repeat it (10 cm: about 15 calls on jaka_button) and stop
+        # when the effector is close enough (or the episode ends: each call counts towards max_steps).
+        goal = np.array([0.5, 0.0, 0.1])
+        for _ in range(100):
+            obs, reward, terminated, truncated, info = env.position(goal)
+            if np.linalg.norm(info["effector_position"] - goal) < 0.005 or terminated or truncated:
+                break
         images = env.cameras(224, 224)             # {"wrist": uint8 (224, 224, 3), "scene": ...}
 
 Run as a program it drives an env with random actions and prints what happens:
@@ -161,8 +169,14 @@ class RemoteEnv:
 
     # -- robot control (robot envs) -------------------------------------------------------
     def position(self, xyz):
-        """The effector to the absolute point xyz (world frame, m) by IK: one env step, returned as
-        step() does; info also holds joint_positions and effector_position."""
+        """One env step that drives the effector towards the absolute point xyz (world frame, m),
+        returned as step() does; info also holds joint_positions and effector_position.
+
+        The joint targets are set by IK for xyz (clipped into the workspace) and the world advances by
+        one control period, as env.step does: the speed-limited joint drives cover only part of the
+        way, so the effector has not arrived after one call. Call it again with the same point until
+        info["effector_position"] is close enough (jaka_button: about 15 calls for 10 cm); every call
+        is a step of the episode (reward, success, the step limit), as in RobotDrlSim's `position`."""
         return self._step_reply({"request": "position", "position": [float(v) for v in xyz]})
 
     def joints(self, targets):

@@ -107,6 +107,24 @@ class PythonClientTest(unittest.TestCase):
             only = env.cameras(32, 32, names=["right_eye"])
             self.assertEqual(list(only), ["right_eye"])
 
+    def test_position_is_one_step_towards_the_point_repeated_until_there(self):
+        # What the module docstring says: one call moves part of the way, repeated calls arrive.
+        with self.env({"name": "jaka_button"}) as env:
+            env.reset(seed=2)
+            start = env.state()["effector_position"]
+            goal = start + np.array([0.0, 0.1, 0.0])
+            obs, reward, terminated, truncated, info = env.position(goal)
+            first = np.linalg.norm(info["effector_position"] - goal)
+            self.assertLess(first, 0.1)                   # it moved towards the point ...
+            self.assertGreater(first, 0.02)               # ... but one step does not get there
+            calls = 1
+            while np.linalg.norm(info["effector_position"] - goal) >= 0.005 and calls < 100:
+                obs, reward, terminated, truncated, info = env.position(goal)
+                calls += 1
+            self.assertLess(np.linalg.norm(info["effector_position"] - goal), 0.005)
+            self.assertEqual(env.state()["steps"], calls)  # every call was an env step
+            print(f"position: 10 cm in {calls} calls", file=sys.stderr)
+
     def test_errors_are_replies_with_the_config_messages(self):
         with self.assertRaisesRegex(RdsimError, r"hello: env\.max_steps: expected an integer in \[1, 1e8\], got 0"):
             self.env({"name": "jaka_button", "max_steps": 0})
