@@ -27,6 +27,7 @@ Run as a program it drives an env with random actions and prints what happens:
 
 import argparse
 import json
+import os
 import sys
 
 import numpy as np
@@ -41,6 +42,9 @@ class RdsimError(Exception):
 
 
 def _key_field(path, label):
+    if not os.path.exists(path):
+        folder, name = os.path.split(path)
+        raise RdsimError(f"{path}: no such file; make it with: rdsim keygen {os.path.splitext(name)[0]} --dir {folder or '.'}")
     with open(path, encoding="ascii") as f:
         for line in f:
             if line.startswith(label + " "):

@@ -125,6 +125,10 @@ class PythonClientTest(unittest.TestCase):
             self.assertEqual(env.state()["steps"], calls)  # every call was an env step
             print(f"position: 10 cm in {calls} calls", file=sys.stderr)
 
+    def test_a_missing_key_file_names_the_keygen_command(self):
+        with self.assertRaisesRegex(RdsimError, r"nowhere/keys/server\.key: no such file; make it with: rdsim keygen server --dir nowhere/keys"):
+            load_public_key("nowhere/keys/server.key")
+
     def test_errors_are_replies_with_the_config_messages(self):
         with self.assertRaisesRegex(RdsimError, r"hello: env\.max_steps: expected an integer in \[1, 1e8\], got 0"):
             self.env({"name": "jaka_button", "max_steps": 0})
