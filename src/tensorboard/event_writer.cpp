@@ -30,13 +30,15 @@ std::string host_name() {
   return out;
 }
 
+constexpr const char* kEventFilePrefix = "events.out.tfevents.";
+
 // events.out.tfevents.<seconds, 10 digits>.<host>.<pid>.<n>: name order is creation order
 // across seconds; pid and a per-process count keep two writers in one second apart.
 std::string event_file_name(double wall_time) {
   static std::atomic<int> count{0};
   char seconds[32];
   std::snprintf(seconds, sizeof seconds, "%010lld", static_cast<long long>(wall_time));
-  return std::string("events.out.tfevents.") + seconds + "." + host_name() + "." + std::to_string(::getpid()) + "." +
+  return std::string(kEventFilePrefix) + seconds + "." + host_name() + "." + std::to_string(::getpid()) + "." +
          std::to_string(count++);
 }
 
@@ -89,6 +91,8 @@ void EventWriter::flush() {
   }
   pending_.clear();
 }
+
+bool is_event_file_name(const std::string& name) { return name.rfind(kEventFilePrefix, 0) == 0; }
 
 std::vector<Scalar> scalars_of_row(const std::vector<std::string>& columns, const std::vector<std::string>& cells) {
   std::vector<Scalar> out;

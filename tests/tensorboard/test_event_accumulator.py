@@ -7,6 +7,8 @@ writes: every scalar of progress.csv at every update, with its step (the row's t
                                             that rewinds and replaces the rows after its checkpoint
   test_event_accumulator.py --run DIR...    real run folders of `rdsim train`: DIR/progress.csv
                                             against DIR's event files
+  test_event_accumulator.py --rdsim PATH    trains a PPO, a DQN and a SAC run (tiny budgets, a
+                                            scratch folder) and a resumed PPO run, then reads each
 """
 import argparse
 import csv
@@ -91,15 +93,37 @@ def writer_test(writer):
         check_same(expected_scalars(whole), read_scalars(run), "resumed run")
 
 
+def training_test(rdsim, source):
+    """`rdsim train` writes the event files itself: every progress.csv scalar of PPO, DQN and SAC."""
+    runs = [("ppo", "cartpole_ppo.json", 2048), ("dqn", "cartpole_dqn.json", 1000), ("sac", "pendulum_sac.json", 1200)]
+    with tempfile.TemporaryDirectory(prefix="rdsim_tb_train_") as tmp:
+        folders = []
+        for name, config, steps in runs:
+            folder = os.path.join(tmp, name)
+            subprocess.run([rdsim, "train", "--config", os.path.join(source, "configs", config), "--timesteps", str(steps),
+                            "--log-dir", folder, "--quiet"], check=True)
+            folders.append(folder)
+        # Resumed with a larger budget: the second process's file continues the first's.
+        subprocess.run([rdsim, "train", "--resume", folders[0], "--timesteps", "4096", "--quiet"], check=True)
+        for folder in folders:
+            files = [n for n in os.listdir(folder) if "tfevents" in n]
+            assert files, f"{folder}: rdsim train wrote no TensorBoard event file"
+            check_same(expected_scalars(os.path.join(folder, "progress.csv")), read_scalars(folder), folder)
+        assert len([n for n in os.listdir(folders[0]) if "tfevents" in n]) == 2, "the resumed run: one file per process"
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--writer", help="the write_events test program")
     parser.add_argument("--run", nargs="*", default=[], help="run folders of rdsim train")
+    parser.add_argument("--rdsim", help="the rdsim binary: train PPO, DQN and SAC runs and read them")
     args = parser.parse_args()
-    if not args.writer and not args.run:
-        parser.error("give --writer or --run")
+    if not args.writer and not args.run and not args.rdsim:
+        parser.error("give --writer, --run or --rdsim")
     if args.writer:
         writer_test(args.writer)
+    if args.rdsim:
+        training_test(args.rdsim, os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
     for folder in args.run:
         check_same(expected_scalars(os.path.join(folder, "progress.csv")), read_scalars(folder), folder)
     return 0

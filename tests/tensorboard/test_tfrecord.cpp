@@ -95,5 +95,8 @@ TEST_CASE("the event writer creates its folder and a new file each time, named f
   const std::string version = rdsim::tfrecord(rdsim::encode_file_version_event(1700000000.0));
   CHECK(bytes == version + rdsim::tfrecord(rdsim::encode_scalars_event(1700000001.0, 64, {{"loss", 0.5}})));
   CHECK(rdsim::read_file(second_path) == version);
+  CHECK(rdsim::is_event_file_name(fs::path(first_path).filename().string()));
+  CHECK_FALSE(rdsim::is_event_file_name("progress.csv"));
+  CHECK_FALSE(rdsim::is_event_file_name("old.events.out.tfevents.1"));
   fs::remove_all(dir.parent_path());
 }

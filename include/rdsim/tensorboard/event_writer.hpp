@@ -43,6 +43,11 @@ private:
   std::string pending_;
 };
 
+// Whether `name` (a file name, no folder) is an event file EventWriter writes: a run folder's
+// `--overwrite` must delete them with the CSVs (else TensorBoard shows the old run's points), and
+// a new run must not start in a folder that holds them.
+bool is_event_file_name(const std::string& name);
+
 // The scalars of one CSV row (progress.csv): one per column, tag = column name, skipping empty
 // cells (CsvWriter writes NaN, "no episode finished yet", as an empty cell) and cells that are
 // not numbers.
