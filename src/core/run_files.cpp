@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
+#include "rdsim/core/json_text.hpp"
 
 namespace rdsim {
 
@@ -14,9 +15,13 @@ namespace fs = std::filesystem;
 RunInfo read_run_info(const std::string& dir) {
   RunInfo info;
   info.dir = dir;
-  std::ifstream in(fs::path(dir) / run_config_name);
-  if (!in) return info;
-  const nlohmann::json config = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  std::string text;
+  try {
+    text = read_file((fs::path(dir) / run_config_name).string(), max_config_bytes);  // a regular file only
+  } catch (const Error&) {
+    return info;
+  }
+  const nlohmann::json config = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!config.is_object()) return info;
   if (auto a = config.find("algorithm"); a != config.end() && a->is_string()) info.algorithm = *a;
   if (auto e = config.find("env"); e != config.end() && e->is_object()) {

@@ -14,9 +14,11 @@ void write_file_atomic(const std::string& path, std::string_view data);
 // Whether `name` is a temporary file write_file_atomic leaves behind when killed mid-write.
 bool is_atomic_write_leftover(const std::string& name);
 
-// Whole file as bytes, at most `max_bytes` (a larger file, or an endless one like /dev/zero, is
-// an rdsim::Error naming it and the limit, before anything that size is allocated).
-// rdsim::Error naming the file when it cannot be read.
+// Whole file as bytes, at most `max_bytes`, the limit for its kind of file: only a regular file is
+// read, and a larger one is an rdsim::Error naming it and the limit before anything that size is
+// allocated (input_file.hpp: a FIFO, device or socket is refused without blocking). rdsim::Error
+// naming the file when it cannot be read. rdsim's readers pass their kind's limit; the default
+// (none) is for tests and tools.
 std::string read_file(const std::string& path, std::uint64_t max_bytes = UINT64_MAX);
 
 }  // namespace rdsim
