@@ -31,7 +31,11 @@ public:
     try {
       open(fps);
     } catch (...) {
+      // The destructor does not run for a constructor that throws: no .part may stay behind (a
+      // full disk fails the header after the file was created).
       release();
+      std::error_code ec;
+      std::filesystem::remove(temp_, ec);
       throw;
     }
   }
