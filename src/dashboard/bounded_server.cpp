@@ -454,6 +454,7 @@ int BoundedServer::bind_and_listen(const std::string& host, int port) {
   // Each connection is a descriptor: stay within RLIMIT_NOFILE (raised to its hard limit when
   // needed), leaving room for the files the handlers open.
   constexpr int kReserve = 64;
+  constexpr int kMinConnections = 8;
   rlimit files{};
   if (::getrlimit(RLIMIT_NOFILE, &files) == 0) {
     const rlim_t wanted = static_cast<rlim_t>(limits_.max_connections + kReserve);
@@ -463,9 +464,9 @@ int BoundedServer::bind_and_listen(const std::string& host, int port) {
       ::getrlimit(RLIMIT_NOFILE, &files);
     }
     const long allowed = files.rlim_cur == RLIM_INFINITY ? limits_.max_connections : static_cast<long>(files.rlim_cur) - kReserve;
-    l.max_connections = static_cast<int>(std::clamp<long>(allowed, 8, limits_.max_connections));
+    l.max_connections = static_cast<int>(std::clamp<long>(allowed, kMinConnections, std::max(limits_.max_connections, kMinConnections)));
   } else {
-    l.max_connections = limits_.max_connections;
+    l.max_connections = std::max(limits_.max_connections, kMinConnections);
   }
 
   addrinfo hints{}, *found = nullptr;
