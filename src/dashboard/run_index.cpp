@@ -73,7 +73,8 @@ void RunIndex::rescan(bool force) {
       // the root's name when there are several roots.
       const std::string root_name = fs::path(canonical_roots_[k]).filename().string();
       run.label = below == "." ? root_name : roots_.size() > 1 ? root_name + "/" + below : below;
-      run.info = read_run_info(dir);
+      run.info = read_run_info_beneath(roots_[k], below);
+      run.info.dir = dir;
       run.progress_path = (fs::path(dir) / progress_csv_name).string();
       run.root = k;
       run.below = below;
