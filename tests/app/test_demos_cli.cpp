@@ -214,10 +214,15 @@ long long count_lines(const std::string& text, const std::string& prefix) {
 TEST_CASE("demos record: kill -9 loses no episode reported as written", "[demos][crash]") {
   ScratchDir dir("demos_kill9");
   for (int trial = 0; trial < 5; ++trial) {
-    const std::string demos = (dir.path / ("k" + std::to_string(trial) + ".demo")).string();
-    proctest::Child c = start_recording("demos record --expert --env jaka_button -n 1000 --seed " + std::to_string(10 * trial) +
-                                            " --out " + demos,
-                                        dir.path.string(), "k");
+    // Built with +=: GCC 12 warns falsely (-Wrestrict) on "literal" + std::to_string(...).
+    std::string tag = "k";
+    tag += std::to_string(trial);
+    const std::string demos = (dir.path / (tag + ".demo")).string();
+    std::string args = "demos record --expert --env jaka_button -n 1000 --seed ";
+    args += std::to_string(10 * trial);
+    args += " --out ";
+    args += demos;
+    proctest::Child c = start_recording(args, dir.path.string(), tag);  // a fresh log each
     // Kill it the moment a line reports another episode.
     const long long wanted = 2 + trial;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
