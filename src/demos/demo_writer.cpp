@@ -42,7 +42,10 @@ int create_locked(const std::string& path, const std::string& bytes) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string tmp = (dir / ("." + target.filename().string() + ".XXXXXX.tmp")).string();
+  std::string name = ".";  // built with +=: GCC 12 warns falsely (-Wrestrict) on "." + std::string
+  name += target.filename().string();
+  name += ".XXXXXX.tmp";
+  std::string tmp = (dir / name).string();
   const int fd = ::mkstemps(tmp.data(), 4);
   if (fd < 0) throw Error(path + ": cannot create: " + std::strerror(errno));
   const auto fail = [&](const char* what) {
