@@ -1,6 +1,7 @@
 // `rdsim demos`, the scripted expert, and learning from demonstrations through the real binary.
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+#include <sys/stat.h>
 
 #include "rdsim/app/train_config.hpp"
 #include "rdsim/core/config_reader.hpp"
@@ -261,4 +262,25 @@ TEST_CASE("demos record: two recordings into one file at once, the second is ref
   // Before: both exited 0, both said "which holds 31", and the file was damaged.
   const rdsim::DemoFile f = rdsim::read_demo_file(demos);
   CHECK(static_cast<int>(f.episodes.size()) == 1 + 30 * ok);
+}
+
+TEST_CASE("a FIFO or a device as a demonstration file is refused at once by every command", "[demos][bad-file]") {
+  ScratchDir dir("demos_fifo");
+  const std::string fifo = (dir.path / "x.fifo").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::string config = (dir.path / "bc.json").string();
+  rltest::spit(config, bc_config("jaka_button", fifo));
+  // Before: each of these waited for a FIFO writer for ever, and /dev/urandom was read on and on.
+  const std::vector<std::vector<std::string>> commands = {
+      {"demos", "info", fifo},
+      {"demos", "info", "/dev/urandom"},
+      {"demos", "record", "--expert", "--env", "jaka_button", "-n", "1", "-q", "--append", "--out", fifo},
+      {"train", "--quiet", "--config", config, "--log-dir", (dir.path / "run").string()}};
+  for (const auto& args : commands) {
+    INFO(args[0] << " " << args[1] << " " << args.back());
+    const proctest::Outcome r = proctest::run(args, dir.path.string(), 0, std::chrono::seconds(60));
+    CHECK_FALSE(r.timed_out);
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Contains("is not a regular file"));
+  }
 }
