@@ -340,7 +340,7 @@ def gen_cli():
         ("train --resume {tmp}/none --overwrite", "--overwrite cannot be combined with --resume"),
         ("train --config {tmp}/absent.json", "absent.json: cannot open"),
         ("train --config {tmp}", "is a folder"),
-        ("train --config /dev/zero", "/dev/zero: holds more than the"),
+        ("train --config /dev/zero", "/dev/zero: is not a regular file (it is a character device)"),
         ("train --config {big}", "more than the 16777216 bytes"),
         ("train --config {c} --unknown-flag", "unknown-flag"),
         ("train --config {c} extra-arg", "extra-arg"),

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/csv_reader.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
@@ -66,12 +68,11 @@ void CheckpointSchedule::done(long long steps) {
 
 void check_log_rows(const std::string& path, long long rows, const std::string& checkpoint) {
   if (rows == 0) return;
-  std::ifstream in(path);
-  long long lines = 0;
-  for (std::string line; lines <= rows && std::getline(in, line);) ++lines;
-  if (lines - 1 < rows)
+  std::error_code ec;
+  const long long found = std::filesystem::exists(path, ec) ? count_csv_rows(path, rows) : 0;  // a regular file only
+  if (found < rows)
     throw Error(checkpoint + ": records " + std::to_string(rows) + " rows of " + path + ", which has " +
-                std::to_string(std::max(lines - 1, 0LL)) + " (logs of another run, or cut short?)");
+                std::to_string(found) + " (logs of another run, or cut short?)");
 }
 
 }  // namespace rdsim

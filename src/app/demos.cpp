@@ -64,12 +64,16 @@ int demos_record_command(const DemosRecordOptions& o) {
       episode.add(a, env->step(a));
     }
     const bool success = episode.success();
-    if (!o.quiet)
+    const bool keep = success || !o.only_successes;
+    // A line reports an episode only once it is on disk (DemoWriter::append returns after fsync),
+    // so a crash or kill -9 never loses an episode reported as written.
+    if (keep) writer.append(episode);
+    if (!o.quiet) {
       std::printf("episode (seed %llu): %d steps, return %.2f, success %s%s\n", static_cast<unsigned long long>(seed),
-                  episode.steps(), episode.episode_return(), success ? "yes" : "no",
-                  o.only_successes && !success ? " (not written)" : "");
-    if (o.only_successes && !success) continue;
-    writer.append(episode);
+                  episode.steps(), episode.episode_return(), success ? "yes" : "no", keep ? "" : " (not written)");
+      std::fflush(stdout);
+    }
+    if (!keep) continue;
     ++written;
     successes += success ? 1 : 0;
   }

@@ -7,6 +7,7 @@
 #include "rdsim/core/checksum.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/input_file.hpp"
 #include "rdsim/core/json_text.hpp"
 
 namespace rdsim {
@@ -109,10 +110,12 @@ void check_model_spec(const ModelFile& file, const Spec& spec, const std::string
 void write_model_file(const std::string& path, const ModelFile& file) { write_file_atomic(path, encode_model_file(file)); }
 
 ModelFile read_model_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw Error(path + ": is not a regular file (expected a model.bin or checkpoint.bin written by `rdsim train`)");
-  return decode_model_file(read_file(path, max_model_file_bytes), path);
+  InputFile file(path, max_model_file_bytes);  // a regular file (input_file.hpp)
+  // The magic bytes before the body: a large foreign file is refused without reading it.
+  std::string bytes = file.read(sizeof magic);
+  if (bytes.size() < sizeof magic || std::memcmp(bytes.data(), magic, sizeof magic) != 0) return decode_model_file(bytes, path);
+  bytes += file.read_rest();
+  return decode_model_file(bytes, path);
 }
 
 }  // namespace rdsim

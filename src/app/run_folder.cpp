@@ -68,6 +68,11 @@ RunFolder::RunFolder(const std::string& dir, Mode mode) : dir_(dir) {
   if (mode == Mode::New && !present.empty()) {
     std::string list;
     for (const auto& f : present) list += (list.empty() ? "" : ", ") + f;
+    // --resume needs a checkpoint: a run that ended before its first one (its checkpoint could
+    // not be written) can only start again.
+    if (!fs::exists(dir_ / checkpoint_file_name))
+      throw Error(dir + ": holds the files of a run that ended before its first checkpoint (" + list +
+                  "), so it cannot be resumed; start again with --overwrite (deletes them), or choose another --log-dir");
     throw Error(dir + ": holds the files of another run (" + list + "); continue it with --resume " + dir +
                 ", start again with --overwrite (deletes them), or choose another --log-dir");
   }

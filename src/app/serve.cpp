@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/remote/curve_keys.hpp"
@@ -13,11 +14,40 @@
 namespace rdsim {
 namespace {
 
-std::atomic<remote::Server*> running{nullptr};
+// SIGINT and SIGTERM are blocked in every thread from the start (the server's threads inherit
+// the mask), so no system call is ever interrupted by them and one arriving at any moment, even
+// before the socket is bound, stays pending until this thread takes it and stops the server.
+class StopSignals {
+public:
+  StopSignals() {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &set_, nullptr);
+  }
+  // Stops `server` on the first signal, until the object goes.
+  void watch(remote::Server& server) {
+    thread_ = std::thread([this, &server] {
+      const timespec tick{0, 100 * 1000 * 1000};  // 100 ms: how soon the watcher notices done_
+      while (!done_.load())
+        if (sigtimedwait(&set_, nullptr, &tick) > 0) {
+          server.stop();
+          return;
+        }
+    });
+  }
+  // Stops watching (before the server goes).
+  void end() {
+    done_.store(true);
+    if (thread_.joinable()) thread_.join();
+  }
+  ~StopSignals() { end(); }
 
-extern "C" void stop_on_signal(int) {
-  if (remote::Server* s = running.load()) s->stop();  // an atomic store: safe in a handler
-}
+private:
+  sigset_t set_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
 
 // DIR/server.key_secret and the keys in DIR/clients/.
 void load_keys(const std::string& dir, remote::ServerOptions& o) {
@@ -36,6 +66,7 @@ void load_keys(const std::string& dir, remote::ServerOptions& o) {
 }  // namespace
 
 int serve_command(const ServeOptions& options) {
+  StopSignals signals;  // first: a signal during start-up must not kill the process
   remote::ServerOptions o;
   o.bind = options.bind;
   o.insecure = options.insecure;
@@ -56,11 +87,9 @@ int serve_command(const ServeOptions& options) {
                                           (clients == 1 ? "" : "s")).c_str(),
               options.max_sessions, options.idle_timeout);
   std::fflush(stdout);
-  running.store(&server);
-  std::signal(SIGINT, stop_on_signal);
-  std::signal(SIGTERM, stop_on_signal);
+  signals.watch(server);
   server.run();
-  running.store(nullptr);
+  signals.end();
   const remote::ServerStats s = server.stats();
   std::fprintf(stderr, "rdsim serve: stopped after %lld requests (%lld errors), %lld sessions, %lld refused connections\n",
                s.requests, s.errors, s.sessions_opened, s.refused);

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/input_file.hpp"
 
 namespace rdsim {
 namespace {
@@ -61,14 +62,28 @@ bool parse_row(std::string_view line, std::size_t width, std::vector<double>& ou
 
 }  // namespace
 
+long long count_csv_rows(const std::string& path, long long at_most) {
+  File file(::fdopen(InputFile(path, max_csv_log_bytes).release(), "rb"));
+  if (!file) throw Error(path + ": cannot read: " + std::strerror(errno));
+  long long lines = 0;
+  for (int c; lines <= at_most && (c = std::fgetc(file.get())) != EOF;) lines += c == '\n';
+  return std::max(lines - 1, 0LL);
+}
+
 int csv_column(const std::vector<std::string>& columns, const std::string& name) {
   const auto it = std::find(columns.begin(), columns.end(), name);
   return it == columns.end() ? -1 : static_cast<int>(it - columns.begin());
 }
 
 CsvRows read_csv_rows(const std::string& path, std::uint64_t from, std::size_t max_bytes) {
-  File file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw Error(path + ": cannot open: " + std::strerror(errno));
+  return read_csv_rows(InputFile(path, max_csv_log_bytes), from, max_bytes);
+}
+
+CsvRows read_csv_rows(InputFile input, std::uint64_t from, std::size_t max_bytes) {
+  const std::string path = input.path();
+  File file(::fdopen(input.fd(), "rb"));
+  if (!file) throw Error(path + ": cannot read: " + std::strerror(errno));
+  input.release();  // the FILE owns it now
   CsvRows out;
 
   // The header: the first line, when it is complete (read in pieces: it is usually short).

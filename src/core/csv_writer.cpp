@@ -3,8 +3,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
-#include <fstream>
+#include <filesystem>
+#include <sstream>
 
+#include "rdsim/core/csv_reader.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
 
@@ -23,9 +25,11 @@ CsvWriter::CsvWriter(const std::string& path, std::vector<std::string> columns, 
     : path_(path), columns_(std::move(columns)) {
   const std::string header = join(columns_) + "\n";
   std::string kept = header;
-  if (keep_rows > 0 || (keep_rows == 0 && std::ifstream(path).good())) {
-    std::ifstream in(path);
-    if (!in) throw Error(path + ": cannot resume: the file is missing (" + std::strerror(errno) + ")");
+  std::error_code ec;
+  if (keep_rows > 0 || (keep_rows == 0 && std::filesystem::exists(path, ec))) {
+    if (!std::filesystem::exists(path, ec)) throw Error(path + ": cannot resume: the file is missing");
+    // The kept rows are rewritten whole below, so the file is read whole: a regular file only.
+    std::istringstream in(read_file(path, max_csv_log_bytes));
     std::string line;
     if (!std::getline(in, line) || line + "\n" != header) {
       throw Error(path + ": cannot resume: its header differs from this run's columns");

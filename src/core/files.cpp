@@ -5,13 +5,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <vector>
 
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/input_file.hpp"
 
 namespace rdsim {
 namespace {
@@ -90,41 +90,16 @@ void write_file_atomic(const std::string& path, std::string_view data) {
   }
 }
 
-std::string read_file(const std::string& path, std::uint64_t max_bytes) {
-  const int fd = ::open(path.c_str(), O_RDONLY);
-  if (fd < 0) throw Error(path + ": cannot open: " + std::strerror(errno));
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
-  struct stat st {};
-  if (::fstat(fd, &st) != 0) throw Error(path + ": cannot read: " + std::strerror(errno));
-  if (S_ISDIR(st.st_mode)) throw Error(path + ": is a folder, expected a file");
-  const auto too_big = [&](const std::string& size) {
-    return Error(path + ": " + size + " more than the " + std::to_string(max_bytes) + " bytes rdsim reads from it");
-  };
-  if (S_ISREG(st.st_mode) && static_cast<std::uint64_t>(st.st_size) > max_bytes)
-    throw too_big("is " + std::to_string(st.st_size) + " bytes,");
-  std::string out;
-  if (S_ISREG(st.st_mode)) out.reserve(static_cast<std::size_t>(st.st_size));
-  std::vector<char> chunk(1 << 16);
-  for (;;) {
-    const ssize_t n = ::read(fd, chunk.data(), chunk.size());
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      throw Error(path + ": cannot read: " + std::strerror(errno));
-    }
-    if (n == 0) break;
-    if (out.size() + static_cast<std::size_t>(n) > max_bytes) throw too_big("holds");
-    out.append(chunk.data(), static_cast<std::size_t>(n));
-  }
-  return out;
-}
+std::string read_file(const std::string& path, std::uint64_t max_bytes) { return InputFile(path, max_bytes).read_rest(); }
 
-std::string read_file_or_hint(const std::string& path, const std::string& how_to_make_it, std::uint64_t max_bytes) {
+void require_file_or_hint(const std::string& path, const std::string& how_to_make_it) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec) && !ec)
     throw Error(path + ": cannot open: " + std::strerror(ENOENT) + "; make it with: " + how_to_make_it);
+}
+
+std::string read_file_or_hint(const std::string& path, const std::string& how_to_make_it, std::uint64_t max_bytes) {
+  require_file_or_hint(path, how_to_make_it);
   return read_file(path, max_bytes);
 }
 

@@ -2,21 +2,23 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
+#include "rdsim/core/input_file.hpp"
+#include "rdsim/core/json_text.hpp"
 
 namespace rdsim {
 
 namespace fs = std::filesystem;
 
-RunInfo read_run_info(const std::string& dir) {
+namespace {
+
+RunInfo parse_run_info(const std::string& dir, const std::string& text) {
   RunInfo info;
   info.dir = dir;
-  std::ifstream in(fs::path(dir) / run_config_name);
-  if (!in) return info;
-  const nlohmann::json config = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json config = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!config.is_object()) return info;
   if (auto a = config.find("algorithm"); a != config.end() && a->is_string()) info.algorithm = *a;
   if (auto e = config.find("env"); e != config.end() && e->is_object()) {
@@ -24,6 +26,26 @@ RunInfo read_run_info(const std::string& dir) {
   }
   if (auto s = config.find("seed"); s != config.end() && s->is_number_unsigned()) info.seed = s->get<std::uint64_t>();
   return info;
+}
+
+}  // namespace
+
+RunInfo read_run_info(const std::string& dir) {
+  std::string text;
+  try {
+    text = read_file((fs::path(dir) / run_config_name).string(), max_config_bytes);  // a regular file only
+  } catch (const Error&) {
+  }
+  return parse_run_info(dir, text);
+}
+
+RunInfo read_run_info_beneath(const std::string& root, const std::string& below) {
+  std::string text;
+  try {
+    text = InputFile::beneath(root, below + "/" + run_config_name, max_config_bytes).read_rest();
+  } catch (const Error&) {
+  }
+  return parse_run_info((fs::path(root) / below).lexically_normal().string(), text);
 }
 
 std::vector<std::string> find_run_folders(const std::string& root, int max_depth, std::size_t max_runs) {

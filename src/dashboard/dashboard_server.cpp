@@ -1,15 +1,14 @@
 #include "rdsim/dashboard/dashboard_server.hpp"
 
-#include <atomic>
 #include <charconv>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <thread>
 
 #include "bounded_server.hpp"
 #include "rdsim/core/csv_reader.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/input_file.hpp"
 #include "rdsim/core/json_text.hpp"
 #include "rdsim/dashboard/run_index.hpp"
 #include "web_assets.hpp"
@@ -20,6 +19,14 @@ namespace {
 constexpr std::size_t max_request_bytes = 64 * 1024;  // request line + headers + body
 constexpr std::size_t max_body_bytes = 4 * 1024;      // GETs carry none
 constexpr std::size_t max_rows_bytes = 1024 * 1024;   // of CSV per /api/progress answer
+
+ServerLimits limits(const DashboardOptions& o) {
+  ServerLimits l;
+  l.max_connections = o.max_connections;
+  l.max_request_bytes = max_request_bytes;
+  l.max_body_bytes = max_body_bytes;
+  return l;
+}
 
 bool is_loopback(const std::string& host) {
   return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
@@ -67,11 +74,9 @@ BindAddress parse_bind_address(const std::string& text) {
 struct DashboardServer::Impl {
   DashboardOptions options;
   RunIndex index;
-  BoundedServer server{max_request_bytes};
+  BoundedServer server{limits(options)};
   std::set<std::string> allowed_hosts;  // Host header values accepted when bound to loopback
   int port = 0;
-  std::atomic<bool> listen_returned = false;
-  std::thread thread;
 
   explicit Impl(DashboardOptions o) : options(std::move(o)), index(options.roots) {}
 
@@ -81,16 +86,9 @@ struct DashboardServer::Impl {
 };
 
 void DashboardServer::Impl::routes() {
-  server.new_task_queue = [] { return new httplib::ThreadPool(4); };
+  // Connections, deadlines and threads are BoundedServer's (bounded_server.hpp); httplib parses
+  // and routes each complete request.
   server.set_payload_max_length(max_body_bytes);
-  // httplib's default also sets SO_REUSEPORT, which would let a second dashboard share the port
-  // silently: only SO_REUSEADDR (restart without waiting for TIME_WAIT).
-  server.set_socket_options([](socket_t sock) {
-    int yes = 1;
-    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-  });
-  server.set_read_timeout(5, 0);
-  server.set_write_timeout(5, 0);
   server.set_keep_alive_max_count(1000);
   server.set_keep_alive_timeout(5);
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
@@ -152,14 +150,15 @@ void DashboardServer::Impl::progress(const httplib::Request& req, httplib::Respo
   const auto run = index.find(req.get_param_value("run"));
   if (!run) return send_error(res, 404, "no such run");
   CsvRows rows;  // stays empty while the run has not written progress.csv yet
-  std::error_code ec;
-  if (std::filesystem::exists(run->progress_path, ec) || std::filesystem::is_symlink(run->progress_path, ec)) {
-    if (!index.inside_root(run->progress_path, run->root)) return send_error(res, 404, "no such run");
-    try {
-      rows = read_csv_rows(run->progress_path, from, max_rows_bytes);
-    } catch (const Error& e) {
-      return send_error(res, 422, e.what());
-    }
+  try {
+    // Opened below its root in one step: a link that leads out of the root, wherever it is on
+    // the way, is refused by the open itself (input_file.hpp), and a FIFO never blocks it.
+    std::optional<InputFile> log = index.open_progress(*run);
+    if (log) rows = read_csv_rows(std::move(*log), from, max_rows_bytes);
+  } catch (const RunOutsideRoot&) {
+    return send_error(res, 404, "no such run");
+  } catch (const Error& e) {
+    return send_error(res, 422, e.what());
   }
   nlohmann::json body = {{"columns", rows.columns},
                          {"rows", rows.rows},  // NaN (an empty cell) is written as null
@@ -174,11 +173,7 @@ DashboardServer::DashboardServer(DashboardOptions options) : impl_(std::make_uni
   Impl& m = *impl_;
   m.routes();
   const std::string& host = m.options.bind.host;
-  if (m.options.bind.port == 0) {
-    m.port = m.server.bind_to_any_port(host);
-  } else {
-    m.port = m.server.bind_to_port(host, m.options.bind.port) ? m.options.bind.port : -1;
-  }
+  m.port = m.server.bind_and_listen(host, m.options.bind.port);
   if (m.port <= 0) {
     throw Error("dashboard: cannot listen on " + host + ":" + std::to_string(m.options.bind.port) +
                 " (is the port in use, or the address not one of this machine's?)");
@@ -186,21 +181,17 @@ DashboardServer::DashboardServer(DashboardOptions options) : impl_(std::make_uni
   for (std::string name : {host, std::string("localhost"), std::string("127.0.0.1"), std::string("[::1]")}) {
     m.allowed_hosts.insert(name.append(":").append(std::to_string(m.port)));
   }
-  m.thread = std::thread([&m] {
-    m.server.listen_after_bind();
-    m.listen_returned = true;
-  });
-  // Until the loop runs, httplib's stop() would not end it: wait for it (microseconds).
-  while (!m.server.is_running() && !m.listen_returned) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  m.server.start();
 }
 
 DashboardServer::~DashboardServer() { stop(); }
 
 void DashboardServer::stop() {
-  if (!impl_ || !impl_->thread.joinable()) return;
-  impl_->server.stop();
-  impl_->thread.join();
+  if (impl_) impl_->server.stop();  // within a fraction of a second, whatever the clients do
 }
+
+int DashboardServer::open_connections() const { return impl_->server.open_connections(); }
+int DashboardServer::max_connections() const { return impl_->server.max_connections(); }
 
 int DashboardServer::port() const { return impl_->port; }
 

@@ -1,8 +1,10 @@
 #include "rdsim/dashboard/run_index.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <filesystem>
 
+#include "rdsim/core/csv_reader.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
@@ -40,6 +42,16 @@ bool RunIndex::inside_root(const std::string& file, std::size_t root_number) con
   return !ec && is_within(real, canonical_roots_[root_number]);
 }
 
+std::optional<InputFile> RunIndex::open_progress(const IndexedRun& run) const {
+  try {
+    return InputFile::beneath(roots_[run.root], run.below + "/" + progress_csv_name, max_csv_log_bytes);
+  } catch (const FileOpenError& e) {
+    if (e.code() == ENOENT) return std::nullopt;
+    if (e.link_out() || e.code() == ENOTDIR) throw RunOutsideRoot(e.what());
+    throw;
+  }
+}
+
 void RunIndex::rescan(bool force) {
   const auto now = std::chrono::steady_clock::now();
   // Scanning walks the folders: bounded in rate whatever the requests ask for.
@@ -61,9 +73,11 @@ void RunIndex::rescan(bool force) {
       // the root's name when there are several roots.
       const std::string root_name = fs::path(canonical_roots_[k]).filename().string();
       run.label = below == "." ? root_name : roots_.size() > 1 ? root_name + "/" + below : below;
-      run.info = read_run_info(dir);
+      run.info = read_run_info_beneath(roots_[k], below);
+      run.info.dir = dir;
       run.progress_path = (fs::path(dir) / progress_csv_name).string();
       run.root = k;
+      run.below = below;
       // A run folder, or a progress.csv, reached through a link that leaves the root is not served.
       std::error_code ec;
       const bool has_log = fs::exists(run.progress_path, ec) || fs::is_symlink(run.progress_path, ec);

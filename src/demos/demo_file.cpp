@@ -8,7 +8,7 @@
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/checksum.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/files.hpp"
+#include "rdsim/core/input_file.hpp"
 #include "rdsim/demos/demo_fit.hpp"
 
 namespace rdsim {
@@ -336,30 +336,39 @@ std::string encode_demo_episode(const DemoEpisode& e, const Spec& spec, const st
   return out;
 }
 
-DemoFile decode_demo_file(std::string_view bytes, const std::string& source) {
+CommitRecord read_commit_record(std::string_view bytes, std::uint64_t file_size, const std::string& source) {
   using namespace demo_layout;
   const bool magic_ok = std::memcmp(bytes.data(), magic, std::min(bytes.size(), sizeof magic)) == 0;
   if (!magic_ok || bytes.empty())
     throw Error(source + ": not an rdsim demonstration file (wrong magic bytes; expected a file written by "
                          "`rdsim teleop --record` or `rdsim demos record`)");
   if (bytes.size() < header_offset) throw Error(source + ": file is truncated (shorter than the file header)");
-  DemoFile file;
-  file.path = source;
-  Reader top(bytes, sizeof magic, bytes.size(), source);
-  file.version = top.get<std::uint32_t>("the version");
+  CommitRecord c;
+  Reader top(bytes, sizeof magic, header_offset, source);
+  c.version = top.get<std::uint32_t>("the version");
   top.get<std::uint32_t>("the reserved field");
-  const auto committed = top.get<std::uint64_t>("the committed length");
-  const auto episodes = top.get<std::uint64_t>("the episode count");
+  c.committed = top.get<std::uint64_t>("the committed length");
+  c.episodes = top.get<std::uint64_t>("the episode count");
   const auto commit_sum = top.get<std::uint64_t>("the commit checksum");
   if (commit_sum != fnv1a64(bytes.substr(0, commit_offset + 16)))
     throw Error(source + ": file is damaged (checksum mismatch in the commit record)");
-  if (file.version != demo_format_version)
-    throw Error(source + ": demonstration format version " + std::to_string(file.version) +
+  if (c.version != demo_format_version)
+    throw Error(source + ": demonstration format version " + std::to_string(c.version) +
                 " is not supported (this rdsim reads version " + std::to_string(demo_format_version) + ")");
-  if (committed < header_offset) throw Error(source + ": file is damaged (its committed length is too small)");
-  if (committed > bytes.size())
-    throw Error(source + ": file is truncated (it holds " + std::to_string(bytes.size()) + " bytes, its commit record says " +
-                std::to_string(committed) + ")");
+  if (c.committed < header_offset) throw Error(source + ": file is damaged (its committed length is too small)");
+  if (c.committed > file_size)
+    throw Error(source + ": file is truncated (it holds " + std::to_string(file_size) + " bytes, its commit record says " +
+                std::to_string(c.committed) + ")");
+  return c;
+}
+
+DemoFile decode_demo_file(std::string_view bytes, const std::string& source) {
+  using namespace demo_layout;
+  const CommitRecord commit = read_commit_record(bytes, bytes.size(), source);
+  const std::uint64_t committed = commit.committed, episodes = commit.episodes;
+  DemoFile file;
+  file.path = source;
+  file.version = commit.version;
   file.interrupted_bytes = bytes.size() - committed;
 
   Reader r(bytes, header_offset, static_cast<std::size_t>(committed), source);
@@ -401,8 +410,18 @@ DemoFile decode_demo_file(std::string_view bytes, const std::string& source) {
 }
 
 DemoFile read_demo_file(const std::string& path) {
-  const std::string how = "rdsim demos record --config TRAINING_CONFIG.json --out " + path + " (or --env NAME)";
-  return decode_demo_file(read_file_or_hint(path, how), path);
+  require_file_or_hint(path, "rdsim demos record --config TRAINING_CONFIG.json --out " + path + " (or --env NAME)");
+  InputFile file(path, max_demo_file_bytes);  // a regular file (core/input_file.hpp)
+  // The file header and its commit record before the body: a foreign or damaged file is refused
+  // having read 40 bytes, and only the committed bytes are read.
+  std::string bytes = file.read(demo_layout::header_offset);
+  const CommitRecord commit = read_commit_record(bytes, file.size(), path);
+  bytes += file.read(commit.committed - bytes.size());
+  if (bytes.size() < commit.committed)
+    throw Error(path + ": file is truncated (it was cut short while it was read)");
+  DemoFile out = decode_demo_file(bytes, path);
+  out.interrupted_bytes = file.size() - commit.committed;
+  return out;
 }
 
 }  // namespace rdsim

@@ -6,12 +6,14 @@
 #include <zmq.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/input_file.hpp"
 
 namespace rdsim::remote {
 namespace {
@@ -52,6 +54,35 @@ std::string keygen_command_for(const std::string& path) {
   return "rdsim keygen " + p.stem().string() + " --dir " + dir;
 }
 
+std::string mode_text(mode_t mode) {
+  char m[8];
+  std::snprintf(m, sizeof m, "%04o", static_cast<unsigned>(mode & 07777));
+  return m;
+}
+
+// A key file's text, read only when neither the file nor its folder may be written by any user
+// (anyone could otherwise add a client key or swap the server's), within max_key_file_bytes and
+// only from a regular file (core/input_file.hpp). `private_key`: group and others may not even
+// read it, as ssh requires.
+std::string read_key_file(const std::string& path, bool private_key) {
+  const std::filesystem::path p(path);
+  const std::string folder = p.has_parent_path() ? p.parent_path().string() : ".";
+  struct stat dir {};
+  if (::stat(folder.c_str(), &dir) == 0 && (dir.st_mode & S_IWOTH))
+    throw Error(folder + ": any user may write to this key folder (mode " + mode_text(dir.st_mode) +
+                "), so anyone could add or replace a key; make it yours alone: chmod o-w " + folder);
+  require_file_or_hint(path, keygen_command_for(path));
+  InputFile file(path, max_key_file_bytes);
+  struct stat st {};
+  if (::fstat(file.fd(), &st) != 0) throw Error(path + ": cannot read: " + std::strerror(errno));
+  if (private_key && (st.st_mode & (S_IRWXG | S_IRWXO)))
+    throw Error(path + ": other users may read this secret key (mode " + mode_text(st.st_mode) + "); make it private: chmod 600 " + path);
+  if (st.st_mode & S_IWOTH)
+    throw Error(path + ": any user may write to this key file (mode " + mode_text(st.st_mode) +
+                "), so anyone could replace the key; make it yours alone: chmod o-w " + path);
+  return file.read_rest();
+}
+
 }  // namespace
 
 bool is_curve_key(const std::string& text) {
@@ -87,18 +118,13 @@ std::vector<std::string> write_key_files(const std::string& dir, const std::stri
 }
 
 std::string read_public_key(const std::string& path) {
-  const std::string key = field(read_file_or_hint(path, keygen_command_for(path)), "public");
+  const std::string key = field(read_key_file(path, false), "public");
   if (!is_curve_key(key)) throw Error(path + ": no public key in it (expected a line \"public <40 Z85 characters>\", as rdsim keygen writes)");
   return key;
 }
 
 CurveKeyPair read_secret_key(const std::string& path) {
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && (st.st_mode & (S_IRWXG | S_IRWXO)))
-    throw Error(path + ": other users may read this secret key (mode " +
-                [&] { char m[8]; std::snprintf(m, sizeof m, "%04o", st.st_mode & 07777); return std::string(m); }() +
-                "); make it private: chmod 600 " + path);
-  const std::string text = read_file_or_hint(path, keygen_command_for(path));
+  const std::string text = read_key_file(path, true);
   CurveKeyPair keys{field(text, "public"), field(text, "secret")};
   if (!is_curve_key(keys.secret_key))
     throw Error(path + ": no secret key in it (expected a line \"secret <40 Z85 characters>\", as rdsim keygen writes)");

@@ -38,6 +38,14 @@ bool is_loopback_endpoint(const std::string& endpoint) {
   return parts == 4;
 }
 
+std::string bindable_endpoint(const std::string& endpoint) {
+  std::string port;
+  const std::string host = host_of(endpoint, &port);
+  return host == "localhost" ? "tcp://127.0.0.1:" + port : endpoint;
+}
+
+bool is_ipv6_endpoint(const std::string& endpoint) { return host_of(endpoint).find(':') != std::string::npos; }
+
 void check_tcp_endpoint(const std::string& endpoint, const std::string& what) {
   std::string port;
   const std::string host = host_of(endpoint, &port);

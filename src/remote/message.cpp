@@ -140,8 +140,14 @@ Message decode_message(const std::vector<std::string_view>& frames, std::size_t 
   if (json_depth(text) > max_json_depth)
     fail("header nested deeper than " + std::to_string(max_json_depth) + " levels");
   Message m;
-  m.header = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
-  if (m.header.is_discarded()) fail("header is not valid JSON");
+  // The config reader's parser: a key repeated in an object is refused exactly as in a config
+  // file (a second "request" or env "name" must not silently win).
+  try {
+    m.header = parse_json(text, "header", max_header_bytes);
+  } catch (const Error& e) {
+    if (std::string_view(e.what()).find("duplicate key") != std::string_view::npos) fail(e.what());
+    fail("header is not valid JSON");
+  }
   if (!m.header.is_object()) fail("header: expected a JSON object, got " + std::string(m.header.type_name()));
   const auto arrays = m.header.find("arrays");
   if (arrays != m.header.end()) {

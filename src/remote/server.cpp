@@ -28,7 +28,14 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kPollMs = 100;        // how soon stop() is noticed (the receive timeout of the loops)
 constexpr int kMonitorMs = 10;      // disconnections are read at least this often while requests flow
-constexpr int kQueueLimit = 1000;   // messages queued per peer each way (ZMQ_SNDHWM / ZMQ_RCVHWM)
+// What one client can make the server hold, in messages (ZeroMQ counts messages, not bytes):
+// replies queued for a client that does not read them (further ones are dropped), and requests
+// received but not yet served (further ones wait in the client's own TCP buffers). In bytes: at
+// most 8 of its session's largest reply (8 x 6 MiB for two 1024 x 1024 cameras) plus the
+// kernel's socket buffers, and 64 x 64 KiB of requests.
+constexpr int kSendQueueLimit = 8;
+constexpr int kReceiveQueueLimit = 64;
+constexpr std::size_t kCurveOverheadBytes = 64;  // a CurveZMQ MESSAGE adds 33 bytes to its payload
 const char* const kZapEndpoint = "inproc://zeromq.zap.01";  // fixed by the ZAP specification (RFC 27)
 const char* const kMonitorEndpoint = "inproc://rdsim-serve-monitor";
 
@@ -111,8 +118,11 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {
   s.options = std::move(options);
   const ServerOptions& o = s.options;
   check_tcp_endpoint(o.bind, "serve --bind");
-  if (o.max_sessions < 1) throw Error("serve: --max-sessions: expected at least 1");
-  if (!(o.idle_timeout > 0)) throw Error("serve: --idle-timeout: expected a positive number of seconds");
+  if (o.max_sessions < 1 || o.max_sessions > max_server_sessions)
+    throw Error("serve: --max-sessions: expected 1 to " + std::to_string(max_server_sessions));
+  if (!(o.idle_timeout >= min_idle_timeout_s && o.idle_timeout <= max_idle_timeout_s))
+    throw Error("serve: --idle-timeout: expected " + std::to_string(static_cast<int>(min_idle_timeout_s)) + " to " +
+                std::to_string(static_cast<long long>(max_idle_timeout_s)) + " seconds");
   if (!o.keys) {
     if (!o.insecure) throw Error("serve: give --keys DIR (CurveZMQ authentication and encryption) or --insecure (plain text, loopback only)");
     if (!is_loopback_endpoint(o.bind))
@@ -127,9 +137,14 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {
     s.router.set(zmq::sockopt::curve_secretkey, o.keys->secret_key);
     s.router.set(zmq::sockopt::zap_domain, "rdsim");
   }
-  s.router.set(zmq::sockopt::maxmsgsize, static_cast<std::int64_t>(max_request_frame_bytes));
-  s.router.set(zmq::sockopt::sndhwm, kQueueLimit);
-  s.router.set(zmq::sockopt::rcvhwm, kQueueLimit);
+  // Under CurveZMQ the limit applies to the encrypted message, 33 bytes longer (command name,
+  // nonce, MAC, flags): allow for them, so the documented limit holds for what a client sends;
+  // decode_message refuses a frame above max_request_frame_bytes with an error reply.
+  s.router.set(zmq::sockopt::maxmsgsize,
+               static_cast<std::int64_t>(max_request_frame_bytes + (o.keys ? kCurveOverheadBytes : 0)));
+  if (is_ipv6_endpoint(o.bind)) s.router.set(zmq::sockopt::ipv6, 1);
+  s.router.set(zmq::sockopt::sndhwm, kSendQueueLimit);
+  s.router.set(zmq::sockopt::rcvhwm, kReceiveQueueLimit);
   s.router.set(zmq::sockopt::linger, 0);
   s.router.set(zmq::sockopt::handshake_ivl, 5000);  // ms: a stalled handshake is dropped
   s.router.set(zmq::sockopt::rcvtimeo, kPollMs);
@@ -139,7 +154,7 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {
     throw Error(std::string("serve: cannot monitor the socket: ") + zmq_strerror(zmq_errno()));
   s.monitor.connect(kMonitorEndpoint);
   try {
-    s.router.bind(o.bind);
+    s.router.bind(bindable_endpoint(o.bind));
   } catch (const zmq::error_t& e) {
     throw Error("serve: cannot bind " + o.bind + ": " + e.what());
   }
@@ -260,7 +275,13 @@ void Server::Impl::serve_monitor() {
         it = next;
       }
     } else {
-      log("a connection failed the CurveZMQ handshake (a wrong server key, or a plain-text client)");
+      // A refused attempt like any other (counted and logged), but ZeroMQ names no peer address
+      // for a failed handshake.
+      count(&ServerStats::refused);
+      log(std::string("refused a connection that failed the CurveZMQ handshake: ") +
+          (kind == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL && value == ZMQ_PROTOCOL_ERROR_ZMTP_MECHANISM_MISMATCH
+               ? "a plain-text client (every client needs keys)"
+               : "a plain-text client, or a wrong server key"));
     }
   }
 }

@@ -33,7 +33,11 @@ public:
       create_parent_folders(path_);  // like every other output file: its folder is made
       open(fps);
     } catch (...) {
+      // The destructor does not run for a constructor that throws: no .part may stay behind (a
+      // full disk fails the header after the file was created).
       release();
+      std::error_code ec;
+      std::filesystem::remove(temp_, ec);
       throw;
     }
   }

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <random>
+#include <sys/resource.h>
 
 #include "process_util.hpp"
 #include "rdsim/app/model_file.hpp"
@@ -222,4 +223,37 @@ TEST_CASE("a new run refuses a folder holding another run's files unless --resum
   CHECK_FALSE(fs::exists(run + "/.model.bin.AbC123.tmp"));
   CHECK(rltest::slurp(run + "/model.bin") != before);
   CHECK_THAT(rltest::slurp(run + "/config.json"), Contains("\"seed\": 3"));
+}
+
+TEST_CASE("a run whose first checkpoint could not be written leaves a folder the message says how to reuse",
+          "[interrupt][checkpoint]") {
+  rltest::ScratchDir dir("first_checkpoint");
+  const std::string config = long_config(dir, "c", 4096, 0.0, 256);
+  const std::string run = dir / "run";
+  // A file size limit of 8000 bytes: config.json and the first rows fit, checkpoint.bin does not
+  // (what a nearly full disk does).
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit{8000, 8000};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execl(RDSIM_BINARY, RDSIM_BINARY, "train", "--quiet", "--config", config.c_str(), "--log-dir", run.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  REQUIRE(WEXITSTATUS(status) == 1);
+  REQUIRE_FALSE(std::filesystem::exists(run + "/checkpoint.bin"));
+  // Before: the message said to continue with --resume, which then failed for want of a checkpoint.
+  auto again = proctest::run({"train", "--quiet", "--config", config, "--log-dir", run}, dir.path.string());
+  CHECK(again.exit_code == 1);
+  CHECK_THAT(again.err, Contains("ended before its first checkpoint") && Contains("--overwrite"));
+  CHECK_THAT(again.err, !Contains("--resume"));
+  again = proctest::run({"train", "--quiet", "--config", config, "--log-dir", run, "--overwrite"}, dir.path.string());
+  CHECK(again.exit_code == 0);
 }

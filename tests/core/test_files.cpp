@@ -1,12 +1,20 @@
 #include <catch2/catch.hpp>
+#include <cerrno>
+#include <cstdio>
 #include <filesystem>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
 #include <string>
 #include <thread>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/core/input_file.hpp"
+#include "../finishes_within.hpp"
 
 namespace fs = std::filesystem;
 
@@ -64,8 +72,9 @@ TEST_CASE("atomic writes from several writers never mix: each reader sees one wh
 }
 
 TEST_CASE("reads are bounded: a file larger than the limit, or endless, is refused", "[files]") {
+  // A device is not read at all (input_file.hpp), endless or not.
   CHECK_THROWS_WITH(rdsim::read_file("/dev/zero", 1 << 20), Catch::Matchers::Contains("/dev/zero") &&
-                                                               Catch::Matchers::Contains("holds more than the 1048576 bytes"));
+                                                               Catch::Matchers::Contains("is not a regular file (it is a character device)"));
   fs::path dir = fs::temp_directory_path() / ("rdsim_test_files_big_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   rdsim::write_file_atomic((dir / "big").string(), std::string(1000, 'x'));
@@ -86,4 +95,59 @@ TEST_CASE("a missing file another command makes: the error says how to make it",
   CHECK_THROWS_WITH(rdsim::read_file_or_hint("/nonexistent/k.key", "rdsim keygen k"),
                     Catch::Matchers::Equals("/nonexistent/k.key: cannot open: No such file or directory; make it with: rdsim keygen k"));
   CHECK_THROWS_WITH(rdsim::read_file_or_hint("/", "x"), Catch::Matchers::Contains("is a folder"));  // other errors unchanged
+}
+
+TEST_CASE("only regular files are read: FIFOs, devices and sockets are refused at once", "[files]") {
+  fs::path dir = fs::temp_directory_path() / ("rdsim_test_files_special_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string fifo = (dir / "x.fifo").string();
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  const std::string sock = (dir / "x.sock").string();
+  const int s = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", sock.c_str());
+  REQUIRE(::bind(s, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+  using namespace std::chrono_literals;
+  for (const auto& [path, kind] : std::vector<std::pair<std::string, std::string>>{
+           {fifo, "a FIFO"}, {"/dev/urandom", "a character device"}, {"/dev/null", "a character device"}, {sock, "a socket"}}) {
+    INFO(path);
+    // Before: opening the FIFO waited for a writer for ever; /dev/urandom was read without end.
+    const auto r = rdsim::test::finishes_within(5s, [&] { rdsim::read_file(path, 1 << 20); });
+    CHECK(r.in_time);
+    CHECK_THAT(r.message, Catch::Matchers::Contains(path + ": is not a regular file (it is " + kind));
+  }
+  ::close(s);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a file opened below a folder never leaves it through a link", "[files]") {
+  fs::path dir = fs::temp_directory_path() / ("rdsim_test_files_beneath_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "root" / "run");
+  rdsim::write_file_atomic((dir / "root" / "run" / "log.csv").string(), "inside");
+  rdsim::write_file_atomic((dir / "secret.csv").string(), "outside");
+  fs::create_symlink("log.csv", dir / "root" / "run" / "near.csv");         // stays inside: followed
+  fs::create_symlink(dir / "secret.csv", dir / "root" / "run" / "far.csv");   // leads out: refused
+  fs::create_symlink("../../secret.csv", dir / "root" / "run" / "up.csv");    // leads out: refused
+  fs::create_directory_symlink(dir, dir / "root" / "out");                    // a folder out: refused
+  const std::string root = (dir / "root").string();
+  CHECK(rdsim::InputFile::beneath(root, "run/log.csv", 100).read_rest() == "inside");
+  CHECK(rdsim::InputFile::beneath(root, "run/near.csv", 100).read_rest() == "inside");
+  for (const char* out : {"run/far.csv", "run/up.csv", "out/secret.csv", "../secret.csv", "/etc/passwd"}) {
+    INFO(out);
+    try {
+      rdsim::InputFile::beneath(root, out, 100);
+      FAIL("opened");
+    } catch (const rdsim::FileOpenError& e) {
+      CHECK(e.link_out());
+    }
+  }
+  try {
+    rdsim::InputFile::beneath(root, "run/missing.csv", 100);
+    FAIL("opened");
+  } catch (const rdsim::FileOpenError& e) {
+    CHECK(e.code() == ENOENT);
+  }
+  CHECK_THROWS_WITH(rdsim::InputFile::beneath(root, "run/log.csv", 3), Catch::Matchers::Contains("is 6 bytes, more than the 3 bytes"));
+  fs::remove_all(dir);
 }

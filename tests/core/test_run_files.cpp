@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "rdsim/core/error.hpp"
@@ -56,4 +57,19 @@ TEST_CASE("run folders are the folders holding progress.csv, links not followed"
   CHECK(rdsim::find_run_folders((root / "a" / "seed1").string()).size() == 1);  // a run folder itself
   CHECK(rdsim::find_run_folders(root.string(), 4, 1).size() == 1);
   CHECK_THROWS_AS(rdsim::find_run_folders((root / "nothing").string()), rdsim::Error);
+}
+
+TEST_CASE("run info below a root: a FIFO or a link out of the root gives an empty info at once", "[runs]") {
+  const fs::path base = scratch_dir("info_beneath");
+  touch(base / "root" / "good" / "config.json", R"({"algorithm": "ppo", "seed": 3})");
+  touch(base / "outside.json", R"({"algorithm": "secret"})");
+  fs::create_directories(base / "root" / "linked");
+  fs::create_symlink(base / "outside.json", base / "root" / "linked" / "config.json");
+  fs::create_directories(base / "root" / "fifo");
+  REQUIRE(::mkfifo((base / "root" / "fifo" / "config.json").c_str(), 0600) == 0);
+  const std::string root = (base / "root").string();
+  CHECK(rdsim::read_run_info_beneath(root, "good").algorithm == "ppo");
+  CHECK(rdsim::read_run_info_beneath(root, "linked").algorithm.empty());  // never read through the link
+  CHECK(rdsim::read_run_info_beneath(root, "fifo").algorithm.empty());    // before: blocked in the open
+  CHECK(rdsim::read_run_info((base / "root" / "fifo").string()).algorithm.empty());
 }

@@ -3,7 +3,9 @@
 
 #include <atomic>
 #include <memory>
+#include <sys/stat.h>
 #include <thread>
+#include <vector>
 
 #include "dashboard_test_util.hpp"
 #include "rdsim/core/error.hpp"
@@ -252,4 +254,152 @@ TEST_CASE("dashboard stops while a browser keeps polling on a kept-alive connect
   done = true;
   browser.join();
   CHECK(took < 5.0);  // a slice of the keep-alive wait, not "when the browser stops asking" (10 s here)
+}
+
+namespace {
+
+// A connection to the dashboard that is held open; -1 when it cannot connect.
+int connect_to(int port) {
+  const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<std::uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(sock);
+    return -1;
+  }
+  return sock;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Clients that each send one byte of a GET every `gap` until stopped: each would hold a worker
+// that waits on its socket for as long as it keeps sending.
+struct SlowClients {
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> threads;
+  SlowClients(int port, int count, std::chrono::milliseconds gap) {
+    for (int k = 0; k < count; ++k)
+      threads.emplace_back([this, port, gap] {
+        const int sock = connect_to(port);
+        const std::string request = "GET /api/runs HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\n";
+        for (std::size_t i = 0; sock >= 0 && !stop && i < request.size(); ++i) {
+          if (::send(sock, &request[i], 1, MSG_NOSIGNAL) != 1) break;
+          for (auto waited = std::chrono::milliseconds(0); !stop && waited < gap; waited += std::chrono::milliseconds(10))
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        if (sock >= 0) ::close(sock);
+      });
+  }
+  ~SlowClients() {
+    stop = true;
+    for (auto& t : threads) t.join();
+  }
+};
+
+}  // namespace
+
+TEST_CASE("dashboard: slow and idle clients cannot hold up a well-behaved one", "[dashboard][slow-clients]") {
+  const fs::path root = scratch_dir("slow_clients");
+  make_run(root / "run", "ppo", 1, 2);
+  rdsim::DashboardServer server(options_for(root));
+  const int port = server.port();
+  // Before: four sockets sending a byte a second held all four workers, and 20 idle connections
+  // delayed a request by 22 s.
+  SlowClients slow(port, 8, std::chrono::milliseconds(300));
+  std::vector<int> idle;
+  for (int k = 0; k < 200; ++k) idle.push_back(connect_to(port));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  for (int k = 0; k < 5; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::string answer = raw_http(port, "GET /api/runs HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) +
+                                                  "\r\nConnection: close\r\n\r\n", 5000);
+    CHECK(status_of(answer) == 200);
+    CHECK(seconds_since(start) < 1.0);
+  }
+  CHECK(server.open_connections() <= server.max_connections());
+  // Stopping does not wait for them either.
+  const auto start = std::chrono::steady_clock::now();
+  server.stop();
+  CHECK(seconds_since(start) < 1.0);
+  for (int fd : idle)
+    if (fd >= 0) ::close(fd);
+}
+
+TEST_CASE("dashboard: open connections are bounded, the oldest idle one makes room", "[dashboard][slow-clients]") {
+  const fs::path root = scratch_dir("bounded_connections");
+  make_run(root / "run", "ppo", 1, 2);
+  rdsim::DashboardOptions o = options_for(root);
+  o.max_connections = 64;
+  rdsim::DashboardServer server(o);
+  const int port = server.port();
+  const int bound = server.max_connections();
+  REQUIRE(bound == 64);
+  std::vector<int> idle;
+  for (int k = 0; k < bound + 50; ++k) idle.push_back(connect_to(port));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  CHECK(server.open_connections() <= bound);
+  CHECK(status_of(get(port, "/api/runs")) == 200);
+  for (int fd : idle)
+    if (fd >= 0) ::close(fd);
+}
+
+TEST_CASE("dashboard: a FIFO for a run file answers an error at once, never blocks", "[dashboard][special-files]") {
+  const fs::path root = scratch_dir("fifo");
+  make_run(root / "good", "ppo", 1, 2);
+  write_file(root / "fifo_run" / "config.json", "{\"algorithm\": \"ppo\"}\n");
+  REQUIRE(::mkfifo((root / "fifo_run" / "progress.csv").c_str(), 0600) == 0);
+  fs::create_directories(root / "fifo_config");
+  REQUIRE(::mkfifo((root / "fifo_config" / "config.json").c_str(), 0600) == 0);
+  rdsim::DashboardServer server(options_for(root));
+  const int port = server.port();
+  // Before: the worker opening the FIFO waited for a writer, and the dashboard with it.
+  const auto start = std::chrono::steady_clock::now();
+  const std::string answer = get(port, "/api/progress?run=0:fifo_run");
+  CHECK(status_of(answer) == 422);
+  CHECK_THAT(body_of(answer), Catch::Contains("is not a regular file (it is a FIFO)"));
+  CHECK(status_of(get(port, "/api/runs")) == 200);
+  CHECK(status_of(get(port, "/api/progress?run=0:good")) == 200);
+  CHECK(seconds_since(start) < 2.0);
+}
+
+TEST_CASE("dashboard: a progress.csv link flipped in and out of the root is never followed out", "[dashboard]") {
+  const fs::path base = scratch_dir("flip");
+  const fs::path root = base / "runs";
+  make_run(root / "inside", "ppo", 1, 2);
+  const std::string secret = "SECRET-FLIP-77";
+  write_file(base / "secret" / "progress.csv", "secret\n" + secret + "\n");
+  fs::create_directories(root / "flip");
+  write_file(root / "flip" / "config.json", "{\"algorithm\": \"ppo\"}\n");
+  fs::create_symlink("../inside/progress.csv", root / "flip" / "progress.csv");
+  rdsim::DashboardServer server(options_for(root));
+  const int port = server.port();
+  std::atomic<bool> done{false};
+  // Before: the link was checked, then opened by name: a swap in between served the outside file.
+  std::thread flipper([&] {
+    for (int k = 0; !done; ++k) {
+      const fs::path tmp = root / "flip" / "next.lnk";
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      if (k % 2) fs::create_symlink("../inside/progress.csv", tmp, ec);
+      else fs::create_symlink(base / "secret" / "progress.csv", tmp, ec);
+      fs::rename(tmp, root / "flip" / "progress.csv", ec);
+    }
+  });
+  int leaks = 0, served = 0;
+  const int sock = connect_to(port);
+  REQUIRE(sock >= 0);
+  for (int k = 0; k < 3000; ++k) {
+    const std::string answer = get(port, "/api/progress?run=0:flip");
+    leaks += answer.find(secret) != std::string::npos;
+    served += status_of(answer) == 200;
+  }
+  ::close(sock);
+  done = true;
+  flipper.join();
+  CHECK(leaks == 0);
+  CHECK(served > 0);  // the link inside the root is followed
 }

@@ -1,5 +1,8 @@
 #include <catch2/catch.hpp>
+#include <atomic>
 #include <cstring>
+#include <sys/stat.h>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,6 +14,7 @@
 #include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
+#include "../finishes_within.hpp"
 #include "../scratch_dir.hpp"
 
 using Catch::Matchers::Contains;
@@ -302,4 +306,87 @@ TEST_CASE("a missing demonstration file names the command that records it", "[de
   CHECK_THROWS_WITH(rdsim::read_demo_file("demos/none_here.demo"),
                     Contains("demos/none_here.demo: cannot open: No such file or directory; make it with: rdsim demos "
                              "record --config TRAINING_CONFIG.json --out demos/none_here.demo"));
+}
+
+TEST_CASE("one writer at a time: a second writer of the same demonstration file is refused", "[demos][lock]") {
+  Scratch dir("demo_lock");
+  const Spec s = vector_spec();
+  const std::string path = dir / "c.demo";
+  write_demos(path, s, 1);
+  {
+    rdsim::DemoWriter first(path, env_json(s), s, true);
+    // Before: the second writer read the file, both appended at the same offset and the file was
+    // damaged, the episode that was there before included.
+    CHECK_THROWS_WITH(rdsim::DemoWriter(path, env_json(s), s, true),
+                      Contains(path) && Contains("another rdsim process is recording to this demonstration file"));
+    first.append(episode(s, 3, true, 7));
+  }
+  rdsim::DemoWriter next(path, env_json(s), s, true);  // the lock goes with its writer
+  next.append(episode(s, 2, false, 8));
+  CHECK(rdsim::read_demo_file(path).episodes.size() == 3);
+}
+
+TEST_CASE("two writers creating the same new demonstration file at once: one wins, the file stays whole",
+          "[demos][lock]") {
+  Scratch dir("demo_race");
+  const Spec s = vector_spec();
+  for (int trial = 0; trial < 20; ++trial) {
+    std::string name = "r";  // built with +=: GCC 12 warns falsely (-Wrestrict) on "r" + std::to_string
+    name += std::to_string(trial);
+    const std::string path = dir / (name + ".demo");
+    std::atomic<int> ready{0}, wrote{0};
+    auto writer = [&](std::uint64_t seed, bool append) {
+      ++ready;
+      while (ready.load() < 2) {
+      }
+      try {
+        rdsim::DemoWriter w(path, env_json(s), s, append);
+        for (int k = 0; k < 3; ++k) w.append(episode(s, 2 + k, true, seed + static_cast<std::uint64_t>(k)));
+        wrote += 3;
+      } catch (const rdsim::Error& e) {
+        const std::string m = e.what();
+        CHECK((m.find("another rdsim process") != std::string::npos || m.find("already exists") != std::string::npos));
+      }
+    };
+    const bool append = trial % 2 == 0;
+    std::thread a(writer, 100, append), b(writer, 200, append);
+    a.join();
+    b.join();
+    // Every episode a writer reported written is in the file, and the file reads back whole.
+    const rdsim::DemoFile f = rdsim::read_demo_file(path);
+    CHECK(static_cast<int>(f.episodes.size()) == wrote.load());
+    CHECK(wrote.load() >= 3);
+  }
+  for (const auto& e : std::filesystem::directory_iterator(dir.path))
+    CHECK(e.path().extension() == ".demo");  // no temporaries left behind
+}
+
+TEST_CASE("special files are refused at once, and the header is checked before the body is read", "[demos][bad-file]") {
+  Scratch dir("demo_special");
+  const Spec s = vector_spec();
+  const std::string fifo = dir / "x.fifo";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  using namespace std::chrono_literals;
+  // Before: opening the FIFO waited for a writer forever.
+  auto r = rdsim::test::finishes_within(5s, [&] { rdsim::read_demo_file(fifo); });
+  CHECK(r.in_time);
+  CHECK(r.threw);
+  CHECK_THAT(r.message, Contains(fifo) && Contains("is not a regular file (it is a FIFO)"));
+  r = rdsim::test::finishes_within(5s, [&] { rdsim::DemoWriter(fifo, env_json(s), s, true); });
+  CHECK(r.in_time);
+  CHECK_THAT(r.message, Contains("is not a regular file (it is a FIFO)"));
+  // Before: /dev/urandom was read on and on (gigabytes of memory) before its magic was checked.
+  r = rdsim::test::finishes_within(5s, [&] { rdsim::read_demo_file("/dev/urandom"); });
+  CHECK(r.in_time);
+  CHECK_THAT(r.message, Contains("/dev/urandom") && Contains("is not a regular file (it is a character device)"));
+  // A large regular file that is not a demonstration file: refused after its first 40 bytes.
+  const std::string big = dir / "big.demo";
+  {
+    std::ofstream out(big, std::ios::binary);
+    out << "NOTADEMO";
+  }
+  std::filesystem::resize_file(big, 8ull << 30);  // sparse: no disk used
+  r = rdsim::test::finishes_within(5s, [&] { rdsim::read_demo_file(big); });
+  CHECK(r.in_time);
+  CHECK_THAT(r.message, Contains("not an rdsim demonstration file"));
 }

@@ -100,3 +100,34 @@ TEST_CASE("keys: a missing key file names the keygen command that makes it", "[k
                              "rdsim keygen server --dir nowhere/keys"));
   CHECK_THROWS_WITH(read_secret_key("alice.key_secret"), Contains("make it with: rdsim keygen alice --dir ."));
 }
+
+TEST_CASE("keys: key files are read only when regular, small and writable by their owner alone", "[remote][keys]") {
+  rdsim::test::Scratch dir("key_files");
+  const CurveKeyPair pair = generate_curve_keys();
+  const std::vector<std::string> files = write_key_files(dir.path.string(), "alice", pair);
+  const std::string pub = files[0], sec = files[1];
+  CHECK(read_public_key(pub) == pair.public_key);
+  // Before: a key file, or a key folder, any user could write was accepted without a word.
+  ::chmod(pub.c_str(), 0666);
+  CHECK_THROWS_WITH(read_public_key(pub), Contains(pub) && Contains("any user may write to this key file (mode 0666)") &&
+                                              Contains("chmod o-w"));
+  ::chmod(pub.c_str(), 0644);
+  ::chmod(dir.path.c_str(), 0777);
+  CHECK_THROWS_WITH(read_public_key(pub), Contains("any user may write to this key folder (mode 0777)"));
+  CHECK_THROWS_WITH(read_secret_key(sec), Contains("any user may write to this key folder"));
+  ::chmod(dir.path.c_str(), 0755);
+  CHECK(read_secret_key(sec).secret_key == pair.secret_key);
+  // Before: a 3 GiB secret key file was read whole (6 GiB of memory) and accepted.
+  const std::string big = dir / "big.key_secret";
+  {
+    std::ofstream out(big);
+    out << "public " << pair.public_key << "\nsecret " << pair.secret_key << "\n";
+  }
+  ::chmod(big.c_str(), 0600);
+  std::filesystem::resize_file(big, 3ull << 30);  // sparse
+  CHECK_THROWS_WITH(read_secret_key(big), Contains("more than the 4096 bytes"));
+  // Before: a FIFO as the secret key blocked `rdsim serve` for ever.
+  const std::string fifo = dir / "fifo.key_secret";
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  CHECK_THROWS_WITH(read_secret_key(fifo), Contains("is not a regular file (it is a FIFO)"));
+}

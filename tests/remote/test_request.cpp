@@ -188,3 +188,13 @@ TEST_CASE("request: random and mutated bytes never escape the parser", "[remote]
     CHECK((p.request.has_value() || !p.error.empty()));
   }
 }
+
+TEST_CASE("request: a key given twice is refused, as in config files", "[remote][request]") {
+  // Before: the last one won: a second "request" turned a state request into a close, a second
+  // env "name" opened another env than the first one named.
+  CHECK_THAT(error_of(R"({"id": 1, "request": "state", "request": "close"})"),
+             Contains("header: request: duplicate key (a key may appear only once in an object)"));
+  CHECK_THAT(error_of(R"({"id": 1, "request": "hello", "protocol": 1, "env": {"name": "cartpole", "name": "jaka_button"}})"),
+             Contains("env.name: duplicate key"));
+  CHECK(parse(R"({"id": 1, "request": "state"})").request);  // one of each is fine
+}

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <functional>
+#include <limits>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -216,10 +217,14 @@ TEST_CASE("server: a client whose key is not authorised gets nothing, and the re
   link.client_key = forged;
   CHECK_THROWS_WITH(connect_remote_env(link, default_env_config("jaka_button")), Contains("do not belong together"));
   // A plain-text client is refused by a CurveZMQ server.
+  const long long refused_before = server.server().stats().refused;
   RawClient plain(server.endpoint());
   plain.send({hello_jaka});
   CHECK(plain.receive(1000).is_null());
   CHECK(server.server().stats().sessions_opened == 0);
+  // ...and counted and logged as refused, as every refused attempt is (before: neither).
+  CHECK(eventually([&] { return server.server().stats().refused > refused_before; }));
+  CHECK_THAT(server.log(), Contains("refused a connection that failed the CurveZMQ handshake: a plain-text client"));
 }
 
 TEST_CASE("server: a captured CurveZMQ session replayed byte for byte opens nothing", "[remote][server]") {
@@ -311,6 +316,55 @@ TEST_CASE("server: plain text only with --insecure and only on loopback", "[remo
   nlohmann::json env = {{"name", "cartpole"}, {"remote", "tcp://10.0.0.5:7777"}};
   ConfigReader r(env, "c.json", "env");
   CHECK_THROWS_WITH(read_remote_env_config(r), Contains("c.json: env.server_key: needed for tcp://10.0.0.5:7777"));
+}
+
+TEST_CASE("server: numeric options outside a sane range are refused", "[remote][server]") {
+  remote::ServerOptions o = plain_options();
+  // Before: 1e-300 was accepted and closed every session before its first request.
+  for (double bad : {1e-300, 0.5, -1.0, 1e300, std::numeric_limits<double>::quiet_NaN()}) {
+    o.idle_timeout = bad;
+    CHECK_THROWS_WITH(remote::Server(o), Contains("--idle-timeout: expected 1 to 604800 seconds"));
+  }
+  o.idle_timeout = 1.0;
+  o.max_sessions = 5000;
+  CHECK_THROWS_WITH(remote::Server(o), Contains("--max-sessions: expected 1 to 4096"));
+  o.max_sessions = 1;
+  CHECK_NOTHROW(remote::Server(o));
+}
+
+TEST_CASE("server: tcp://localhost binds the loopback address", "[remote][server]") {
+  remote::ServerOptions o = plain_options();
+  o.bind = "tcp://localhost:*";  // before: "No such device"
+  ServerThread server(o);
+  CHECK_THAT(server.endpoint(), Contains("tcp://127.0.0.1:"));
+  RawClient client(server.endpoint());
+  CHECK(client.call(hello_jaka)["reply"] == "hello");
+}
+
+TEST_CASE("server: under CurveZMQ a request of exactly 64 KiB is served", "[remote][server]") {
+  Scratch dir("curve_boundary");
+  TestKeys keys(dir);
+  ServerThread server(curve_options(keys));
+  RawClient client(server.endpoint(), zmq::socket_type::dealer, [&](zmq::socket_t& s) {
+    s.set(zmq::sockopt::curve_serverkey, keys.server.public_key);
+    s.set(zmq::sockopt::curve_publickey, keys.client.public_key);
+    s.set(zmq::sockopt::curve_secretkey, keys.client.secret_key);
+  });
+  CHECK(client.call(hello_jaka)["reply"] == "hello");
+  // Before: 65,504 to 65,536 bytes got no reply and lost the session (the limit counted the
+  // encryption's 33 bytes).
+  for (std::size_t size : {remote::max_request_frame_bytes - 40, remote::max_request_frame_bytes - 32,
+                           remote::max_request_frame_bytes}) {
+    std::string request = R"({"id": 4, "request": "state"})";
+    request.resize(size, ' ');
+    INFO(size);
+    CHECK(client.call(request)["reply"] == "state");
+  }
+  std::string over = R"({"id": 5, "request": "state"})";
+  over.resize(remote::max_request_frame_bytes + 1, ' ');
+  const nlohmann::json refused = client.call(over);
+  CHECK((refused.is_null() || refused.contains("error")));  // over the limit: never served
+  CHECK(server.server().stats().sessions_opened == 1);
 }
 
 TEST_CASE("server: sessions end on close, on disconnect, after the idle timeout, the cap holds", "[remote][server]") {

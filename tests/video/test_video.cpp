@@ -2,8 +2,11 @@
 #include <gif_lib.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <sys/resource.h>
 #include <unistd.h>
+#include <vector>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/video/overlay.hpp"
@@ -188,3 +191,37 @@ TEST_CASE("MP4 video: H.264 that FFmpeg decodes back to the frames", "[video]") 
   avformat_close_input(&format);
 }
 #endif
+
+TEST_CASE("video: a write that fails (a full disk) leaves neither a .part file nor a partial video", "[video]") {
+  std::vector<std::string> names = {"full.gif"};
+#ifdef RDSIM_HAVE_FFMPEG
+  names.push_back("full.mp4");
+#endif
+  for (const std::string& name : names) {
+    INFO(name);
+    const std::string path = scratch(name);
+    // A file size limit of 0 bytes fails every write as a full disk does (EFBIG instead of ENOSPC).
+    struct sigaction ignore {}, previous {};
+    ignore.sa_handler = SIG_IGN;
+    ::sigaction(SIGXFSZ, &ignore, &previous);
+    rlimit before{};
+    ::getrlimit(RLIMIT_FSIZE, &before);
+    rlimit none = before;
+    none.rlim_cur = 0;
+    ::setrlimit(RLIMIT_FSIZE, &none);
+    bool failed = false;
+    try {
+      auto video = rdsim::open_video(path, 64, 48, 10);
+      for (int k = 0; k < 5; ++k) video->add_frame(test_frame(64, 48, k));
+      video->close();
+    } catch (const rdsim::Error&) {
+      failed = true;
+    }
+    ::setrlimit(RLIMIT_FSIZE, &before);
+    ::sigaction(SIGXFSZ, &previous, nullptr);
+    CHECK(failed);
+    // Before: a failure while the MP4 header was written left an empty NAME.part behind.
+    CHECK_FALSE(fs::exists(path + ".part"));
+    CHECK_FALSE(fs::exists(path));
+  }
+}

@@ -10,6 +10,8 @@
 // line longer than max_line_bytes) is skipped and counted, never fatal.
 namespace rdsim {
 
+class InputFile;
+
 struct CsvRows {
   std::vector<std::string> columns;       // the header; empty while the file has no complete header
   std::vector<std::vector<double>> rows;  // one value per column; NaN for an empty cell
@@ -21,11 +23,19 @@ struct CsvRows {
 
 inline constexpr std::size_t max_csv_line_bytes = 64 * 1024;
 inline constexpr std::size_t max_csv_columns = 1024;
+// The largest log rdsim opens (a log is read in pieces of at most max_bytes; see input_file.hpp).
+inline constexpr std::uint64_t max_csv_log_bytes = 64ull << 30;
 
 // Reads the rows that start at byte `from` or later (from <= the header's end: the first row), at
 // most about max_bytes of them. Throws rdsim::Error naming the file when it cannot be opened or its
 // header is not a CSV header (an empty column name, too many columns, a line too long).
 CsvRows read_csv_rows(const std::string& path, std::uint64_t from = 0, std::size_t max_bytes = 64 * 1024 * 1024);
+// The same from a file already opened (InputFile::beneath: the dashboard's run files).
+CsvRows read_csv_rows(InputFile file, std::uint64_t from, std::size_t max_bytes);
+
+// The rows after the header line (complete lines), counting at most at_most + 1 of them.
+// rdsim::Error naming the file when it cannot be read or is not a regular file.
+long long count_csv_rows(const std::string& path, long long at_most);
 
 // The column's index in `columns`, or -1.
 int csv_column(const std::vector<std::string>& columns, const std::string& name);

@@ -30,6 +30,9 @@ struct RunInfo {
   std::optional<std::uint64_t> seed;  // config.json seed
 };
 RunInfo read_run_info(const std::string& dir);
+// The same for the run folder `below` under `root`, its config.json opened without following a
+// link out of `root` (InputFile::beneath): what a server of the runs under a folder reads.
+RunInfo read_run_info_beneath(const std::string& root, const std::string& below);
 
 // The run folders (folders holding a progress.csv, or a config.json: a run that has not finished its
 // first update yet) at or below `root`, at most max_depth levels

@@ -16,7 +16,9 @@
 //                                     "skipped": n, "restarted": bool, "more": bool}; ask again from
 //                                    "next" for the rows written since (see core/csv_reader.hpp)
 // Requests larger than 64 KiB, bodies over 4 KiB and a Host header naming another site (when bound to
-// loopback: a DNS-rebinding page) are refused.
+// loopback: a DNS-rebinding page) are refused. Slow, idle and many clients cannot hold it up: one
+// event loop owns the sockets with deadlines per connection and a bound on open connections, and
+// the workers that answer never wait on a client (src/dashboard/bounded_server.hpp).
 namespace rdsim {
 
 struct BindAddress {
@@ -30,6 +32,7 @@ struct DashboardOptions {
   std::vector<std::string> roots;  // folders holding run folders (or run folders themselves)
   BindAddress bind;
   int poll_ms = 500;               // how often the page asks for new rows
+  int max_connections = 1024;      // open at once; a new one beyond closes the longest idle one
 };
 
 class DashboardServer {
@@ -43,7 +46,11 @@ public:
 
   int port() const;         // the bound port (useful with port 0)
   std::string url() const;  // "http://127.0.0.1:8097/"
+  // Stops serving within a fraction of a second, whatever the clients do (idempotent).
   void stop();
+  // Connections open now, and the bound on them (load tests).
+  int open_connections() const;
+  int max_connections() const;
 
 private:
   struct Impl;

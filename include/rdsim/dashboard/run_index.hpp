@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/input_file.hpp"
 #include "rdsim/core/run_files.hpp"
 
 // The runs a dashboard serves: every run folder under its roots (find_run_folders), each named by
@@ -20,6 +22,12 @@ struct IndexedRun {
   RunInfo info;               // env, algorithm, seed from config.json
   std::string progress_path;  // <run folder>/progress.csv
   std::size_t root = 0;       // which root it was found under
+  std::string below;          // the run folder's path below its root ("." for the root itself)
+};
+
+// A run file reached through a link that leads out of its root.
+struct RunOutsideRoot : Error {
+  using Error::Error;
 };
 
 class RunIndex {
@@ -33,6 +41,10 @@ public:
   std::optional<IndexedRun> find(const std::string& id);
   // Whether `file` (after resolving links) lies inside the folder of root `root_number`.
   bool inside_root(const std::string& file, std::size_t root_number) const;
+  // The run's progress.csv, opened below its root in one step (InputFile::beneath); nothing when
+  // the run has not written it yet. RunOutsideRoot when a link leads out of the root on the way,
+  // rdsim::Error when it is not a regular file.
+  std::optional<InputFile> open_progress(const IndexedRun& run) const;
 
 private:
   void rescan(bool force);

@@ -39,6 +39,8 @@
 namespace rdsim {
 
 inline constexpr std::uint32_t demo_format_version = 1;
+// The largest demonstration file rdsim reads (it is read whole: training keeps every episode).
+inline constexpr std::uint64_t max_demo_file_bytes = 64ull << 30;
 
 struct DemoFile {
   std::string path;                    // where it was read from (messages)
@@ -59,7 +61,19 @@ std::string encode_demo_episode(const DemoEpisode& episode, const Spec& spec, co
 // header's spaces and is a well-formed episode (validate_episode). One rdsim::Error naming
 // `source` otherwise ("file is truncated", "file is damaged (...)", ...).
 DemoFile decode_demo_file(std::string_view bytes, const std::string& source);
+// The same for a file: only a regular file of at most max_demo_file_bytes, whose first 40 bytes
+// (magic, version, commit record) are checked before the rest is read.
 DemoFile read_demo_file(const std::string& path);
+
+// The commit record of a file of `file_size` bytes that starts with `bytes` (at least its first
+// 40 bytes), checked: magic, version, checksum, a committed length within the file. rdsim::Error
+// naming `source` otherwise.
+struct CommitRecord {
+  std::uint32_t version = 0;
+  std::uint64_t committed = 0;  // bytes that hold complete episodes, header included
+  std::uint64_t episodes = 0;
+};
+CommitRecord read_commit_record(std::string_view bytes, std::uint64_t file_size, const std::string& source);
 
 // rdsim::Error naming `where` when `episode` is not a well-formed episode of an env of `spec`:
 // array lengths, observation sizes and types, actions outside the action space, non-finite values,

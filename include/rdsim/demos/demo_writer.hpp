@@ -10,10 +10,15 @@ namespace rdsim {
 
 class DemoWriter {
 public:
-  // Creates `path` holding no episode (written atomically), or with `append` continues an existing
+  // Creates `path` holding no episode (written whole beside it, then linked to the name, so it
+  // appears complete and never replaces another file), or with `append` continues an existing
   // file after reading it whole (read_demo_file) and checking that it holds the same env: same
   // spaces and task (check_demos_fit). A tail left by a write that a crash interrupted is cut off.
-  // rdsim::Error naming the file otherwise (also when it exists and `append` is false).
+  // One writer at a time: the writer holds an exclusive lock (flock) on the file while it lives,
+  // and a second one is refused at once ("another rdsim process is recording to this
+  // demonstration file"); the kernel drops the lock when the process ends, however it ends.
+  // rdsim::Error naming the file otherwise (also when it exists and `append` is false, or it is
+  // not a regular file).
   DemoWriter(const std::string& path, const nlohmann::json& env_config, const Spec& spec, bool append);
   ~DemoWriter();
   DemoWriter(const DemoWriter&) = delete;

@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -7,9 +8,13 @@
 //   NAME.key         the public key: give it to the other side (readable by anyone);
 //   NAME.key_secret  the public and the secret key (mode 0600, created so: never readable by
 //                    others, not even for a moment). Reading a secret key file that group or
-//                    others may read is refused, as ssh does.
+//                    others may read is refused, as ssh does; so is reading any key file that
+//                    any user may write, or that lies in a folder any user may write.
 // No key is ever compiled in or written into a config: configs name key files.
 namespace rdsim::remote {
+
+// Key files are a few lines: a larger one is not read (core/input_file.hpp).
+inline constexpr std::uint64_t max_key_file_bytes = 4096;
 
 struct CurveKeyPair {
   std::string public_key;  // Z85, 40 characters

@@ -8,6 +8,12 @@ namespace rdsim::remote {
 // Plain text (no CurveZMQ) is allowed only there.
 bool is_loopback_endpoint(const std::string& endpoint);
 
+// What a server binds for `endpoint`: ZeroMQ binds an interface name or an address, and
+// "localhost" is neither, so tcp://localhost:P binds tcp://127.0.0.1:P.
+std::string bindable_endpoint(const std::string& endpoint);
+// Whether the host is an IPv6 address ([::1]): the socket must then enable IPv6 (ZMQ_IPV6).
+bool is_ipv6_endpoint(const std::string& endpoint);
+
 // rdsim::Error unless `endpoint` is tcp://HOST:PORT (PORT a number, or * for a server to pick).
 void check_tcp_endpoint(const std::string& endpoint, const std::string& what);
 

@@ -28,6 +28,12 @@
 // queue is full (no unbounded memory).
 namespace rdsim::remote {
 
+// The sane range of the numeric options (the constructor refuses others): an idle timeout of
+// 1 s to a week (a tiny one would close every session before its first request), 1 to 4096 sessions.
+inline constexpr double min_idle_timeout_s = 1.0;
+inline constexpr double max_idle_timeout_s = 7 * 24 * 3600.0;
+inline constexpr int max_server_sessions = 4096;
+
 struct ServerOptions {
   std::string bind = "tcp://127.0.0.1:7777";  // port * = any free port (see Server::endpoint)
   std::optional<CurveKeyPair> keys;           // the server's pair; none = plain text
