@@ -7,6 +7,7 @@
 #include "demo_layout.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/checksum.hpp"
+#include "rdsim/core/files.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/input_file.hpp"
 #include "rdsim/demos/demo_fit.hpp"
