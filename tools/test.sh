@@ -3,5 +3,16 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/tools/setup.sh"
-cd "$root/${RDSIM_BUILD_DIR:-build}"
+build_dir=$root/${RDSIM_BUILD_DIR:-build}
+cd "$build_dir"
 ctest --output-on-failure -j "$(nproc)" "$@"
+
+# The Python package's tests (tests/python, pytest in .venv; the long learning runs are marked slow
+# and skipped). pytest's exit code 5 means it collected no tests: a broken suite, so a failure too.
+cd "$root"
+status=0
+RDSIM_BIN=$build_dir/rdsim "$root/.venv/bin/python" -m pytest -q -o cache_dir="$build_dir/pytest_cache" tests/python || status=$?
+if [ "$status" -eq 5 ]; then
+  echo "rdsim test: pytest collected no Python tests (tests/python): the suite is broken" >&2
+fi
+exit "$status"
