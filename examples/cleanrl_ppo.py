@@ -58,6 +58,7 @@ def main(argv=None) -> dict:
     p.add_argument("--vf-coef", type=float, default=0.5)
     p.add_argument("--max-grad-norm", type=float, default=0.5)
     p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--target", type=float, default=0.95, help="success rate whose first time is reported")
     args = p.parse_args(argv)
 
     import rdsim
@@ -78,6 +79,7 @@ def main(argv=None) -> dict:
     next_obs = torch.as_tensor(envs.reset(seed=args.seed)[0]).reshape(n, -1)
     episode_return, returns, successes = np.zeros(n), [], []
     updates = max(1, args.timesteps // (T * n))
+    reached = None  # (env steps, seconds) when the last 100 episodes' success rate first reached --target
     start = time.perf_counter()
     for update in range(updates):
         for g in optimizer.param_groups:
@@ -88,6 +90,8 @@ def main(argv=None) -> dict:
                 action, logp, _, value = agent.act(next_obs)
             obs, reward, terminated, truncated, info = envs.step(action.numpy())
             track(episode_return, returns, successes, reward, terminated | truncated, info)
+            if reached is None and len(successes) >= 100 and np.mean(successes[-100:]) >= args.target:
+                reached = ((update * T + t + 1) * n, time.perf_counter() - start)
             reward = torch.as_tensor(reward)
             ended = terminated | truncated
             if ended.any():
@@ -140,10 +144,14 @@ def main(argv=None) -> dict:
         "episodes": len(returns),
         "timesteps": updates * T * n,
         "train_seconds": seconds,
+        "steps_to_target": reached[0] if reached else None,
+        "seconds_to_target": reached[1] if reached else None,
     }
     print(f"{args.env}: {result['timesteps']} steps in {seconds:.1f} s, {len(returns)} episodes; mean return of the "
           f"first/last {window}: {result['first_returns']:.2f} / {result['last_returns']:.2f}; success rate of the last "
-          f"{window}: {result['last_success_rate']:.2f}")
+          f"{window}: {result['last_success_rate']:.2f}; "
+          + (f"success rate of the last 100 episodes first >= {args.target} at {reached[0]} steps, {reached[1]:.1f} s"
+             if reached else f"success rate never reached {args.target}"))
     return result
 
 

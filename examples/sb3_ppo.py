@@ -41,11 +41,26 @@ def main(argv=None) -> dict:
     parser.add_argument("--num-threads", type=int, default=1)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--eval-episodes", type=int, default=100)
+    parser.add_argument("--target", type=float, default=0.95, help="success rate whose first time is reported")
     args = parser.parse_args(argv)
 
     import torch
     from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import BaseCallback
     from stable_baselines3.common.vec_env import VecMonitor
+
+    class TimeToTarget(BaseCallback):
+        """The env steps and seconds until the success rate of the last 100 episodes first reaches --target."""
+
+        def __init__(self) -> None:
+            super().__init__()
+            self.steps, self.seconds, self.start = None, None, time.perf_counter()
+
+        def _on_step(self) -> bool:
+            buf = self.model.ep_success_buffer
+            if self.steps is None and len(buf) == buf.maxlen and np.mean(buf) >= args.target:
+                self.steps, self.seconds = self.num_timesteps, time.perf_counter() - self.start
+            return True
 
     import rdsim
     from rdsim.sb3 import SB3VecEnv
@@ -60,15 +75,20 @@ def main(argv=None) -> dict:
         policy_kwargs={"net_arch": [64, 64], "activation_fn": torch.nn.Tanh}, seed=args.seed, device="cpu", verbose=0,
     )
     start = time.perf_counter()
-    model.learn(total_timesteps=args.timesteps)
+    target = TimeToTarget()
+    model.learn(total_timesteps=args.timesteps, callback=target)
     seconds = time.perf_counter() - start
     venv.close()
 
     result = evaluate(lambda obs: model.predict(obs, deterministic=True)[0], args.env, args.eval_episodes, args.seed + 1000,
                       options)
-    result.update({"timesteps": args.timesteps, "train_seconds": seconds})
-    print(f"{args.env}: {args.timesteps} steps in {seconds:.1f} s; deterministic policy over {args.eval_episodes} "
-          f"episodes: mean return {result['mean_return']:.2f}, success rate {result['success_rate']:.2f}")
+    result.update({"timesteps": args.timesteps, "train_seconds": seconds, "steps_to_target": target.steps,
+                   "seconds_to_target": target.seconds})
+    reached = (f"success rate of the last 100 episodes first >= {args.target} at {target.steps} steps, "
+               f"{target.seconds:.1f} s" if target.steps else f"success rate never reached {args.target} in training")
+    print(f"{args.env} seed {args.seed}: {args.timesteps} steps in {seconds:.1f} s; {reached}; deterministic policy "
+          f"over {args.eval_episodes} episodes: mean return {result['mean_return']:.2f}, "
+          f"success rate {result['success_rate']:.2f}")
     return result
 
 

@@ -6,7 +6,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env as gymnasium_check_env
 
 import rdsim
-from cases import case_name, env_cases
+from cases import advice_only, case_name, env_cases
 
 CASES = env_cases()
 
@@ -15,9 +15,10 @@ CASES = env_cases()
 def test_gymnasium_check_env(case):
     env_id, options = case
     env = rdsim.make(env_id, **options)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         gymnasium_check_env(env)
+    assert [str(w.message) for w in advice_only(env_id, caught)] == []
     env.close()
 
 
@@ -27,9 +28,10 @@ def test_sb3_check_env(case):
 
     env_id, options = case
     env = rdsim.make(env_id, **options)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         sb3_check_env(env, warn=True)
+    assert [str(w.message) for w in advice_only(env_id, caught)] == []
     env.close()
 
 

@@ -14,7 +14,7 @@ def model_path(tmp_path_factory):
     if not binary.exists():
         pytest.fail(f"{binary} not found: build rdsim first (tools/setup.sh) or set RDSIM_BIN")
     run = tmp_path_factory.mktemp("run")
-    subprocess.run([str(binary), "train", str(ROOT / "configs" / "cartpole_ppo.json"), "--timesteps", "2048",
+    subprocess.run([str(binary), "train", "--config", str(ROOT / "configs" / "cartpole_ppo.json"), "--timesteps", "2048", "-q",
                     "--log-dir", str(run)], check=True, capture_output=True, timeout=300)
     return run / "model.bin"
 
