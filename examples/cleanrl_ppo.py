@@ -147,7 +147,7 @@ def main(argv=None) -> dict:
         "steps_to_target": reached[0] if reached else None,
         "seconds_to_target": reached[1] if reached else None,
     }
-    print(f"{args.env}: {result['timesteps']} steps in {seconds:.1f} s, {len(returns)} episodes; mean return of the "
+    print(f"{args.env} seed {args.seed}: {result['timesteps']} steps in {seconds:.1f} s, {len(returns)} episodes; mean return of the "
           f"first/last {window}: {result['first_returns']:.2f} / {result['last_returns']:.2f}; success rate of the last "
           f"{window}: {result['last_success_rate']:.2f}; "
           + (f"success rate of the last 100 episodes first >= {args.target} at {reached[0]} steps, {reached[1]:.1f} s"

@@ -96,10 +96,18 @@ def main(argv=None) -> None:
     try:
         import envpool
 
-        pool = envpool.make("CartPole-v1", env_type="gymnasium", num_envs=n)
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # EnvPool's float64 space bounds
+            pool = envpool.make("CartPole-v1", env_type="gymnasium", num_envs=n)
+            one = envpool.make("CartPole-v1", env_type="gymnasium", num_envs=n, num_threads=1)
         pool.reset()
         row("envpool.make('CartPole-v1', env_type='gymnasium')", rate(pool.step, acts, s, n))
         pool.close()
+        one.reset()
+        row("envpool.make(..., num_threads=1)", rate(one.step, acts, s, n))
+        one.close()
     except ImportError as e:
         print(f"envpool not installed: {e}")
     gym_vec = gymnasium.make_vec("CartPole-v1", num_envs=n, vectorization_mode="vector_entry_point")
