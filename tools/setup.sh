@@ -40,7 +40,8 @@ build_dir=${RDSIM_BUILD_DIR:-build}
 # on any CPU of the architecture (e.g. a cluster of mixed machines).
 native=ON
 [ "${RDSIM_PORTABLE:-0}" = "1" ] && native=OFF
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="$build_type" -DRDSIM_NATIVE=$native ${RDSIM_CMAKE_ARGS:-} >/dev/null
+# RDSIM_PYTHON=OFF: the C++ build never needs Python (the package's step below turns it on).
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="$build_type" -DRDSIM_NATIVE=$native -DRDSIM_PYTHON=OFF ${RDSIM_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build_dir" -j "$(nproc)"
 
 # The Python package (rdsim, python/) into .venv, built by scikit-build-core in the same build tree:
