@@ -1,5 +1,6 @@
 // rdsim._rdsim.Model: a saved policy (model.bin / checkpoint.bin written by `rdsim train`), loaded as
 // `rdsim replay` loads it, acting on batches of NumPy observations.
+#include <cmath>
 #include <sstream>
 
 #include "bindings.hpp"
