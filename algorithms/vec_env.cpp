@@ -131,6 +131,11 @@ void VecEnv::reset_all(std::uint64_t seed) {
     for (int j = 0; j < processes_[p]->size(); ++j) processes_[p]->copy_observation(j, batch_.column(process_first_[p] + j));
 }
 
+void VecEnv::reset(std::uint64_t seed) {
+  reset_all(seed);
+  tracker_.forget_running();
+}
+
 Env& VecEnv::env(int i) {
   Env* e = envs_[static_cast<std::size_t>(i)].get();
   if (!e) throw Error("VecEnv::env(" + std::to_string(i) + "): the env lives in a worker process");

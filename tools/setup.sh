@@ -40,5 +40,13 @@ build_dir=${RDSIM_BUILD_DIR:-build}
 # on any CPU of the architecture (e.g. a cluster of mixed machines).
 native=ON
 [ "${RDSIM_PORTABLE:-0}" = "1" ] && native=OFF
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="$build_type" -DRDSIM_NATIVE=$native ${RDSIM_CMAKE_ARGS:-} >/dev/null
+# RDSIM_PYTHON=OFF: the C++ build never needs Python (the package's step below turns it on).
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE="$build_type" -DRDSIM_NATIVE=$native -DRDSIM_PYTHON=OFF ${RDSIM_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build_dir" -j "$(nproc)"
+
+# The Python package (rdsim, python/) into .venv, built by scikit-build-core in the same build tree:
+# the libraries are already built (position-independent), so only the extension module compiles.
+# Offline-friendly: the build requirements and dependencies are tools/requirements.txt's.
+echo "rdsim setup: installing the Python package into $venv"
+CMAKE_BUILD_PARALLEL_LEVEL=$(nproc) "$venv/bin/pip" install -q --disable-pip-version-check --no-build-isolation \
+  --no-deps -C build-dir="$build_dir" -C cmake.build-type="$build_type" "$root"

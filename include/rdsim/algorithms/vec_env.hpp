@@ -89,6 +89,12 @@ public:
   // is not used, their EnvStep is all zero, and they add no timesteps.
   const std::vector<EnvStep>& step(const std::vector<Action>& actions, const std::vector<bool>& active);
 
+  // Starts a new episode in every env, env i seeded as at construction from Rng::derive(seed,
+  // rng_stream::env_base + i) (so reset(seed) after VecEnv(envs, seed) repeats the first episodes);
+  // the episodes in progress are dropped from the tracker. For callers that restart all envs at once
+  // (the Python package's reset(seed=...)).
+  void reset(std::uint64_t seed);
+
   long long timesteps() const { return timesteps_; }
   EpisodeTracker& episodes() { return tracker_; }
   const EpisodeTracker& episodes() const { return tracker_; }

@@ -1,0 +1,44 @@
+"""``rdsim.load_model``: a policy saved by ``rdsim train`` (model.bin or checkpoint.bin)."""
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Union
+
+import numpy as np
+
+from . import _rdsim
+from .spaces import action_space, observation_space
+
+
+class Model:
+    """A saved policy, loaded and checked as ``rdsim replay`` loads it.
+
+    ``predict(observations, deterministic=True)`` takes a batch ``(n, *observation shape)`` (or one
+    observation) and returns ``n`` actions: an int64 array for Discrete envs, a float32 array
+    ``(n, dim)`` for Box envs (one action for one observation). ``deterministic=False`` samples from
+    the policy with the model's own generator (seeded from the config's seed).
+    """
+
+    def __init__(self, path: Union[str, os.PathLike]) -> None:
+        self.path = os.fspath(path)
+        self._model = _rdsim.Model(self.path)
+        #: The resolved training config the model was trained with (a dict, as ``config.json``).
+        self.config: dict[str, Any] = json.loads(self._model.config_json)
+        #: The algorithm's name ("ppo", "dqn", ...).
+        self.algorithm: str = self._model.algorithm
+        spec = self._model.spec
+        self.observation_space = observation_space(spec)
+        self.action_space = action_space(spec)
+
+    def predict(self, observations: np.ndarray, deterministic: bool = True) -> Union[np.ndarray, int]:
+        """Actions for a batch of observations (see the class docstring)."""
+        return self._model.predict(observations, bool(deterministic))
+
+    def __repr__(self) -> str:
+        return f"<rdsim.Model {self.algorithm} on {self.config.get('env', {}).get('name', '?')} from {self.path}>"
+
+
+def load_model(path: Union[str, os.PathLike]) -> Model:
+    """Loads ``path`` (a model.bin or checkpoint.bin); :class:`rdsim.Error` for a damaged or foreign file."""
+    return Model(path)

@@ -1,0 +1,165 @@
+"""``rdsim.RemoteEnv``: an env served by ``rdsim serve`` (docs/protocol.md), with Gymnasium's API.
+
+Needs pyzmq (``pip install rdsim[remote]``). The link logic is tools/rdsim_client.py's, with
+Gymnasium spaces and :class:`rdsim.Error` for every refusal, timeout or bad reply.
+"""
+from __future__ import annotations
+
+import json
+from typing import Any, Optional, Union
+
+import gymnasium
+import numpy as np
+import zmq
+
+from ._ids import env_name
+from ._rdsim import Error
+
+PROTOCOL_VERSION = 1
+_DTYPES = {"float32": np.dtype("<f4"), "uint8": np.dtype("u1")}
+
+
+def _key_field(path: str, label: str) -> bytes:
+    try:
+        with open(path, encoding="ascii") as f:
+            for line in f:
+                if line.startswith(label + " "):
+                    return line.split(None, 1)[1].strip().encode("ascii")
+    except OSError as e:
+        raise Error(f"{path}: cannot read the key file ({e.strerror})") from None
+    raise Error(f"{path}: no '{label} <key>' line (write key files with `rdsim keygen NAME`)")
+
+
+class RemoteEnv(gymnasium.Env):
+    """One session on an ``rdsim serve`` at ``address`` ("tcp://host:port"), as a ``gymnasium.Env``.
+
+    ``env`` is an id (``"rdsim/JakaButton-v0"``), a registry name, or a whole ``env`` config object
+    (a dict with "name"); ``options`` are more env keys. The server validates them with the config
+    reader's messages. Without keys the link is plain text (servers started with ``--insecure``, on
+    loopback); with ``server_key`` (the server's NAME.key) and ``client_key`` (this client's
+    NAME.key_secret) it is CurveZMQ-encrypted. Robot envs also offer ``position``, ``joints``,
+    ``cameras`` and ``state`` (see docs/protocol.md).
+    """
+
+    metadata: dict[str, Any] = {"render_modes": [], "render_fps": 30}
+
+    def __init__(self, address: str, env: Union[str, dict], server_key: Optional[str] = None,
+                 client_key: Optional[str] = None, timeout: float = 60.0, **options: Any) -> None:
+        self.address, self.timeout = address, float(timeout)
+        config = dict(env) if isinstance(env, dict) else {"name": env_name(env)}
+        config.update(options)
+        if (server_key is None) != (client_key is None):
+            raise Error("RemoteEnv: give both server_key (the server's public key file) and client_key "
+                        "(this client's secret key file), or neither")
+        self._socket = zmq.Context.instance().socket(zmq.DEALER)
+        self._socket.setsockopt(zmq.LINGER, 200)
+        if server_key is not None:
+            self._socket.curve_serverkey = _key_field(server_key, "public")
+            self._socket.curve_publickey = _key_field(client_key, "public")
+            self._socket.curve_secretkey = _key_field(client_key, "secret")
+        self._socket.connect(address)
+        self._next_id = 1
+        header, arrays = self.request({"request": "hello", "protocol": PROTOCOL_VERSION, "env": config})
+        self.server = header.get("server")
+        #: Every key of the env with the value the server uses.
+        self.config: dict[str, Any] = header["env"]
+        self.remote_spec = header["spec"]
+        self.robot = header["robot"]  # None for envs without a robot (cartpole)
+        obs = self.remote_spec["observation"]
+        shape, dtype = tuple(obs["shape"]), _DTYPES[obs["dtype"]]
+        if dtype == np.uint8:
+            self.observation_space = gymnasium.spaces.Box(0, 255, shape, np.uint8)
+        else:
+            self.observation_space = gymnasium.spaces.Box(arrays["observation_low"].reshape(shape),
+                                                          arrays["observation_high"].reshape(shape), shape, np.float32)
+        act = self.remote_spec["action"]
+        if act["discrete"]:
+            self.action_space = gymnasium.spaces.Discrete(act["n"])
+        else:
+            self.action_space = gymnasium.spaces.Box(arrays["action_low"], arrays["action_high"], (act["dim"],), np.float32)
+
+    # -- the protocol ---------------------------------------------------------------------------
+    def request(self, header: dict):
+        """Sends one request and returns (reply header, {name: array}); :class:`rdsim.Error` on refusal."""
+        if self._socket is None:
+            raise Error(f"{self.address}: the remote env is closed")
+        header = dict(header, id=self._next_id)
+        self._next_id += 1
+        self._socket.send(json.dumps(header).encode("utf-8"))
+        while True:
+            if not self._socket.poll(int(self.timeout * 1000)):
+                raise Error(f"{self.address}: no reply within {self.timeout:g} s "
+                            "(is `rdsim serve` running there, and are the keys right?)")
+            frames = self._socket.recv_multipart()
+            reply = json.loads(frames[0])
+            if reply.get("id") is None and "error" in reply:
+                raise Error(f"{self.address}: {reply['error']}")
+            if reply.get("id") == header["id"]:
+                break  # else: the late reply of a request that timed out
+        if "error" in reply:
+            raise Error(f"{self.address}: {reply['error']}")
+        arrays = {}
+        for spec, frame in zip(reply.pop("arrays", []), frames[1:]):
+            arrays[spec["name"]] = np.frombuffer(frame, dtype=_DTYPES[spec["dtype"]]).reshape(spec["shape"]).copy()
+        return reply, arrays
+
+    def _step_reply(self, header: dict):
+        reply, arrays = self.request(header)
+        info = dict(reply["info"])
+        info.update({k: v for k, v in arrays.items() if k != "observation"})
+        return arrays["observation"], float(reply["reward"]), bool(reply["terminated"]), bool(reply["truncated"]), info
+
+    # -- Gymnasium ------------------------------------------------------------------------------
+    def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
+        if options:
+            raise Error(f"{self.address}: reset: options: rdsim envs take no reset options")
+        super().reset(seed=seed)
+        header: dict[str, Any] = {"request": "reset"}
+        if seed is not None:
+            header["seed"] = int(seed)
+        _, arrays = self.request(header)
+        return arrays["observation"], {}
+
+    def step(self, action):
+        if isinstance(self.action_space, gymnasium.spaces.Discrete):
+            if isinstance(action, (bool, np.bool_)) or not isinstance(action, (int, np.integer)) and not (
+                    isinstance(action, np.ndarray) and action.ndim == 0 and action.dtype.kind in "iu"):
+                raise Error(f"action: expected an integer in [0, {self.action_space.n - 1}], got {action!r}")
+            payload: Any = int(action)
+        else:
+            a = np.asarray(action)
+            if a.dtype.kind != "f" or a.shape != self.action_space.shape or not np.isfinite(a).all():
+                raise Error(f"action: expected a finite float array of shape {self.action_space.shape}, got {a.dtype} {a.shape}")
+            payload = [float(v) for v in a]
+        return self._step_reply({"request": "step", "action": payload})
+
+    def close(self) -> None:
+        if getattr(self, "_socket", None) is None:
+            return
+        try:
+            self.request({"request": "close"})
+        except Error:
+            pass
+        self._socket.close()
+        self._socket = None
+
+    # -- robot control (robot envs) -------------------------------------------------------------
+    def position(self, xyz):
+        """The effector to the absolute point xyz (world frame, m) by IK: one env step, as step()."""
+        return self._step_reply({"request": "position", "position": [float(v) for v in xyz]})
+
+    def joints(self, targets):
+        """Absolute targets for every joint (clamped to the limits): one env step, as step()."""
+        return self._step_reply({"request": "joints", "joints": [float(v) for v in targets]})
+
+    def cameras(self, width: int = 224, height: int = 224, names=None) -> dict:
+        """{camera name: uint8 array (height, width, 3)} of the robot's cameras."""
+        header: dict[str, Any] = {"request": "cameras", "width": int(width), "height": int(height)}
+        if names is not None:
+            header["cameras"] = list(names)
+        return self.request(header)[1]
+
+    def state(self) -> dict:
+        """Joint positions, velocities and targets, effector pose, target and step count."""
+        header, arrays = self.request({"request": "state"})
+        return dict(arrays, steps=header["steps"])

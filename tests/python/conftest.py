@@ -1,0 +1,24 @@
+"""Shared settings of the rdsim Python tests (tools/test.sh runs them with the project's .venv)."""
+import os
+import pathlib
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "examples"))
+
+
+def pytest_collection_modifyitems(config, items):
+    # Long learning runs: only with RDSIM_SLOW=1 (never in CI, where CI=true).
+    if os.environ.get("RDSIM_SLOW") == "1" and os.environ.get("CI", "").lower() != "true":
+        return
+    skip = pytest.mark.skip(reason="slow: set RDSIM_SLOW=1 to run (never in CI)")
+    for item in items:
+        if "slow" in item.keywords:
+            item.add_marker(skip)
+
+
+def rdsim_binary() -> pathlib.Path:
+    """The rdsim binary of this tree (RDSIM_BIN, else build/rdsim)."""
+    return pathlib.Path(os.environ.get("RDSIM_BIN", ROOT / os.environ.get("RDSIM_BUILD_DIR", "build") / "rdsim"))

@@ -1,0 +1,61 @@
+"""rdsim.RemoteEnv against `rdsim serve` on loopback: the same trajectory as rdsim.make, and the example."""
+import sys
+
+import numpy as np
+import pytest
+
+import rdsim
+from conftest import ROOT, rdsim_binary
+
+sys.path.insert(0, str(ROOT / "tools"))
+
+
+@pytest.fixture(scope="module")
+def server():
+    pytest.importorskip("zmq")
+    from rdsim_client import ServerProcess
+
+    binary = rdsim_binary()
+    if not binary.exists():
+        pytest.fail(f"{binary} not found: build rdsim first (tools/setup.sh) or set RDSIM_BIN")
+    with ServerProcess(str(binary)) as s:
+        yield s
+
+
+def test_remote_env_matches_local(server):
+    remote = rdsim.RemoteEnv(server.address, "rdsim/JakaButton-v0", max_steps=30, random_target=True)
+    local = rdsim.make("rdsim/JakaButton-v0", max_steps=30, random_target=True)
+    assert remote.observation_space == local.observation_space and remote.action_space == local.action_space
+    assert remote.config == local.config
+    a, _ = remote.reset(seed=4)
+    b, _ = local.reset(seed=4)
+    np.testing.assert_array_equal(a, b)
+    rng = np.random.default_rng(1)
+    for _ in range(80):
+        act = int(rng.integers(0, 6))
+        ra, rb = remote.step(act), local.step(act)
+        np.testing.assert_array_equal(ra[0], rb[0])
+        assert ra[1:4] == rb[1:4]
+        if ra[2] or ra[3]:
+            np.testing.assert_array_equal(remote.reset()[0], local.reset()[0])
+    remote.close()
+    with pytest.raises(rdsim.Error):
+        remote.step(0)
+
+
+def test_remote_errors(server):
+    with pytest.raises(rdsim.Error, match="max_steps"):
+        rdsim.RemoteEnv(server.address, "rdsim/CartPole-v1", max_steps=0)
+    env = rdsim.RemoteEnv(server.address, "rdsim/CartPole-v1")
+    env.reset(seed=0)
+    for bad in (7, -1, 1.5, "x", np.array([1, 0])):
+        with pytest.raises(rdsim.Error):
+            env.step(bad)
+    env.close()
+
+
+def test_remote_random_agent_example(server):
+    import remote_random_agent
+
+    result = remote_random_agent.main([server.address, "--env", "rdsim/CartPole-v1", "--steps", "100"])
+    assert result["episodes"] >= 1
