@@ -8,7 +8,7 @@
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/nn/conv.hpp"
 
 namespace rdsim {

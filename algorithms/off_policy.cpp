@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "rdsim/algorithms/gradient_averaging.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"

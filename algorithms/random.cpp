@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"

@@ -7,7 +7,7 @@
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/algorithms/n_step_returns.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"

@@ -6,9 +6,9 @@
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/dqn.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"

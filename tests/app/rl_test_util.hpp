@@ -56,8 +56,10 @@ inline RunResult run_captured(const std::string& program, const std::string& arg
   return r;
 }
 
+#ifdef RDSIM_BINARY  // the app tests (tests/CMakeLists.txt); the training tests drive the library only
 // Runs `rdsim <args>`.
 inline RunResult run_rdsim(const std::string& args, const ScratchDir& dir) { return run_captured(RDSIM_BINARY, args, dir); }
+#endif
 
 #ifdef RDSIM_MPIEXEC
 // Runs `mpirun -np <ranks> rdsim <args>` (oversubscribed: CI has 2 cores; CI runs as root, which

@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/training/train_config.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
