@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 
+#include "rdsim/algorithms/transition_step.hpp"
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
@@ -230,19 +231,12 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
                          : argmax(q->col(i));
     actions_[static_cast<std::size_t>(i)] = Action::discrete(a);
   }
-  // The buffer keeps observations in the env's own form (pixels as bytes), so keep a copy of
-  // the ones the actions were chosen from: step() replaces them. (Copies reuse their storage.)
-  prev_obs_.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) envs.observations().copy_to(i, prev_obs_[static_cast<std::size_t>(i)]);
-  const std::vector<EnvStep>& steps = envs.step(actions_);
-  for (int i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const EnvStep& s = steps[k];
-    // After an episode ends the env has been reset: the transition's next state is the final one.
-    if (!s.done()) envs.observations().copy_to(i, next_obs_);
-    n_step_.add(i, prev_obs_[k], actions_[k].index, s.reward, s.done() ? s.final_observation : next_obs_, s.terminated,
-                s.done(), buffer_);
-  }
+  // The buffer keeps observations in the env's own form (pixels as bytes).
+  step_transitions(envs, actions_, prev_obs_, next_obs_,
+                   [&](int i, const Observation& obs, const EnvStep& s, const Observation& next) {
+                     n_step_.add(i, obs, actions_[static_cast<std::size_t>(i)].index, s.reward, next, s.terminated,
+                                 s.done(), buffer_);
+                   });
   ++env_calls_;
   const long long interval = std::max<long long>(cfg_.target_update_interval / n, 1);
   if (env_calls_ % interval == 0) {

@@ -33,10 +33,6 @@ constexpr float hidden_gain = 1.41421356f;  // sqrt(2) for ReLU/tanh hidden laye
 constexpr float actor_gain = 0.01f;         // near-zero means and log-stds: std about 1 at first
 constexpr float critic_gain = 1.0f;
 
-OffPolicySettings settings_of(const SacConfig& c) {
-  return {c.buffer_size, c.learning_starts, c.train_freq, c.gradient_steps};
-}
-
 // Standard-normal noise, drawn column by column.
 void draw_normal(Eigen::MatrixXf& out, int rows, int cols, Rng& rng) {
   out.resize(rows, cols);
@@ -47,7 +43,7 @@ class Sac final : public OffPolicy {
 public:
   Sac(const SacConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
       const std::string& where)
-      : OffPolicy(settings_of(config), network, seed, spec, "sac", where),
+      : OffPolicy(config, network, seed, spec, "sac", where),
         cfg_(config),
         noise_rng_(Rng::derive(seed, rng_stream::training_noise)),
         log_alpha_(1, 1) {

@@ -24,15 +24,11 @@ constexpr float hidden_gain = 1.41421356f;
 constexpr float actor_gain = 0.01f;  // near-zero first actions, away from tanh saturation
 constexpr float critic_gain = 1.0f;
 
-OffPolicySettings settings_of(const Td3Config& c) {
-  return {c.buffer_size, c.learning_starts, c.train_freq, c.gradient_steps};
-}
-
 class Td3 final : public OffPolicy {
 public:
   Td3(const Td3Config& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
       const std::string& name, const std::string& where)
-      : OffPolicy(settings_of(config), network, seed, spec, name, where),
+      : OffPolicy(config, network, seed, spec, name, where),
         cfg_(config),
         name_(name),
         critics_(config.twin_q ? 2 : 1),
