@@ -3,18 +3,16 @@
 #include "rdsim/app/config_reference.hpp"
 
 #include <CLI/CLI.hpp>
-#include <memory>
-
-#include "rdsim/app/command.hpp"
-
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <variant>
 #include <vector>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/training/train_config.hpp"
+#include "rdsim/app/command.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 namespace {

@@ -2,15 +2,13 @@
 #include "rdsim/app/dashboard.hpp"
 
 #include <CLI/CLI.hpp>
-#include <memory>
-
-#include "rdsim/app/command.hpp"
-
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
+#include <memory>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/dashboard/dashboard_server.hpp"
 

@@ -2,20 +2,18 @@
 #include "rdsim/app/demos.hpp"
 
 #include <CLI/CLI.hpp>
-#include <memory>
-
-#include "rdsim/app/command.hpp"
-
 #include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/training/train_config.hpp"
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
 #include "rdsim/envs/reach_expert.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 

@@ -2,12 +2,10 @@
 #include "rdsim/app/envs.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <memory>
 
 #include "rdsim/app/command.hpp"
-
-#include <cstdio>
-
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {

@@ -2,12 +2,10 @@
 #include "rdsim/app/keygen.hpp"
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <memory>
 
 #include "rdsim/app/command.hpp"
-
-#include <cstdio>
-
 #include "rdsim/remote/curve_keys.hpp"
 
 namespace rdsim {

@@ -2,15 +2,13 @@
 #include "rdsim/app/plot.hpp"
 
 #include <CLI/CLI.hpp>
-#include <memory>
-
-#include "rdsim/app/command.hpp"
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <set>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/run_files.hpp"
 #include "rdsim/plot/figure.hpp"

@@ -2,13 +2,11 @@
 #include "rdsim/app/render.hpp"
 
 #include <CLI/CLI.hpp>
-#include <memory>
-
-#include "rdsim/app/command.hpp"
-
 #include <cstdio>
+#include <memory>
 #include <vector>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/render/png.hpp"

@@ -8,11 +8,11 @@
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/app/command.hpp"
+#include "rdsim/core/error.hpp"
 #include "rdsim/training/env_source.hpp"
 #include "rdsim/training/memory_check.hpp"
 #include "rdsim/training/model_file.hpp"
 #include "rdsim/training/train_config.hpp"
-#include "rdsim/core/error.hpp"
 #include "rdsim/video/frame_capture.hpp"
 
 namespace rdsim {

@@ -2,15 +2,13 @@
 #include "rdsim/app/serve.hpp"
 
 #include <CLI/CLI.hpp>
-#include <memory>
-
-#include "rdsim/app/command.hpp"
-
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/remote/curve_keys.hpp"
 #include "rdsim/remote/server.hpp"

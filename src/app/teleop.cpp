@@ -3,22 +3,19 @@
 #include "rdsim/app/teleop.hpp"
 
 #include <CLI/CLI.hpp>
-#include <memory>
-
-#include "rdsim/app/command.hpp"
-
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/training/env_source.hpp"
-#include "rdsim/training/train_config.hpp"
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_writer.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"
 #include "rdsim/teleop/teleop_session.hpp"
+#include "rdsim/training/env_source.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 
