@@ -26,6 +26,7 @@
 #include "rdsim/core/rng_bytes.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/nn/nn.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 
@@ -428,6 +429,22 @@ void Dqn::load(std::istream& in, bool training_state, const std::string& source)
 std::unique_ptr<Algorithm> make_dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& where) {
   return std::make_unique<Dqn>(config, network, seed, spec, where);
+}
+
+// Online and target Q networks with Adam state, the replay buffer (pixels as bytes), training passes.
+void estimate_memory(const DqnConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  using memory::kFloat;
+  const memory::Footprint f = memory::q_network(c.network, spec, c.source);
+  const double obs = observation_input_size(spec.observation);
+  const double obs_bytes = spec.observation.type == ObsType::UInt8 ? obs : obs * kFloat;
+  // Online and target networks, gradients, two Adam moments.
+  e.add(std::string("Q networks, gradients and optimiser state (") + memory::network_keys(spec) + ")", 5.0 * kFloat * f.params);
+  const double replay = static_cast<double>(p.buffer_size) * (2.0 * obs_bytes + 4.0 * kFloat);
+  e.add("replay buffer (dqn.buffer_size)", replay);
+  e.add("training activations (dqn.batch_size)",
+        2.0 * p.batch_size * (3.0 * f.activations + 2.0 * obs) * kFloat + num_envs * (f.activations + obs) * kFloat);
+  e.add("checkpoint writing (in-memory copies of the networks and the replay buffer)",
+        2.0 * (4.0 * kFloat * f.params + replay));
 }
 
 }  // namespace rdsim

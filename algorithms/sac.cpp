@@ -14,6 +14,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
 #include "rdsim/nn/nn.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 
@@ -233,6 +234,11 @@ void Sac::load_training(std::istream& in, const std::string& source) {
 std::unique_ptr<Algorithm> make_sac(const SacConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& where) {
   return std::make_unique<Sac>(config, network, seed, spec, where);
+}
+
+// A squashed-Gaussian actor (mean and log std per action), two critics and their targets.
+void estimate_memory(const SacConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  memory::actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, 2.0 * spec.action.dim(), false, "sac", e);
 }
 
 }  // namespace rdsim

@@ -1,5 +1,8 @@
-// What an algorithm will allocate, from its config alone (estimate_algorithm_memory in
-// algorithm_config.hpp). Counts floats of 4 bytes; rounded up where the code keeps extra copies.
+// The building blocks of the algorithms' memory estimates (algorithm_memory.hpp; each algorithm's
+// own estimate sits beside it in algorithms/<name>.cpp). Counts floats of 4 bytes; rounded up where
+// the code keeps extra copies.
+#include "memory_footprint.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -7,25 +10,9 @@
 #include <vector>
 
 #include "rdsim/algorithms/actor_critic.hpp"
-#include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
-#include "rdsim/nn/conv.hpp"
 
-namespace rdsim {
-namespace {
-
-constexpr double kFloat = 4.0;
-
-// Parameters of a network and the activations one sample keeps in a training pass (floats).
-struct Footprint {
-  double params = 0.0;
-  double activations = 0.0;
-  Footprint& operator+=(const Footprint& o) {
-    params += o.params;
-    activations += o.activations;
-    return *this;
-  }
-};
+namespace rdsim::memory {
 
 Footprint mlp(double in, const std::vector<int>& hidden, double out) {
   Footprint f;
@@ -137,67 +124,12 @@ void policy_search(const NetworkConfig& n, const Spec& spec, int num_envs, doubl
   if (covariance) e.add("CMA-ES covariance and eigenvectors (network.hidden_sizes)", 3.0 * f.params * f.params * 8.0);
 }
 
-}  // namespace
+}  // namespace rdsim::memory
+
+namespace rdsim {
 
 void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
-  struct Visit {
-    const AlgorithmConfig& c;
-    const Spec& spec;
-    int num_envs;
-    MemoryEstimate& e;
-    void operator()(const PpoConfig& p) const {
-      const double rollout = static_cast<double>(p.n_steps) * num_envs;
-      on_policy(c.network, spec, num_envs, p.n_steps, std::min<double>(p.batch_size, rollout), "ppo", c.source, e);
-    }
-    void operator()(const A2cConfig& p) const {
-      on_policy(c.network, spec, num_envs, p.n_steps, static_cast<double>(p.n_steps) * num_envs, "a2c", c.source, e);
-    }
-    // BC: an actor-critic run n_steps x num_envs per update; its training passes (on the
-    // demonstrations, batch_size samples) happen before. The demonstrations themselves are bounded by
-    // the demo file's reader, not estimated here.
-    void operator()(const BcConfig& p) const {
-      const double rollout = static_cast<double>(p.n_steps) * num_envs;
-      const double batch = c.demonstrations ? std::max<double>(c.demonstrations->batch_size, rollout) : rollout;
-      on_policy(c.network, spec, num_envs, p.n_steps, batch, "bc", c.source, e);
-    }
-    void operator()(const DqnConfig& p) const {
-      const Footprint f = q_network(c.network, spec, c.source);
-      const double obs = observation_input_size(spec.observation);
-      const double obs_bytes = spec.observation.type == ObsType::UInt8 ? obs : obs * kFloat;
-      // Online and target networks, gradients, two Adam moments.
-      e.add(std::string("Q networks, gradients and optimiser state (") + network_keys(spec) + ")", 5.0 * kFloat * f.params);
-      const double replay = static_cast<double>(p.buffer_size) * (2.0 * obs_bytes + 4.0 * kFloat);
-      e.add("replay buffer (dqn.buffer_size)", replay);
-      e.add("training activations (dqn.batch_size)",
-            2.0 * p.batch_size * (3.0 * f.activations + 2.0 * obs) * kFloat + num_envs * (f.activations + obs) * kFloat);
-      e.add("checkpoint writing (in-memory copies of the networks and the replay buffer)",
-            2.0 * (4.0 * kFloat * f.params + replay));
-    }
-    void operator()(const SacConfig& p) const {
-      actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, 2.0 * spec.action.dim(), false, "sac", e);
-    }
-    void operator()(const Td3Config& p) const {
-      actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, spec.action.dim(), true, "td3", e);
-    }
-    void operator()(const DdpgConfig& p) const {
-      actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, spec.action.dim(), true, "ddpg", e);
-    }
-    void operator()(const TrpoConfig& p) const {
-      // The whole rollout in one pass (the natural-gradient step), plus conjugate-gradient vectors.
-      on_policy(c.network, spec, num_envs, p.n_steps, static_cast<double>(p.n_steps) * num_envs, "trpo", c.source, e);
-    }
-    void operator()(const ArsConfig& p) const {
-      policy_search(c.network, spec, num_envs, 2.0 * p.n_delta, false, "ars.n_delta", e);
-    }
-    void operator()(const CmaEsConfig& p) const {
-      const double params = mlp(observation_input_size(spec.observation), c.network.hidden_sizes,
-                                spec.action.discrete ? spec.action.n : spec.action.dim()).params;
-      const double lambda = p.population_size > 0 ? p.population_size : 4.0 + std::floor(3.0 * std::log(std::max(params, 1.0)));
-      policy_search(c.network, spec, num_envs, lambda, true, "cma_es.population_size", e);
-    }
-    void operator()(const RandomConfig&) const {}  // no network, no buffer
-  };
-  std::visit(Visit{c, spec, num_envs, e}, c.params);
+  std::visit([&](const auto& params) { estimate_memory(params, c, spec, num_envs, e); }, c.params);
 }
 
 }  // namespace rdsim

@@ -1,0 +1,202 @@
+// Each algorithm's memory estimate (estimate_algorithm_memory; algorithms/<name>.cpp) against what
+// the algorithm really holds: its checkpoint (weights and optimiser state; replay methods: the
+// stored transitions) and the rollout buffers of its shape. An estimate may be generous, never short.
+#include <catch2/catch.hpp>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "rdsim/algorithms/rollout.hpp"
+#include "rdsim/core/memory_estimate.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
+#include "algorithm_setup.hpp"
+#include "toy_env.hpp"
+
+using namespace rdsim;
+
+namespace {
+
+constexpr int kEnvs = 2;
+
+// The bytes of the estimate's items whose description starts with `prefix`.
+double item(const MemoryEstimate& e, const std::string& prefix) {
+  double bytes = 0.0;
+  for (const MemoryItem& i : e.items())
+    if (i.what.rfind(prefix, 0) == 0) bytes += i.bytes;
+  return bytes;
+}
+
+MemoryEstimate estimate(const Setup& s, const Spec& spec) {
+  MemoryEstimate e;
+  estimate_algorithm_memory(algorithm_config(s), spec, kEnvs, e);
+  return e;
+}
+
+double checkpoint_bytes(const Algorithm& algo) {
+  std::ostringstream out;
+  algo.save(out, true);
+  return static_cast<double>(out.str().size());
+}
+
+// What an algorithm holds after `steps` env steps on sign envs: its checkpoint before and after.
+struct Held {
+  double at_start = 0.0, after = 0.0;
+};
+
+Held train(const Setup& s, bool discrete, long long steps) {
+  std::vector<std::unique_ptr<Env>> envs;
+  for (int i = 0; i < kEnvs; ++i) envs.push_back(std::make_unique<toy::SignEnv>(discrete));
+  VecEnv vec(std::move(envs), s.seed);
+  auto algo = make_algorithm(s, vec.spec());
+  Held h;
+  h.at_start = checkpoint_bytes(*algo);
+  while (vec.timesteps() < steps) algo->update(vec, {vec.timesteps(), steps});
+  h.after = checkpoint_bytes(*algo);
+  return h;
+}
+
+Spec sign_spec(bool discrete) { return toy::SignEnv(discrete).spec(); }
+
+Setup with_network(const std::string& algorithm) {
+  Setup s;
+  s.algorithm = algorithm;
+  s.source = "memory.json";
+  s.seed = 1;
+  s.network.hidden_sizes = {64, 64};
+  return s;
+}
+
+// The rollout buffer an on-policy algorithm fills: n_steps x kEnvs samples of the spec's shape.
+double rollout_bytes(int n_steps, const Spec& spec) {
+  RolloutBuffer r;
+  const int obs = static_cast<int>(spec.observation.low.size());
+  r.resize(n_steps, kEnvs, obs, spec.action.discrete ? 1 : spec.action.dim());
+  const auto floats = r.observations.size() + r.actions.size() + r.log_probs.size() + r.values.size() +
+                      r.rewards.size() + r.final_values.size() + r.last_values.size() + r.advantages.size() +
+                      r.returns.size();
+  return 4.0 * static_cast<double>(floats) + static_cast<double>(r.ends.size());
+}
+
+// The weights item covers the checkpoint's weights and optimiser state (it also counts gradients).
+void check_weights(const MemoryEstimate& e, const std::string& prefix, double checkpoint) {
+  INFO(prefix << ": estimated " << item(e, prefix) << " bytes, checkpoint " << checkpoint);
+  CHECK(item(e, prefix) >= checkpoint);
+  CHECK(item(e, prefix) <= 4.0 * checkpoint);
+}
+
+// The rollout item covers the real rollout buffer, within 60% more.
+void check_rollout(const MemoryEstimate& e, int n_steps, const Spec& spec) {
+  const double real = rollout_bytes(n_steps, spec);
+  INFO("rollout: estimated " << item(e, "rollout buffer") << " bytes, allocated " << real);
+  CHECK(item(e, "rollout buffer") >= real);
+  CHECK(item(e, "rollout buffer") <= 1.6 * real);
+}
+
+// The replay item is the stored transitions of a full buffer, as its checkpoint holds them.
+void check_replay(const MemoryEstimate& e, const Held& h) {
+  const double stored = h.after - h.at_start;
+  INFO("replay: estimated " << item(e, "replay buffer") << " bytes, stored " << stored);
+  CHECK(item(e, "replay buffer") >= stored);
+  CHECK(item(e, "replay buffer") <= 1.2 * stored);
+}
+
+}  // namespace
+
+TEST_CASE("PPO's memory estimate covers its weights and rollout", "[memory]") {
+  Setup s = with_network("ppo");
+  s.ppo.n_steps = 64;
+  s.ppo.batch_size = 64;
+  const MemoryEstimate e = estimate(s, sign_spec(true));
+  check_weights(e, "network weights", train(s, true, 128).after);
+  check_rollout(e, 64, sign_spec(true));
+}
+
+TEST_CASE("A2C's memory estimate covers its weights and rollout", "[memory]") {
+  Setup s = with_network("a2c");
+  s.a2c.n_steps = 16;
+  const MemoryEstimate e = estimate(s, sign_spec(true));
+  check_weights(e, "network weights", train(s, true, 64).after);
+  check_rollout(e, 16, sign_spec(true));
+}
+
+TEST_CASE("TRPO's memory estimate covers its weights and rollout", "[memory]") {
+  Setup s = with_network("trpo");
+  s.trpo.n_steps = 64;
+  const MemoryEstimate e = estimate(s, sign_spec(true));
+  check_weights(e, "network weights", train(s, true, 128).after);
+  check_rollout(e, 64, sign_spec(true));
+}
+
+TEST_CASE("BC's memory estimate covers its rollout", "[memory]") {
+  Setup s = with_network("bc");
+  s.bc.n_steps = 32;
+  check_rollout(estimate(s, sign_spec(true)), 32, sign_spec(true));
+}
+
+TEST_CASE("DQN's memory estimate covers its networks and a full replay buffer", "[memory]") {
+  Setup s = with_network("dqn");
+  s.dqn.buffer_size = 400;
+  s.dqn.learning_starts = 50;
+  s.dqn.batch_size = 32;
+  const MemoryEstimate e = estimate(s, sign_spec(true));
+  const Held h = train(s, true, 600);
+  check_weights(e, "Q networks", h.at_start);
+  check_replay(e, h);
+}
+
+TEST_CASE("SAC's memory estimate covers its networks and a full replay buffer", "[memory]") {
+  Setup s = with_network("sac");
+  s.sac.buffer_size = 400;
+  s.sac.learning_starts = 50;
+  s.sac.batch_size = 32;
+  const MemoryEstimate e = estimate(s, sign_spec(false));
+  const Held h = train(s, false, 600);
+  check_weights(e, "actor and critic networks", h.at_start);
+  check_replay(e, h);
+}
+
+TEST_CASE("TD3's memory estimate covers its networks and a full replay buffer", "[memory]") {
+  Setup s = with_network("td3");
+  s.td3.buffer_size = 400;
+  s.td3.learning_starts = 50;
+  s.td3.batch_size = 32;
+  const MemoryEstimate e = estimate(s, sign_spec(false));
+  const Held h = train(s, false, 600);
+  check_weights(e, "actor and critic networks", h.at_start);
+  check_replay(e, h);
+}
+
+TEST_CASE("DDPG's memory estimate covers its networks and a full replay buffer", "[memory]") {
+  Setup s = with_network("ddpg");
+  s.ddpg.buffer_size = 400;
+  s.ddpg.learning_starts = 50;
+  s.ddpg.batch_size = 32;
+  const MemoryEstimate e = estimate(s, sign_spec(false));
+  const Held h = train(s, false, 600);
+  check_weights(e, "actor and critic networks", h.at_start);
+  check_replay(e, h);
+}
+
+TEST_CASE("ARS's memory estimate covers its policy and candidates", "[memory]") {
+  Setup s = with_network("ars");
+  s.ars.n_delta = 4;
+  const MemoryEstimate e = estimate(s, sign_spec(true));
+  const double held = train(s, true, 400).after;
+  INFO("estimated " << item(e, "policy parameters") << " bytes, checkpoint " << held);
+  CHECK(item(e, "policy parameters") >= held);
+}
+
+TEST_CASE("CMA-ES's memory estimate covers its candidates and covariance", "[memory]") {
+  Setup s = with_network("cma_es");
+  s.network.hidden_sizes = {8};  // the covariance is parameters squared
+  s.cma_es.population_size = 6;
+  const MemoryEstimate e = estimate(s, sign_spec(true));
+  const double held = train(s, true, 400).after;
+  INFO("estimated " << e.total() << " bytes, checkpoint " << held);
+  CHECK(item(e, "CMA-ES covariance") + item(e, "policy parameters") >= held);
+}
+
+TEST_CASE("random actions need no memory of their own", "[memory]") {
+  CHECK(estimate(with_network("random"), sign_spec(true)).items().empty());
+}
