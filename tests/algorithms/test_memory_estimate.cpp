@@ -101,31 +101,24 @@ void check_replay(const MemoryEstimate& e, const Held& h) {
   CHECK(item(e, "replay buffer") <= 1.2 * stored);
 }
 
+// Small buffers and batches for every replay method (each uses its own object).
+template <class... Params>
+void small_replay(Params&... params) {
+  ((params.buffer_size = 400, params.learning_starts = 50, params.batch_size = 32), ...);
+}
+
 }  // namespace
 
-TEST_CASE("PPO's memory estimate covers its weights and rollout", "[memory]") {
-  Setup s = with_network("ppo");
-  s.ppo.n_steps = 64;
-  s.ppo.batch_size = 64;
-  const MemoryEstimate e = estimate(s, sign_spec(true));
-  check_weights(e, "network weights", train(s, true, 128).after);
-  check_rollout(e, 64, sign_spec(true));
-}
-
-TEST_CASE("A2C's memory estimate covers its weights and rollout", "[memory]") {
-  Setup s = with_network("a2c");
-  s.a2c.n_steps = 16;
-  const MemoryEstimate e = estimate(s, sign_spec(true));
-  check_weights(e, "network weights", train(s, true, 64).after);
-  check_rollout(e, 16, sign_spec(true));
-}
-
-TEST_CASE("TRPO's memory estimate covers its weights and rollout", "[memory]") {
-  Setup s = with_network("trpo");
-  s.trpo.n_steps = 64;
-  const MemoryEstimate e = estimate(s, sign_spec(true));
-  check_weights(e, "network weights", train(s, true, 128).after);
-  check_rollout(e, 64, sign_spec(true));
+TEST_CASE("each on-policy method's memory estimate covers its weights and rollout", "[memory]") {
+  for (const char* name : {"ppo", "a2c", "trpo"}) {
+    DYNAMIC_SECTION(name) {
+      Setup s = with_network(name);
+      s.ppo.n_steps = s.ppo.batch_size = s.a2c.n_steps = s.trpo.n_steps = 32;
+      const MemoryEstimate e = estimate(s, sign_spec(true));
+      check_weights(e, "network weights", train(s, true, 2LL * 32 * kEnvs).after);  // after two updates
+      check_rollout(e, 32, sign_spec(true));
+    }
+  }
 }
 
 TEST_CASE("BC's memory estimate covers its rollout", "[memory]") {
@@ -134,48 +127,25 @@ TEST_CASE("BC's memory estimate covers its rollout", "[memory]") {
   check_rollout(estimate(s, sign_spec(true)), 32, sign_spec(true));
 }
 
-TEST_CASE("DQN's memory estimate covers its networks and a full replay buffer", "[memory]") {
-  Setup s = with_network("dqn");
-  s.dqn.buffer_size = 400;
-  s.dqn.learning_starts = 50;
-  s.dqn.batch_size = 32;
-  const MemoryEstimate e = estimate(s, sign_spec(true));
-  const Held h = train(s, true, 600);
-  check_weights(e, "Q networks", h.at_start);
-  check_replay(e, h);
-}
-
-TEST_CASE("SAC's memory estimate covers its networks and a full replay buffer", "[memory]") {
-  Setup s = with_network("sac");
-  s.sac.buffer_size = 400;
-  s.sac.learning_starts = 50;
-  s.sac.batch_size = 32;
-  const MemoryEstimate e = estimate(s, sign_spec(false));
-  const Held h = train(s, false, 600);
-  check_weights(e, "actor and critic networks", h.at_start);
-  check_replay(e, h);
-}
-
-TEST_CASE("TD3's memory estimate covers its networks and a full replay buffer", "[memory]") {
-  Setup s = with_network("td3");
-  s.td3.buffer_size = 400;
-  s.td3.learning_starts = 50;
-  s.td3.batch_size = 32;
-  const MemoryEstimate e = estimate(s, sign_spec(false));
-  const Held h = train(s, false, 600);
-  check_weights(e, "actor and critic networks", h.at_start);
-  check_replay(e, h);
-}
-
-TEST_CASE("DDPG's memory estimate covers its networks and a full replay buffer", "[memory]") {
-  Setup s = with_network("ddpg");
-  s.ddpg.buffer_size = 400;
-  s.ddpg.learning_starts = 50;
-  s.ddpg.batch_size = 32;
-  const MemoryEstimate e = estimate(s, sign_spec(false));
-  const Held h = train(s, false, 600);
-  check_weights(e, "actor and critic networks", h.at_start);
-  check_replay(e, h);
+TEST_CASE("each replay method's memory estimate covers its networks and a full replay buffer", "[memory]") {
+  const struct {
+    const char* name;
+    bool discrete;
+    const char* weights;  // the estimate's item for the networks
+  } methods[] = {{"dqn", true, "Q networks"},
+                 {"sac", false, "actor and critic networks"},
+                 {"td3", false, "actor and critic networks"},
+                 {"ddpg", false, "actor and critic networks"}};
+  for (const auto& m : methods) {
+    DYNAMIC_SECTION(m.name) {
+      Setup s = with_network(m.name);
+      small_replay(s.dqn, s.sac, s.td3, s.ddpg);
+      const MemoryEstimate e = estimate(s, sign_spec(m.discrete));
+      const Held h = train(s, m.discrete, 600);  // fills the buffer of 400
+      check_weights(e, m.weights, h.at_start);
+      check_replay(e, h);
+    }
+  }
 }
 
 TEST_CASE("ARS's memory estimate covers its policy and candidates", "[memory]") {
