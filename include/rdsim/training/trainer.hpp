@@ -89,8 +89,9 @@ public:
   // 128 + signal). Safe from any thread and from a signal handler.
   void request_stop(int signal = 2 /* SIGINT */);
 
-  const TrainConfig& config() const;  // after start()
-  long long timesteps() const;        // of the run, all ranks
+  // Between start() and finish() (finish() releases the run: its folder, envs and algorithm).
+  const TrainConfig& config() const;
+  long long timesteps() const;  // of the run, all ranks; 0 outside start() .. finish()
   bool started() const { return static_cast<bool>(run_); }
 
 private:
