@@ -8,6 +8,7 @@
 #include "rdsim/algorithms/advantage.hpp"
 #include "rdsim/algorithms/on_policy.hpp"
 #include "rdsim/core/error.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 namespace {
@@ -77,6 +78,11 @@ A2c::A2c(const A2cConfig& config, const NetworkConfig& network, std::uint64_t se
 std::unique_ptr<Algorithm> make_a2c(const A2cConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& /*where*/) {
   return std::make_unique<A2c>(config, network, seed, spec);
+}
+
+// The rollout, and one training pass over all of it.
+void estimate_memory(const A2cConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  memory::on_policy(c.network, spec, num_envs, p.n_steps, static_cast<double>(p.n_steps) * num_envs, "a2c", c.source, e);
 }
 
 }  // namespace rdsim

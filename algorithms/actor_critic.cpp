@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {

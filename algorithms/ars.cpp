@@ -12,6 +12,7 @@
 #include <numeric>
 
 #include "rdsim/algorithms/policy_search.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 namespace {
@@ -78,6 +79,11 @@ Metrics Ars::update(VecEnv& envs, const TrainProgress& /*progress*/) {
 std::unique_ptr<Algorithm> make_ars(const ArsConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& where) {
   return std::make_unique<Ars>(config, network, seed, spec, where);
+}
+
+// 2 x n_delta perturbed parameter vectors.
+void estimate_memory(const ArsConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  memory::policy_search(c.network, spec, num_envs, 2.0 * p.n_delta, false, "ars.n_delta", e);
 }
 
 }  // namespace rdsim

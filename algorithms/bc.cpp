@@ -4,12 +4,13 @@
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/behavior_cloning.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
 #include "rdsim/nn/nn.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 namespace {
@@ -109,6 +110,15 @@ private:
 std::unique_ptr<Algorithm> make_bc(const BcConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                    const Spec& spec, const std::string& /*where*/) {
   return std::make_unique<Bc>(config, network, seed, spec);
+}
+
+// An actor-critic run n_steps x num_envs per update; its training passes (on the demonstrations,
+// batch_size samples) happen before. The demonstrations themselves are bounded by the demo file's
+// reader, not estimated here.
+void estimate_memory(const BcConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  const double rollout = static_cast<double>(p.n_steps) * num_envs;
+  const double batch = c.demonstrations ? std::max<double>(c.demonstrations->batch_size, rollout) : rollout;
+  memory::on_policy(c.network, spec, num_envs, p.n_steps, batch, "bc", c.source, e);
 }
 
 }  // namespace rdsim

@@ -7,7 +7,7 @@
 #include <limits>
 #include <numeric>
 
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/nn/nn.hpp"
 
 namespace rdsim {

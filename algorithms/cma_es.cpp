@@ -13,6 +13,7 @@
 #include "rdsim/algorithms/policy_search.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 
@@ -196,6 +197,15 @@ Metrics CmaEs::update(VecEnv& envs, const TrainProgress& /*progress*/) {
 std::unique_ptr<Algorithm> make_cma_es(const CmaEsConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                        const Spec& spec, const std::string& where) {
   return std::make_unique<CmaEs>(config, network, seed, spec, where);
+}
+
+// lambda candidates (population_size, or CMA-ES's default from the parameter count) and the covariance.
+void estimate_memory(const CmaEsConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  const double params = memory::mlp(observation_input_size(spec.observation), c.network.hidden_sizes,
+                                    spec.action.discrete ? spec.action.n : spec.action.dim())
+                            .params;
+  const double lambda = p.population_size > 0 ? p.population_size : 4.0 + std::floor(3.0 * std::log(std::max(params, 1.0)));
+  memory::policy_search(c.network, spec, num_envs, lambda, true, "cma_es.population_size", e);
 }
 
 }  // namespace rdsim

@@ -12,19 +12,21 @@
 #include <cmath>
 #include <limits>
 
+#include "rdsim/algorithms/transition_step.hpp"
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/n_step_returns.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/nn/nn.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 
@@ -230,19 +232,12 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
                          : argmax(q->col(i));
     actions_[static_cast<std::size_t>(i)] = Action::discrete(a);
   }
-  // The buffer keeps observations in the env's own form (pixels as bytes), so keep a copy of
-  // the ones the actions were chosen from: step() replaces them. (Copies reuse their storage.)
-  prev_obs_.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) envs.observations().copy_to(i, prev_obs_[static_cast<std::size_t>(i)]);
-  const std::vector<EnvStep>& steps = envs.step(actions_);
-  for (int i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const EnvStep& s = steps[k];
-    // After an episode ends the env has been reset: the transition's next state is the final one.
-    if (!s.done()) envs.observations().copy_to(i, next_obs_);
-    n_step_.add(i, prev_obs_[k], actions_[k].index, s.reward, s.done() ? s.final_observation : next_obs_, s.terminated,
-                s.done(), buffer_);
-  }
+  // The buffer keeps observations in the env's own form (pixels as bytes).
+  step_transitions(envs, actions_, prev_obs_, next_obs_,
+                   [&](int i, const Observation& obs, const EnvStep& s, const Observation& next) {
+                     n_step_.add(i, obs, actions_[static_cast<std::size_t>(i)].index, s.reward, next, s.terminated,
+                                 s.done(), buffer_);
+                   });
   ++env_calls_;
   const long long interval = std::max<long long>(cfg_.target_update_interval / n, 1);
   if (env_calls_ % interval == 0) {
@@ -434,6 +429,22 @@ void Dqn::load(std::istream& in, bool training_state, const std::string& source)
 std::unique_ptr<Algorithm> make_dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& where) {
   return std::make_unique<Dqn>(config, network, seed, spec, where);
+}
+
+// Online and target Q networks with Adam state, the replay buffer (pixels as bytes), training passes.
+void estimate_memory(const DqnConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  using memory::kFloat;
+  const memory::Footprint f = memory::q_network(c.network, spec, c.source);
+  const double obs = observation_input_size(spec.observation);
+  const double obs_bytes = spec.observation.type == ObsType::UInt8 ? obs : obs * kFloat;
+  // Online and target networks, gradients, two Adam moments.
+  e.add(std::string("Q networks, gradients and optimiser state (") + memory::network_keys(spec) + ")", 5.0 * kFloat * f.params);
+  const double replay = static_cast<double>(p.buffer_size) * (2.0 * obs_bytes + 4.0 * kFloat);
+  e.add("replay buffer (dqn.buffer_size)", replay);
+  e.add("training activations (dqn.batch_size)",
+        2.0 * p.batch_size * (3.0 * f.activations + 2.0 * obs) * kFloat + num_envs * (f.activations + obs) * kFloat);
+  e.add("checkpoint writing (in-memory copies of the networks and the replay buffer)",
+        2.0 * (4.0 * kFloat * f.params + replay));
 }
 
 }  // namespace rdsim

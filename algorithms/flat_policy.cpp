@@ -1,6 +1,6 @@
 #include "rdsim/algorithms/flat_policy.hpp"
 
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/nn/param.hpp"
 

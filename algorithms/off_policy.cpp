@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rdsim/algorithms/transition_step.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
@@ -17,7 +18,7 @@ namespace {
 // Observations x buffer_size are stored twice (observation and next observation), plus the actions.
 constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
 
-const Spec& checked_spec(const Spec& spec, const OffPolicySettings& settings, const std::string& algorithm,
+const Spec& checked_spec(const Spec& spec, const OffPolicyConfig& settings, const std::string& algorithm,
                          const std::string& where) {
   if (spec.action.discrete)
     throw Error(where + ": algorithm: \"" + algorithm + "\" needs a continuous (Box) action space, env \"" +
@@ -41,7 +42,7 @@ const Spec& checked_spec(const Spec& spec, const OffPolicySettings& settings, co
 
 }  // namespace
 
-OffPolicy::OffPolicy(const OffPolicySettings& settings, const NetworkConfig& network, std::uint64_t seed,
+OffPolicy::OffPolicy(const OffPolicyConfig& settings, const NetworkConfig& network, std::uint64_t seed,
                      const Spec& spec, const std::string& algorithm, const std::string& where)
     : spec_(checked_spec(spec, settings, algorithm, where)),
       observation_size_(observation_input_size(spec.observation)),
@@ -83,19 +84,11 @@ void OffPolicy::collect_step(VecEnv& envs, bool warmup) {
   }
   env_actions_.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) env_actions_[static_cast<std::size_t>(i)] = env_action(actions_.col(i));
-  // step() replaces the observations the actions were chosen from: keep them for the buffer.
-  // (Copies reuse their storage.)
-  prev_obs_.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) envs.observations().copy_to(i, prev_obs_[static_cast<std::size_t>(i)]);
-  const std::vector<EnvStep>& steps = envs.step(env_actions_);
-  for (int i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const EnvStep& s = steps[k];
-    // After an episode ends the env has been reset: the transition's next state is the final one.
-    if (!s.done()) envs.observations().copy_to(i, next_obs_);
-    buffer_.add(prev_obs_[k], actions_.col(i), s.reward, s.done() ? s.final_observation : next_obs_, s.terminated);
-    if (s.done()) on_episode_end(i);
-  }
+  step_transitions(envs, env_actions_, prev_obs_, next_obs_,
+                   [&](int i, const Observation& obs, const EnvStep& s, const Observation& next) {
+                     buffer_.add(obs, actions_.col(i), s.reward, next, s.terminated);
+                     if (s.done()) on_episode_end(i);
+                   });
 }
 
 Metrics OffPolicy::update(VecEnv& envs, const TrainProgress& progress) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/rng_bytes.hpp"
 #include "rdsim/nn/serialize.hpp"

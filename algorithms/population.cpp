@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cstddef>
 
-#include "rdsim/algorithms/observation_batch.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {

@@ -11,6 +11,7 @@
 #include "rdsim/algorithms/advantage.hpp"
 #include "rdsim/algorithms/on_policy.hpp"
 #include "rdsim/core/error.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 namespace {
@@ -162,6 +163,12 @@ Metrics Ppo::train(double remaining) {
 std::unique_ptr<Algorithm> make_ppo(const PpoConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& /*where*/) {
   return std::make_unique<Ppo>(config, network, seed, spec);
+}
+
+// The rollout, and training passes over batch_size samples (at most the rollout).
+void estimate_memory(const PpoConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  const double rollout = static_cast<double>(p.n_steps) * num_envs;
+  memory::on_policy(c.network, spec, num_envs, p.n_steps, std::min<double>(p.batch_size, rollout), "ppo", c.source, e);
 }
 
 }  // namespace rdsim

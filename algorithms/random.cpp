@@ -5,10 +5,11 @@
 
 #include <algorithm>
 
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 namespace {
@@ -68,5 +69,8 @@ std::unique_ptr<Algorithm> make_random(const RandomConfig& config, const Network
                                        const Spec& spec, const std::string& where) {
   return std::make_unique<RandomAgent>(config, seed, spec, where);
 }
+
+// No network, no buffer.
+void estimate_memory(const RandomConfig&, const AlgorithmConfig&, const Spec&, int, MemoryEstimate&) {}
 
 }  // namespace rdsim

@@ -1,8 +1,8 @@
 #include "rdsim/algorithms/rollout.hpp"
 
 #include "rdsim/algorithms/actor_critic.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 
 namespace rdsim {
 

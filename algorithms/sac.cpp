@@ -14,6 +14,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
 #include "rdsim/nn/nn.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 
@@ -33,10 +34,6 @@ constexpr float hidden_gain = 1.41421356f;  // sqrt(2) for ReLU/tanh hidden laye
 constexpr float actor_gain = 0.01f;         // near-zero means and log-stds: std about 1 at first
 constexpr float critic_gain = 1.0f;
 
-OffPolicySettings settings_of(const SacConfig& c) {
-  return {c.buffer_size, c.learning_starts, c.train_freq, c.gradient_steps};
-}
-
 // Standard-normal noise, drawn column by column.
 void draw_normal(Eigen::MatrixXf& out, int rows, int cols, Rng& rng) {
   out.resize(rows, cols);
@@ -47,7 +44,7 @@ class Sac final : public OffPolicy {
 public:
   Sac(const SacConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
       const std::string& where)
-      : OffPolicy(settings_of(config), network, seed, spec, "sac", where),
+      : OffPolicy(config, network, seed, spec, "sac", where),
         cfg_(config),
         noise_rng_(Rng::derive(seed, rng_stream::training_noise)),
         log_alpha_(1, 1) {
@@ -237,6 +234,11 @@ void Sac::load_training(std::istream& in, const std::string& source) {
 std::unique_ptr<Algorithm> make_sac(const SacConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                     const Spec& spec, const std::string& where) {
   return std::make_unique<Sac>(config, network, seed, spec, where);
+}
+
+// A squashed-Gaussian actor (mean and log std per action), two critics and their targets.
+void estimate_memory(const SacConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  memory::actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, 2.0 * spec.action.dim(), false, "sac", e);
 }
 
 }  // namespace rdsim

@@ -16,6 +16,7 @@
 #include "rdsim/core/rng_bytes.hpp"
 #include "rdsim/nn/nn.hpp"
 #include "rdsim/nn/serialize.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 namespace {
@@ -24,15 +25,11 @@ constexpr float hidden_gain = 1.41421356f;
 constexpr float actor_gain = 0.01f;  // near-zero first actions, away from tanh saturation
 constexpr float critic_gain = 1.0f;
 
-OffPolicySettings settings_of(const Td3Config& c) {
-  return {c.buffer_size, c.learning_starts, c.train_freq, c.gradient_steps};
-}
-
 class Td3 final : public OffPolicy {
 public:
   Td3(const Td3Config& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
       const std::string& name, const std::string& where)
-      : OffPolicy(settings_of(config), network, seed, spec, name, where),
+      : OffPolicy(config, network, seed, spec, name, where),
         cfg_(config),
         name_(name),
         critics_(config.twin_q ? 2 : 1),
@@ -226,6 +223,15 @@ std::unique_ptr<Algorithm> make_td3(const Td3Config& config, const NetworkConfig
 std::unique_ptr<Algorithm> make_ddpg(const DdpgConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                      const Spec& spec, const std::string& where) {
   return std::make_unique<Td3>(config, network, seed, spec, "ddpg", where);
+}
+
+// A deterministic actor with its target, two critics (one for DDPG: counted as two) and their targets.
+void estimate_memory(const Td3Config& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  memory::actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, spec.action.dim(), true, "td3", e);
+}
+
+void estimate_memory(const DdpgConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  memory::actor_critics(c.network, spec, num_envs, p.buffer_size, p.batch_size, spec.action.dim(), true, "ddpg", e);
 }
 
 }  // namespace rdsim

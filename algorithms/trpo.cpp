@@ -19,6 +19,7 @@
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/on_policy.hpp"
 #include "rdsim/core/error.hpp"
+#include "memory_footprint.hpp"
 
 namespace rdsim {
 
@@ -198,6 +199,11 @@ double Trpo::train_critic() {
 std::unique_ptr<Algorithm> make_trpo(const TrpoConfig& config, const NetworkConfig& network, std::uint64_t seed,
                                      const Spec& spec, const std::string& where) {
   return std::make_unique<Trpo>(config, network, seed, spec, where);
+}
+
+// The whole rollout in one pass (the natural-gradient step), plus conjugate-gradient vectors.
+void estimate_memory(const TrpoConfig& p, const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  memory::on_policy(c.network, spec, num_envs, p.n_steps, static_cast<double>(p.n_steps) * num_envs, "trpo", c.source, e);
 }
 
 }  // namespace rdsim

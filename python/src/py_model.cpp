@@ -6,8 +6,8 @@
 #include "bindings.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/app/model_file.hpp"
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/training/model_file.hpp"
+#include "rdsim/training/train_config.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 

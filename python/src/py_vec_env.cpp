@@ -14,7 +14,7 @@
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/registry.hpp"
 // The one file of the package that includes the VecEnv header (its path may move with the library).
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 
 namespace rdsim::python {
 namespace {

@@ -2,14 +2,17 @@
 // (core/config_fields.hpp describe() + FieldDocs).
 #include "rdsim/app/config_reference.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <variant>
 #include <vector>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/app/command.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 namespace {
@@ -128,6 +131,15 @@ int config_reference_command() {
   const std::string doc = config_reference();
   std::fwrite(doc.data(), 1, doc.size(), stdout);
   return 0;
+}
+
+Command config_reference_command_entry() {
+  return {"config-reference", "Print every config key with its type, default (per env), range and meaning "
+          "(markdown; docs/config.md is its output)",
+          [](CLI::App& cmd) -> std::function<int()> {
+            (void)cmd;
+            return [] { return config_reference_command(); };
+          }};
 }
 
 }  // namespace rdsim

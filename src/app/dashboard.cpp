@@ -1,11 +1,14 @@
-// `rdsim dashboard` and the dashboard `rdsim train --dashboard` serves.
+// `rdsim dashboard`.
 #include "rdsim/app/dashboard.hpp"
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
+#include <memory>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/dashboard/dashboard_server.hpp"
 
@@ -43,14 +46,19 @@ int dashboard_command(const DashboardCommandOptions& o) {
   return 0;
 }
 
-std::unique_ptr<DashboardServer> start_run_dashboard(const std::string& bind, const std::string& run_dir, bool quiet) {
-  if (bind.empty()) return nullptr;
-  DashboardOptions options;
-  options.roots = {run_dir};
-  options.bind = parse_bind_address(bind);
-  auto server = std::make_unique<DashboardServer>(options);
-  if (!quiet) std::fprintf(stderr, "rdsim train: dashboard at %s\n", server->url().c_str());
-  return server;
+Command dashboard_command_entry() {
+  return {"dashboard", "Serve a live web page plotting the runs under the folders (progress.csv), updated as they train",
+          [](CLI::App& cmd) -> std::function<int()> {
+            auto o = std::make_shared<DashboardCommandOptions>();
+            cmd.add_option("runs", o->roots, "Folders holding run folders, or run folders (default: runs)");
+            cmd.add_option("--bind", o->bind, "HOST:PORT to listen on (loopback unless you name another address)")
+                ->capture_default_str();
+            cmd.add_option("--poll-ms", o->poll_ms, "How often the page asks for new rows (ms)")
+                ->check(CLI::Range(50, 60000))
+                ->capture_default_str();
+            cmd.add_option("--for", o->serve_s, "Stop after this many seconds (default: until Ctrl-C)")->check(CLI::NonNegativeNumber);
+            return [o] { return dashboard_command(*o); };
+          }};
 }
 
 }  // namespace rdsim

@@ -1,16 +1,19 @@
 // `rdsim demos`: what a demonstration file holds, and recording the scripted expert.
 #include "rdsim/app/demos.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
 #include "rdsim/envs/reach_expert.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 
@@ -82,6 +85,39 @@ int demos_record_command(const DemosRecordOptions& o) {
   if (written < o.episodes) throw Error("demos record: the expert succeeded in only " + std::to_string(written) + " of " +
                                         std::to_string(max_attempts) + " episodes");
   return 0;
+}
+
+Command demos_command_entry() {
+  return {"demos", "Demonstration files: what one holds, recording the scripted expert",
+          [](CLI::App& cmd) -> std::function<int()> {
+            struct Line {
+              std::string info_path;
+              DemosRecordOptions o;
+            };
+            auto l = std::make_shared<Line>();
+            DemosRecordOptions& o = l->o;
+            cmd.require_subcommand(1);
+            auto* info = cmd.add_subcommand("info", "Print a demonstration file's env, episodes, steps, success rate and mean return");
+            info->add_option("file", l->info_path, "Demonstration file")->required();
+            auto* record = cmd.add_subcommand("record", "Record episodes of the scripted expert (privileged state, the env's own actions)");
+            record->add_flag("--expert", o.expert,
+                             "The scripted expert records (the default and only recorder here; people record with `rdsim teleop --record`)");
+            auto* env = record->add_option("--env", o.env, "Env name (its default options, random targets)");
+            auto* config = record->add_option("--config", o.config_path, "Or take the \"env\" object of this training config");
+            env->excludes(config);
+            record->add_option("-n,--episodes", o.episodes, "Episodes to write")->check(CLI::Range(1, 1000000))->capture_default_str();
+            record->add_option("--out", o.out_path, "Demonstration file to write")->required();
+            record->add_option("--seed", o.seed, "Episode k starts from reset(seed + k)")->capture_default_str();
+            record->add_flag("--append", o.append, "Add to an existing file of the same env");
+            record->add_flag("--fixed-target", o.fixed_target, "--env: keep the default target (no random_target)");
+            record->add_flag("--continuous", o.continuous, "--env: Box(3) actions instead of Discrete(6)");
+            record->add_flag("--only-successes", o.only_successes, "Write successful episodes only");
+            record->add_flag("-q,--quiet", o.quiet, "No line per episode");
+            return [l, &cmd] {
+              if (cmd.get_subcommands().front()->get_name() == "info") return demos_info_command(l->info_path);
+              return demos_record_command(l->o);
+            };
+          }};
 }
 
 }  // namespace rdsim

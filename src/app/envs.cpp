@@ -1,8 +1,11 @@
 // `rdsim envs`: what can be named in a config's "env.name".
 #include "rdsim/app/envs.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
@@ -13,6 +16,14 @@ int envs_command() {
     std::printf("%-16s %-7s %s\n", e.name.c_str(), e.supports_pixels ? "yes" : "no", e.description.c_str());
   }
   return 0;
+}
+
+Command envs_command_entry() {
+  return {"envs", "List the available environments",
+          [](CLI::App& cmd) -> std::function<int()> {
+            (void)cmd;
+            return [] { return envs_command(); };
+          }};
 }
 
 }  // namespace rdsim

@@ -1,8 +1,11 @@
 // `rdsim keygen NAME`: writes DIR/NAME.key (public) and DIR/NAME.key_secret (secret, mode 0600).
 #include "rdsim/app/keygen.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/remote/curve_keys.hpp"
 
 namespace rdsim {
@@ -13,6 +16,16 @@ int keygen_command(const KeygenOptions& o) {
               "--keys DIR/clients/)\n              and %s (secret key, mode 0600: keep it here)\n",
               paths[0].c_str(), paths[1].c_str());
   return 0;
+}
+
+Command keygen_command_entry() {
+  return {"keygen", "Write a CurveZMQ key pair: DIR/NAME.key (public) and DIR/NAME.key_secret (secret, mode 0600)",
+          [](CLI::App& cmd) -> std::function<int()> {
+            auto o = std::make_shared<KeygenOptions>();
+            cmd.add_option("name", o->name, "Key name (letters, digits, _ - .)")->required();
+            cmd.add_option("--dir", o->dir, "Folder to write the two files to")->capture_default_str();
+            return [o] { return keygen_command(*o); };
+          }};
 }
 
 }  // namespace rdsim

@@ -1,11 +1,15 @@
 // `rdsim plot`: learning-curve figures from run folders.
 #include "rdsim/app/plot.hpp"
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <set>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/run_files.hpp"
 #include "rdsim/plot/figure.hpp"
@@ -90,6 +94,28 @@ int plot_command(const PlotOptions& o) {
     }
   }
   return 0;
+}
+
+Command plot_command_entry() {
+  return {"plot", "Draw the learning curves of runs (mean and band over each algorithm's runs) from their "
+          "progress.csv, as PNG or SVG",
+          [](CLI::App& cmd) -> std::function<int()> {
+            auto o = std::make_shared<PlotOptions>();
+            cmd.add_option("runs", o->runs, "Run folders, or folders holding run folders")->required();
+            cmd.add_option("-o,--out", o->out, "Figure to write: FILE.png or FILE.svg")->required();
+            cmd.add_option("--metric", o->metric, "success, return, length, kl, or any progress.csv column")->capture_default_str();
+            cmd.add_option("--x", o->x, "x axis: a progress.csv column (timesteps, updates, episodes, wall_time)")->capture_default_str();
+            cmd.add_option("--band", o->band, "std: mean ± 1 standard deviation over runs; minmax: their range")
+                ->check(CLI::IsMember({"std", "minmax"}))
+                ->capture_default_str();
+            cmd.add_option("--title", o->title, "Title (default: env and metric)");
+            cmd.add_option("--x-max", o->x_max,
+                           "Draw x up to this value only (e.g. 1e6 timesteps), cutting longer runs there; default: all")
+                ->check(CLI::PositiveNumber);
+            cmd.add_option("--width", o->width, "Width in pixels")->check(CLI::Range(200, 8000))->capture_default_str();
+            cmd.add_option("--height", o->height, "Height in pixels")->check(CLI::Range(150, 8000))->capture_default_str();
+            return [o] { return plot_command(*o); };
+          }};
 }
 
 }  // namespace rdsim

@@ -1,9 +1,12 @@
 // `rdsim render`: what the agent of a raw-pixel env sees after reset, as a PNG file.
 #include "rdsim/app/render.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/render/png.hpp"
@@ -37,6 +40,29 @@ int render_command(const RenderOptions& o) {
   std::printf("wrote %s (%s, %dx%d, view %d, seed %llu)\n", o.out_path.c_str(), o.env.c_str(), w, h, o.view,
               static_cast<unsigned long long>(o.seed));
   return 0;
+}
+
+Command render_command_entry() {
+  return {"render", "Write the raw-pixel observation an env gives after reset as a PNG",
+          [](CLI::App& cmd) -> std::function<int()> {
+            struct Line {
+              RenderOptions o;
+              std::string seed;
+            };
+            auto l = std::make_shared<Line>();
+            RenderOptions& o = l->o;
+            cmd.add_option("--env", o.env, "Env name (see `rdsim envs`; needs pixels)")->required();
+            cmd.add_option("--out", o.out_path, "PNG file to write")->required();
+            cmd.add_option("--view", o.view, "Camera: 1 = main, 2 = second (multi-view) camera")->check(CLI::IsMember({1, 2}))->capture_default_str();
+            cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
+            cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 4096))->capture_default_str();
+            cmd.add_option("--seed", l->seed, "Reset seed (default 0)")->type_name("INT");
+            cmd.add_flag("--random-target", o.random_target, "Randomise the target at reset (env.random_target)");
+            return [l, &cmd] {
+              if (cmd.count("--seed")) l->o.seed = seed_from_option(l->seed, "--seed");
+              return render_command(l->o);
+            };
+          }};
 }
 
 }  // namespace rdsim

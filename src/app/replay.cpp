@@ -1,97 +1,21 @@
 // `rdsim replay`: runs a saved policy from its model file alone.
 #include "rdsim/app/replay.hpp"
 
-#include <algorithm>
+#include <CLI/CLI.hpp>
 #include <cstdio>
-#include <filesystem>
+#include <memory>
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm.hpp"
-#include "rdsim/app/env_source.hpp"
-#include "rdsim/app/memory_check.hpp"
-#include "rdsim/app/model_file.hpp"
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/render/png.hpp"
-#include "rdsim/video/overlay.hpp"
-#include "rdsim/video/video_writer.hpp"
+#include "rdsim/training/env_source.hpp"
+#include "rdsim/training/memory_check.hpp"
+#include "rdsim/training/model_file.hpp"
+#include "rdsim/training/train_config.hpp"
+#include "rdsim/video/frame_capture.hpp"
 
 namespace rdsim {
-namespace {
-
-// Writes frames of the episodes being replayed as DIR/episode_NNN/frame_NNNN.png.
-class FrameRecorder {
-public:
-  explicit FrameRecorder(std::string dir) : dir_(std::move(dir)) {}
-  bool on() const { return !dir_.empty(); }
-  void start_episode(int episode) {
-    if (!on()) return;
-    char name[32];
-    std::snprintf(name, sizeof name, "episode_%03d", episode);
-    episode_dir_ = (std::filesystem::path(dir_) / name).string();
-    std::error_code ec;
-    std::filesystem::create_directories(episode_dir_, ec);
-    if (ec) throw Error(episode_dir_ + ": cannot create the folder (" + ec.message() + ")");
-    frame_ = 0;
-  }
-  void save(const Image& image) {
-    if (!on()) return;
-    char name[32];
-    std::snprintf(name, sizeof name, "frame_%04d.png", frame_++);
-    write_png((std::filesystem::path(episode_dir_) / name).string(), image.width, image.height, 3, image.rgb.data());
-    ++total_;
-  }
-  long long total() const { return total_; }
-
-private:
-  std::string dir_, episode_dir_;
-  int frame_ = 0;
-  long long total_ = 0;
-};
-
-// What a replay shows of each step: the env's frame, to PNG files and/or a captioned video.
-class FrameCapture {
-public:
-  FrameCapture(const ReplayOptions& o, Env& env, int episodes, int width, int height)
-      : env_(env), recorder_(o.record_dir), every_(o.frame_every), fps_(o.video_fps), episodes_(episodes) {
-    if (!o.video_path.empty()) video_ = open_video(o.video_path, width, height, o.video_fps);
-  }
-  bool on() const { return recorder_.on() || video_; }
-  void start_episode(int episode) {
-    recorder_.start_episode(episode);
-    episode_ = episode;
-  }
-  // The state after `step` steps (0: the reset); the last step of an episode is always kept.
-  void capture(long long step, double episode_return, bool success, bool last) {
-    if (!on() || (step % every_ != 0 && !last)) return;
-    if (!env_.render(frame_)) {
-      throw Error("replay: env \"" + env_.spec().env_name + "\" cannot draw frames (--record, --video)");
-    }
-    recorder_.save(frame_);
-    if (!video_) return;
-    char line[3][64];
-    std::snprintf(line[0], sizeof line[0], "episode %d/%d  step %lld", episode_, episodes_, step);
-    std::snprintf(line[1], sizeof line[1], "return %.2f", episode_return);
-    std::snprintf(line[2], sizeof line[2], "success: %s", success ? "yes" : "no");
-    draw_overlay(frame_, {{line[0]}, {line[1]}, {line[2], success}});
-    // An episode's last frame stays half a second, so its outcome can be read.
-    for (int k = 0, n = last ? std::max(1, fps_ / 2) : 1; k < n; ++k) video_->add_frame(frame_);
-  }
-  void close() {
-    if (video_) video_->close();
-  }
-  long long pictures() const { return recorder_.total(); }
-  std::string video_format() const { return video_ ? video_->format() : ""; }
-
-private:
-  Env& env_;
-  FrameRecorder recorder_;
-  std::unique_ptr<VideoWriter> video_;
-  Image frame_;
-  int every_, fps_, episodes_, episode_ = 0;
-};
-
-}  // namespace
 
 int replay_command(const ReplayOptions& o) {
   const ModelFile file = read_model_file(o.model_path);
@@ -103,7 +27,8 @@ int replay_command(const ReplayOptions& o) {
   check_memory(estimate_training_memory(config, config_spec(config)), memory_limit(o.max_memory_gb), o.model_path);
   auto env = open_env(config.env, config.remote);
   check_model_spec(file, env->spec(), o.model_path);
-  FrameCapture frames(o, *env, o.episodes, config.env.render_width, config.env.render_height);
+  FrameCapture frames({o.record_dir, o.video_path, o.video_fps, o.frame_every}, *env, o.episodes,
+                      config.env.render_width, config.env.render_height);
   auto algo = make_algorithm(config.algorithm, config.seed, env->spec());
   std::istringstream in(file.payload);
   algo->load(in, false, o.model_path);  // a checkpoint's payload starts with the same weights
@@ -145,6 +70,42 @@ int replay_command(const ReplayOptions& o) {
   if (!o.record_dir.empty()) std::printf("wrote %lld frames to %s\n", frames.pictures(), o.record_dir.c_str());
   if (!o.video_path.empty()) std::printf("wrote %s (%s)\n", o.video_path.c_str(), frames.video_format().c_str());
   return 0;
+}
+
+Command replay_command_entry() {
+  return {"replay", "Run a saved model (model.bin) for N episodes and print return, length and success of each",
+          [](CLI::App& cmd) -> std::function<int()> {
+            struct Line {
+              ReplayOptions o;
+              std::string seed;
+              double max_memory = 0.0;
+            };
+            auto l = std::make_shared<Line>();
+            ReplayOptions& o = l->o;
+            cmd.add_option("model", o.model_path, "Model file written by `rdsim train`")->required();
+            cmd.add_option("-n,--episodes", o.episodes, "Number of episodes")->check(CLI::Range(1, 1'000'000))->capture_default_str();
+            cmd.add_option("--seed", l->seed, "Seed of the first episode (default: the model's training seed)")->type_name("INT");
+            cmd.add_flag("--stochastic", o.stochastic, "Sample actions instead of taking the most likely one");
+            cmd.add_option("--record", o.record_dir,
+                           "Write what happens as PNG frames DIR/episode_NNN/frame_NNNN.png (robot envs; "
+                           "size: env.render_width x render_height of the model's config)");
+            cmd.add_option("--max-memory", l->max_memory, "Memory limit in GB (default: 80% of the machine's memory)")
+                ->check(CLI::Range(0.001, 1e6).description("in [0.001, 1e6]"));
+            cmd.add_option("--video", o.video_path,
+                           "Write a video of the episodes, captioned with episode, step, return and success: "
+                           "FILE.mp4 (H.264, when built with FFmpeg) or FILE.gif (robot envs)");
+            cmd.add_option("--fps", o.video_fps, "Video frames per second")->check(CLI::Range(1, 240))->capture_default_str();
+            cmd.add_option("--every", o.frame_every, "Keep every k-th step's frame (--record, --video)")
+                ->check(CLI::Range(1, 1000000))
+                ->capture_default_str();
+            cmd.add_option("--width", o.frame_width, "Frame width (default: the config's env.render_width)")->check(CLI::Range(8, 4096));
+            cmd.add_option("--height", o.frame_height, "Frame height (default: env.render_height)")->check(CLI::Range(8, 4096));
+            return [l, &cmd] {
+              if (cmd.count("--seed")) l->o.seed = seed_from_option(l->seed, "--seed");
+              if (cmd.count("--max-memory")) l->o.max_memory_gb = l->max_memory;
+              return replay_command(l->o);
+            };
+          }};
 }
 
 }  // namespace rdsim

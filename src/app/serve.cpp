@@ -1,12 +1,15 @@
 // `rdsim serve`: hosts environments for remote clients until SIGINT/SIGTERM.
 #include "rdsim/app/serve.hpp"
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <thread>
 
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/remote/curve_keys.hpp"
 #include "rdsim/remote/server.hpp"
@@ -94,6 +97,23 @@ int serve_command(const ServeOptions& options) {
   std::fprintf(stderr, "rdsim serve: stopped after %lld requests (%lld errors), %lld sessions, %lld refused connections\n",
                s.requests, s.errors, s.sessions_opened, s.refused);
   return 0;
+}
+
+Command serve_command_entry() {
+  return {"serve", "Host environments for remote clients (docs/protocol.md; "
+          "tools/rdsim_client.py, or \"remote\" in a config's env) until Ctrl-C",
+          [](CLI::App& cmd) -> std::function<int()> {
+            auto o = std::make_shared<ServeOptions>();
+            cmd.add_option("--bind", o->bind, "Address to listen on (port * = any free port; printed on start)")->capture_default_str();
+            cmd.add_option("--keys", o->keys_dir,
+                           "Folder with server.key_secret and clients/*.key (rdsim keygen): CurveZMQ authentication and encryption");
+            cmd.add_flag("--insecure", o->insecure, "Plain text without --keys (allowed on loopback addresses only)");
+            cmd.add_option("--max-sessions", o->max_sessions, "Most envs served at once")->check(CLI::Range(1, 4096))->capture_default_str();
+            cmd.add_option("--idle-timeout", o->idle_timeout, "Seconds without requests after which a session is closed")
+                ->check(CLI::PositiveNumber)
+                ->capture_default_str();
+            return [o] { return serve_command(*o); };
+          }};
 }
 
 }  // namespace rdsim

@@ -2,18 +2,20 @@
 // through the same Env and RobotControl interfaces.
 #include "rdsim/app/teleop.hpp"
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/app/env_source.hpp"
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_writer.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"
 #include "rdsim/teleop/teleop_session.hpp"
+#include "rdsim/training/env_source.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 
@@ -51,6 +53,32 @@ int teleop_command(const TeleopOptions& o) {
   run_teleop_window(session, mirror, window);
   if (writer) std::printf("rdsim teleop: %s holds %lld demonstrations\n", o.record_path.c_str(), writer->episodes());
   return 0;
+}
+
+Command teleop_command_entry() {
+  return {"teleop", "Drive an env's robot by hand in a window (keys: the env's actions; sliders: "
+          "effector target and joints) and record demonstrations",
+          [](CLI::App& cmd) -> std::function<int()> {
+            auto o = std::make_shared<TeleopOptions>();
+            auto* env = cmd.add_option("--env", o->env, "Env name (its default options, random targets)");
+            auto* config = cmd.add_option("--config", o->config_path, "Or the \"env\" object of this training config");
+            env->excludes(config);
+            cmd.add_option("--connect", o->connect, "Drive the env of an `rdsim serve` at tcp://HOST:PORT instead of one in this process");
+            cmd.add_option("--server-key", o->server_key, "--connect: the server's public key file (rdsim keygen NAME.key)");
+            cmd.add_option("--client-key", o->client_key, "--connect: this client's secret key file (NAME.key_secret)");
+            cmd.add_option("--record", o->record_path, "Demonstration file the recorded episodes are appended to (created when missing)");
+            cmd.add_option("--seed", o->seed, "Episode k starts from reset(seed + k)")->capture_default_str();
+            cmd.add_flag("--fixed-target", o->fixed_target, "--env: keep the default target (no random_target)");
+            cmd.add_flag("--continuous", o->continuous, "--env: Box(3) actions instead of Discrete(6)");
+            cmd.add_option("--screenshot", o->window.screenshot_path, "PNG file the P key writes")->capture_default_str();
+            cmd.add_option("--width", o->window.width, "Window width")->check(CLI::Range(640, 8192))->capture_default_str();
+            cmd.add_option("--height", o->window.height, "Window height")->check(CLI::Range(480, 8192))->capture_default_str();
+            cmd.add_option("--renderer", o->window.renderer, "Renderer of the 3D view: osmesa, egl or auto")
+                ->check(CLI::IsMember({"osmesa", "egl", "auto"}))
+                ->capture_default_str();
+            cmd.add_option("--frames", o->window.max_frames, "Close after this many frames (0: when closed)")->capture_default_str();
+            return [o] { return teleop_command(*o); };
+          }};
 }
 
 }  // namespace rdsim

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"
 #include "toy_env.hpp"

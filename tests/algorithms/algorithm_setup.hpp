@@ -23,9 +23,11 @@ struct Setup {
   rdsim::ArsConfig ars;
   rdsim::CmaEsConfig cma_es;
   rdsim::RandomConfig random;
+  rdsim::BcConfig bc;
 };
 
-inline std::unique_ptr<rdsim::Algorithm> make_algorithm(const Setup& s, const rdsim::Spec& spec) {
+// The algorithm config a training config with these values would hold.
+inline rdsim::AlgorithmConfig algorithm_config(const Setup& s) {
   rdsim::AlgorithmConfig c;
   c.network = s.network;
   c.source = s.source;
@@ -43,7 +45,12 @@ inline std::unique_ptr<rdsim::Algorithm> make_algorithm(const Setup& s, const rd
         if constexpr (std::is_same_v<P, rdsim::ArsConfig>) p = s.ars;
         if constexpr (std::is_same_v<P, rdsim::CmaEsConfig>) p = s.cma_es;
         if constexpr (std::is_same_v<P, rdsim::RandomConfig>) p = s.random;
+        if constexpr (std::is_same_v<P, rdsim::BcConfig>) p = s.bc;
       },
       c.params);
-  return rdsim::make_algorithm(c, s.seed, spec);
+  return c;
+}
+
+inline std::unique_ptr<rdsim::Algorithm> make_algorithm(const Setup& s, const rdsim::Spec& spec) {
+  return rdsim::make_algorithm(algorithm_config(s), s.seed, spec);
 }

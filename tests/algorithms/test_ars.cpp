@@ -4,7 +4,7 @@
 #include "rdsim/algorithms/flat_policy.hpp"
 #include "rdsim/algorithms/population.hpp"
 #include "rdsim/algorithms/running_normalizer.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_checks.hpp"
 #include "toy_env.hpp"

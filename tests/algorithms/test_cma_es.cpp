@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/algorithms/cma_es.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_checks.hpp"
 #include "toy_env.hpp"

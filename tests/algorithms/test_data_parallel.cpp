@@ -8,7 +8,7 @@
 #include "rdsim/algorithms/flat_policy.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/population.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"
 #include "fake_communicator.hpp"

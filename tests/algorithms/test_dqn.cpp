@@ -7,10 +7,11 @@
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/algorithms/n_step_returns.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"
+#include "toy_env.hpp"
 
 using namespace rdsim;
 using Eigen::MatrixXf;
@@ -273,54 +274,7 @@ TEST_CASE("replay buffer keeps n-step step counts through save/load, one-step bu
 
 namespace {
 
-// A corridor of 6 cells, one-hot observations; action 1 moves right, 0 left. Reaching the right
-// end gives +1 and terminates; each step costs 0.01; 30 steps truncate. Optimal: always right.
-class Corridor final : public Env, public EnvState {
-public:
-  Corridor() {
-    spec_.env_name = "corridor";
-    spec_.observation.shape = {kCells};
-    spec_.observation.low = VectorXf::Zero(kCells);
-    spec_.observation.high = VectorXf::Ones(kCells);
-    spec_.action.discrete = true;
-    spec_.action.n = 2;
-    spec_.max_episode_steps = 30;
-  }
-  const Spec& spec() const override { return spec_; }
-  Observation reset(std::optional<std::uint64_t>) override {
-    pos_ = 0;
-    steps_ = 0;
-    return observe();
-  }
-  StepResult step(const Action& a) override {
-    pos_ = std::clamp(pos_ + (a.index == 1 ? 1 : -1), 0, kCells - 1);
-    ++steps_;
-    StepResult r;
-    r.terminated = pos_ == kCells - 1;
-    r.truncated = !r.terminated && steps_ >= spec_.max_episode_steps;
-    r.reward = r.terminated ? 1.0f : -0.01f;
-    r.info.success = r.terminated;
-    r.observation = observe();
-    return r;
-  }
-
-  std::string save_state() const override { return std::to_string(pos_) + " " + std::to_string(steps_); }
-  void load_state(const std::string& bytes, const std::string&) override {
-    std::istringstream in(bytes);
-    in >> pos_ >> steps_;
-  }
-
-private:
-  static constexpr int kCells = 6;
-  Observation observe() const {
-    Observation o;
-    o.values = VectorXf::Zero(kCells);
-    o.values[pos_] = 1.0f;
-    return o;
-  }
-  Spec spec_;
-  int pos_ = 0, steps_ = 0;
-};
+using toy::Corridor;
 
 Setup corridor_config(std::uint64_t seed) {
   Setup c;

@@ -7,7 +7,7 @@
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/behavior_cloning.hpp"
 #include "rdsim/algorithms/dqn.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "toy_env.hpp"

@@ -3,10 +3,10 @@
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/algorithms/on_policy.hpp"
 #include "rdsim/algorithms/rollout.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"
 #include "toy_env.hpp"

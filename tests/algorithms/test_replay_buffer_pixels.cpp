@@ -6,12 +6,13 @@
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/dqn.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_setup.hpp"
+#include "toy_env.hpp"
 
 using namespace rdsim;
 
@@ -31,53 +32,6 @@ Observation pixels_of(int size, int seed) {
   return o;
 }
 
-// The corridor of test_dqn.cpp drawn as a picture: 6 cells, an 8x6 RGB image with the agent's
-// column lit. Action 1 moves right, 0 left; the right end gives +1 and terminates; each step
-// costs 0.01; 30 steps truncate.
-class PixelCorridor final : public Env, public EnvState {
-public:
-  PixelCorridor() {
-    spec_.env_name = "pixel_corridor";
-    spec_.observation = pixel_space(8, kCells, 3);
-    spec_.action.discrete = true;
-    spec_.action.n = 2;
-    spec_.max_episode_steps = 30;
-  }
-  const Spec& spec() const override { return spec_; }
-  Observation reset(std::optional<std::uint64_t>) override {
-    pos_ = 0;
-    steps_ = 0;
-    return observe();
-  }
-  StepResult step(const Action& a) override {
-    pos_ = std::clamp(pos_ + (a.index == 1 ? 1 : -1), 0, kCells - 1);
-    ++steps_;
-    StepResult r;
-    r.terminated = pos_ == kCells - 1;
-    r.truncated = !r.terminated && steps_ >= spec_.max_episode_steps;
-    r.reward = r.terminated ? 1.0f : -0.01f;
-    r.info.success = r.terminated;
-    r.observation = observe();
-    return r;
-  }
-  std::string save_state() const override { return std::to_string(pos_) + " " + std::to_string(steps_); }
-  void load_state(const std::string& bytes, const std::string&) override {
-    std::istringstream in(bytes);
-    in >> pos_ >> steps_;
-  }
-
-private:
-  static constexpr int kCells = 6;
-  Observation observe() const {
-    Observation o;
-    o.pixels.assign(8 * kCells * 3, 20);
-    for (int y = 0; y < 8; ++y)
-      for (int c = 0; c < 3; ++c) o.pixels[static_cast<std::size_t>((y * kCells + pos_) * 3 + c)] = 240;
-    return o;
-  }
-  Spec spec_;
-  int pos_ = 0, steps_ = 0;
-};
 
 Setup pixel_dqn_config(std::uint64_t seed) {
   Setup c;
@@ -101,8 +55,8 @@ Setup pixel_dqn_config(std::uint64_t seed) {
 
 VecEnv pixel_corridor_envs(std::uint64_t seed) {
   std::vector<std::unique_ptr<Env>> envs;
-  envs.push_back(std::make_unique<PixelCorridor>());
-  envs.push_back(std::make_unique<PixelCorridor>());
+  envs.push_back(std::make_unique<toy::Corridor>(true));
+  envs.push_back(std::make_unique<toy::Corridor>(true));
   return VecEnv(std::move(envs), seed);
 }
 
@@ -195,7 +149,7 @@ TEST_CASE("DQN on pixels: checkpoint resumes identically, model round-trips", "[
   algo->save(model, false);
   auto fresh = make_algorithm(pixel_dqn_config(1), envs.spec());
   fresh->load(model, false, "model.bin");
-  PixelCorridor probe;
+  toy::Corridor probe(true);
   Observation o = probe.reset(std::nullopt);
   Rng r1(0), r2(0);
   for (int i = 0; i < 6; ++i) {

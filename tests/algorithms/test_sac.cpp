@@ -2,7 +2,7 @@
 
 #include "rdsim/algorithms/off_policy.hpp"
 #include "rdsim/algorithms/sac.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "algorithm_checks.hpp"
 #include "toy_env.hpp"

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/algorithms/td3.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
 #include "algorithm_checks.hpp"
 #include "toy_env.hpp"
 

@@ -3,7 +3,10 @@
 // Observation (s, t / length) with s = +-1 drawn per step; discrete: reward 1 when the action is
 // 1 for s > 0 and 0 for s < 0; continuous: reward 1 - (a - 0.5 s)^2 with a in [-1, 1].
 // Episodes are truncated after `length` steps, or terminated at step `terminate_at` (> 0).
+#include <algorithm>
 #include <cstring>
+#include <optional>
+#include <sstream>
 #include <initializer_list>
 #include <string>
 
@@ -115,5 +118,66 @@ inline std::vector<std::unique_ptr<rdsim::Env>> make_envs(int n, bool discrete =
   for (int i = 0; i < n; ++i) envs.push_back(std::make_unique<SignEnv>(discrete, length, terminate_at));
   return envs;
 }
+
+// A corridor of 6 cells; action 1 moves right, 0 left. Reaching the right end gives +1 and
+// terminates; each step costs 0.01; 30 steps truncate. Optimal: always right. Observations:
+// one-hot cells, or (pixels) an 8x6 RGB image with the agent's column lit.
+class Corridor final : public rdsim::Env, public rdsim::EnvState {
+public:
+  explicit Corridor(bool pixels = false) : pixels_(pixels) {
+    spec_.env_name = pixels ? "pixel_corridor" : "corridor";
+    if (pixels) {
+      spec_.observation.type = rdsim::ObsType::UInt8;
+      spec_.observation.shape = {kRows, kCells, 3};
+    } else {
+      spec_.observation.shape = {kCells};
+      spec_.observation.low = Eigen::VectorXf::Zero(kCells);
+      spec_.observation.high = Eigen::VectorXf::Ones(kCells);
+    }
+    spec_.action.discrete = true;
+    spec_.action.n = 2;
+    spec_.max_episode_steps = 30;
+  }
+  const rdsim::Spec& spec() const override { return spec_; }
+  rdsim::Observation reset(std::optional<std::uint64_t>) override {
+    pos_ = 0;
+    steps_ = 0;
+    return observe();
+  }
+  rdsim::StepResult step(const rdsim::Action& a) override {
+    pos_ = std::clamp(pos_ + (a.index == 1 ? 1 : -1), 0, kCells - 1);
+    ++steps_;
+    rdsim::StepResult r;
+    r.terminated = pos_ == kCells - 1;
+    r.truncated = !r.terminated && steps_ >= spec_.max_episode_steps;
+    r.reward = r.terminated ? 1.0f : -0.01f;
+    r.info.success = r.terminated;
+    r.observation = observe();
+    return r;
+  }
+  std::string save_state() const override { return std::to_string(pos_) + " " + std::to_string(steps_); }
+  void load_state(const std::string& bytes, const std::string&) override {
+    std::istringstream in(bytes);
+    in >> pos_ >> steps_;
+  }
+
+private:
+  static constexpr int kCells = 6, kRows = 8;
+  rdsim::Observation observe() const {
+    rdsim::Observation o;
+    if (!pixels_) {
+      o.values = Eigen::VectorXf::Zero(kCells);
+      o.values[pos_] = 1.0f;
+      return o;
+    }
+    o.pixels.assign(kRows * kCells * 3, 20);
+    for (int y = 0; y < kRows; ++y)
+      for (int c = 0; c < 3; ++c) o.pixels[static_cast<std::size_t>((y * kCells + pos_) * 3 + c)] = 240;
+    return o;
+  }
+  bool pixels_;
+  rdsim::Spec spec_;
+  int pos_ = 0, steps_ = 0;
+};
 
 }  // namespace toy

@@ -10,9 +10,9 @@
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/algorithms/observation_batch.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
+#include "rdsim/training/train_config.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace {

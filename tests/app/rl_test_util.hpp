@@ -9,22 +9,13 @@
 #include <vector>
 
 #include "../leak_check_env.hpp"
+#include "../scratch_dir.hpp"
 
 namespace rltest {
 
-// A fresh folder under the system temp dir, removed when the object goes away.
-struct ScratchDir {
-  std::filesystem::path path;
-  explicit ScratchDir(const std::string& tag) {
-    path = std::filesystem::temp_directory_path() / ("rdsim_rl_" + tag + "_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
+// A fresh folder rdsim_rl_<tag>_<pid> under the system temp dir, removed when the object goes away.
+struct ScratchDir : rdsim::test::ScratchDir {
+  explicit ScratchDir(const std::string& tag) : rdsim::test::ScratchDir("rl_" + tag) {}
 };
 
 inline std::string slurp(const std::string& path) {
@@ -56,8 +47,10 @@ inline RunResult run_captured(const std::string& program, const std::string& arg
   return r;
 }
 
+#ifdef RDSIM_BINARY  // the app tests (tests/CMakeLists.txt); the training tests drive the library only
 // Runs `rdsim <args>`.
 inline RunResult run_rdsim(const std::string& args, const ScratchDir& dir) { return run_captured(RDSIM_BINARY, args, dir); }
+#endif
 
 #ifdef RDSIM_MPIEXEC
 // Runs `mpirun -np <ranks> rdsim <args>` (oversubscribed: CI has 2 cores; CI runs as root, which

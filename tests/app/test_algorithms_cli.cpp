@@ -2,7 +2,7 @@
 // `rdsim replay` runs the saved model, and an interrupted off-policy run resumes exactly.
 #include <catch2/catch.hpp>
 
-#include "rdsim/app/model_file.hpp"
+#include "rdsim/training/model_file.hpp"
 #include "rl_test_util.hpp"
 
 using Catch::Matchers::Contains;

@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/stat.h>
 
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/training/train_config.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"

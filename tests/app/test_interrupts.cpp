@@ -1,4 +1,4 @@
-// Nothing lost on interrupt, one run per folder (app/interrupt.hpp, app/run_folder.hpp): the real
+// Nothing lost on interrupt, one run per folder (training/interrupt.hpp, training/run_folder.hpp): the real
 // binary is stopped by SIGINT, SIGTERM and SIGKILL at random moments and resumed; two runs are
 // pointed at one folder.
 #include <catch2/catch.hpp>
@@ -8,7 +8,7 @@
 #include <sys/resource.h>
 
 #include "process_util.hpp"
-#include "rdsim/app/model_file.hpp"
+#include "rdsim/training/model_file.hpp"
 #include "rl_test_util.hpp"
 
 namespace fs = std::filesystem;

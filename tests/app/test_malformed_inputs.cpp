@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "process_util.hpp"
-#include "rdsim/app/model_file.hpp"
+#include "rdsim/training/model_file.hpp"
 #include "rdsim/core/checksum.hpp"
 #include "rl_test_util.hpp"
 

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/training/train_config.hpp"
 #include "rdsim/core/error.hpp"
 #include "rl_test_util.hpp"
 

@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace {
 

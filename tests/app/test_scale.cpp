@@ -5,10 +5,10 @@
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
-#include "rdsim/app/data_parallel.hpp"
-#include "rdsim/app/model_file.hpp"
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
+#include "rdsim/training/data_parallel.hpp"
+#include "rdsim/training/model_file.hpp"
+#include "rdsim/training/train_config.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/registry.hpp"

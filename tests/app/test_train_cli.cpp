@@ -1,7 +1,7 @@
 // `rdsim train` and `rdsim replay` through the real binary, as a user runs them.
 #include <catch2/catch.hpp>
 
-#include "rdsim/app/model_file.hpp"
+#include "rdsim/training/model_file.hpp"
 #include "rl_test_util.hpp"
 
 using Catch::Matchers::Contains;

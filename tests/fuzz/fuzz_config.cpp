@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "rdsim/app/train_config.hpp"
+#include "rdsim/training/train_config.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/json_text.hpp"
 

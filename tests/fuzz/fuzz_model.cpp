@@ -8,10 +8,10 @@
 #include <string_view>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/algorithms/vec_env.hpp"
-#include "rdsim/app/checkpoint.hpp"
-#include "rdsim/app/memory_check.hpp"
-#include "rdsim/app/model_file.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
+#include "rdsim/training/checkpoint.hpp"
+#include "rdsim/training/memory_check.hpp"
+#include "rdsim/training/model_file.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/registry.hpp"
 

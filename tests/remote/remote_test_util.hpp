@@ -11,21 +11,13 @@
 #include "rdsim/remote/curve_keys.hpp"
 #include "rdsim/remote/remote_env_config.hpp"
 #include "rdsim/remote/server.hpp"
+#include "../scratch_dir.hpp"
 
 namespace rdsim::test {
 
-struct Scratch {
-  std::filesystem::path path;
-  explicit Scratch(const std::string& tag) {
-    path = std::filesystem::temp_directory_path() / ("rdsim_remote_" + tag + "_" + std::to_string(::getpid()));
-    std::filesystem::remove_all(path);
-    std::filesystem::create_directories(path);
-  }
-  ~Scratch() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
+// A scratch folder named rdsim_remote_<tag>_<pid>.
+struct Scratch : ScratchDir {
+  explicit Scratch(const std::string& tag) : ScratchDir("remote_" + tag) {}
 };
 
 // A server key pair and one authorised client pair, as files in `dir`.

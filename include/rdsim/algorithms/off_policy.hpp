@@ -7,6 +7,7 @@
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/network_config.hpp"
+#include "rdsim/algorithms/off_policy_config.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/rng.hpp"
@@ -18,13 +19,6 @@
 // before learning starts, the rescaling between the env's Box and the networks' [-1, 1], and the
 // model/checkpoint layout. Each method adds its networks, its exploration and its train step.
 namespace rdsim {
-
-struct OffPolicySettings {
-  long long buffer_size = 1000000;
-  long long learning_starts = 100;
-  int train_freq = 1;
-  int gradient_steps = 1;
-};
 
 class OffPolicy : public Algorithm {
 public:
@@ -48,7 +42,7 @@ protected:
   // `algorithm` and `where` name the method and the config file in messages: the env must have
   // vector observations and a bounded Box action space. network.input_scale is kept for
   // actor_input() and critic_input().
-  OffPolicy(const OffPolicySettings& settings, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
+  OffPolicy(const OffPolicyConfig& settings, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
             const std::string& algorithm, const std::string& where);
 
   // The networks' inputs: observations times network.input_scale (actor), and those stacked
@@ -80,7 +74,7 @@ protected:
   int observation_size_;
   int action_dim_;
   float input_scale_;
-  OffPolicySettings settings_;
+  OffPolicyConfig settings_;
   ReplayBuffer buffer_;
   Rng explore_rng_;  // warm-up actions and exploration noise
   Rng replay_rng_;   // minibatch draws

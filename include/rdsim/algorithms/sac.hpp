@@ -6,21 +6,15 @@
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/network_config.hpp"
+#include "rdsim/algorithms/off_policy_config.hpp"
 #include "rdsim/core/config_fields.hpp"
 
 // Soft actor-critic (algorithms/sac.cpp) for Box action spaces.
 namespace rdsim {
 
 // The "sac" object of a training config. Defaults: Stable-Baselines3's.
-struct SacConfig {
-  double learning_rate = 3e-4;
-  long long buffer_size = 1000000;
-  long long learning_starts = 100;
-  int batch_size = 256;
-  double tau = 0.005;
-  double gamma = 0.99;
-  int train_freq = 1;
-  int gradient_steps = 1;
+struct SacConfig : OffPolicyConfig {
+  SacConfig() { learning_rate = 3e-4; }
   bool auto_entropy = true;
   double ent_coef = 1.0;
   double target_entropy = -1.0;
@@ -30,16 +24,8 @@ struct SacConfig {
 template <class V, class C>
   requires config::Describes<C, SacConfig>
 void describe(V& v, C& c) {
-  constexpr long long max_steps = 1'000'000'000'000LL;
-  v.field("learning_rate", c.learning_rate, config::Range{0.0, 1.0}, "Adam step size of actor, critics and entropy coefficient");
-  v.field("buffer_size", c.buffer_size, config::Range{1LL, 100'000'000LL}, "replay buffer capacity (transitions)");
-  v.field("learning_starts", c.learning_starts, config::Range{0LL, max_steps},
-          "env steps of uniform random actions before learning starts");
-  v.field("batch_size", c.batch_size, config::Range{1, 1'000'000}, "transitions per gradient step");
-  v.field("tau", c.tau, config::Range{0.0, 1.0}, "Polyak factor of the target critics per update");
-  v.field("gamma", c.gamma, config::Range{0.0, 1.0}, "discount factor");
-  v.field("train_freq", c.train_freq, config::Range{1, 1'000'000}, "env steps per env between training phases");
-  v.field("gradient_steps", c.gradient_steps, config::Range{1, 1'000'000}, "gradient steps per training phase");
+  describe_off_policy(v, c, "Adam step size of actor, critics and entropy coefficient",
+                      "Polyak factor of the target critics per update");
   v.field("auto_entropy", c.auto_entropy, "tune the entropy coefficient towards target_entropy (SB3's ent_coef \"auto\")");
   v.field("ent_coef", c.ent_coef, config::Range{1e-8, 1e4},
           "entropy coefficient alpha: its initial value with auto_entropy, else fixed");

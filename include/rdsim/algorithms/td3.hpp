@@ -6,6 +6,7 @@
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/network_config.hpp"
+#include "rdsim/algorithms/off_policy_config.hpp"
 #include "rdsim/core/config_fields.hpp"
 
 // Twin delayed deep deterministic policy gradient (algorithms/td3.cpp) for Box action spaces,
@@ -13,15 +14,7 @@
 namespace rdsim {
 
 // The "td3" object of a training config. Defaults: Stable-Baselines3's TD3.
-struct Td3Config {
-  double learning_rate = 1e-3;
-  long long buffer_size = 1000000;
-  long long learning_starts = 100;
-  int batch_size = 256;
-  double tau = 0.005;
-  double gamma = 0.99;
-  int train_freq = 1;
-  int gradient_steps = 1;
+struct Td3Config : OffPolicyConfig {
   bool twin_q = true;                // clipped double Q-learning (two critics)
   int policy_delay = 2;              // critic updates per actor (and target) update
   double target_policy_noise = 0.2;  // target policy smoothing: std of the noise on a'
@@ -45,16 +38,7 @@ struct DdpgConfig : Td3Config {
 template <class V, class C>
   requires config::Describes<C, Td3Config>
 void describe(V& v, C& c) {
-  constexpr long long max_steps = 1'000'000'000'000LL;
-  v.field("learning_rate", c.learning_rate, config::Range{0.0, 1.0}, "Adam step size of actor and critics");
-  v.field("buffer_size", c.buffer_size, config::Range{1LL, 100'000'000LL}, "replay buffer capacity (transitions)");
-  v.field("learning_starts", c.learning_starts, config::Range{0LL, max_steps},
-          "env steps of uniform random actions before learning starts");
-  v.field("batch_size", c.batch_size, config::Range{1, 1'000'000}, "transitions per gradient step");
-  v.field("tau", c.tau, config::Range{0.0, 1.0}, "Polyak factor of the target networks per actor update");
-  v.field("gamma", c.gamma, config::Range{0.0, 1.0}, "discount factor");
-  v.field("train_freq", c.train_freq, config::Range{1, 1'000'000}, "env steps per env between training phases");
-  v.field("gradient_steps", c.gradient_steps, config::Range{1, 1'000'000}, "gradient steps per training phase");
+  describe_off_policy(v, c, "Adam step size of actor and critics", "Polyak factor of the target networks per actor update");
   v.field("twin_q", c.twin_q, "two critics, targets from their minimum (false: one critic, DDPG)");
   v.field("policy_delay", c.policy_delay, config::Range{1, 1'000'000},
           "critic updates per actor and target update (1: every step, DDPG)");

@@ -5,8 +5,6 @@
 
 namespace rdsim {
 
-class DashboardServer;
-
 // `rdsim dashboard [RUNS_DIR...]`: serves the live dashboard (rdsim/dashboard/dashboard_server.hpp)
 // for the runs under the folders until interrupted (Ctrl-C) or, with serve_s > 0, for that long.
 struct DashboardCommandOptions {
@@ -16,9 +14,5 @@ struct DashboardCommandOptions {
   double serve_s = 0;                 // 0: until SIGINT/SIGTERM
 };
 int dashboard_command(const DashboardCommandOptions& options);
-
-// For `rdsim train --dashboard ADDR`: serves the run folder being trained from background threads
-// while the returned server lives; prints its address unless quiet. Empty `bind`: no server.
-std::unique_ptr<DashboardServer> start_run_dashboard(const std::string& bind, const std::string& run_dir, bool quiet);
 
 }  // namespace rdsim

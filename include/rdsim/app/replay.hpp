@@ -13,7 +13,7 @@ struct ReplayOptions {
   std::optional<std::uint64_t> seed;  // default: the model's training seed
   bool stochastic = false;            // sample actions instead of taking the most likely one
   std::string record_dir;             // write every frame as PNG here (empty: no recording)
-  std::optional<double> max_memory_gb;  // memory limit (app/memory_check.hpp)
+  std::optional<double> max_memory_gb;  // memory limit (training/memory_check.hpp)
   std::string video_path;             // write a video (.mp4 or .gif) with a caption per frame
   int video_fps = 20;
   int frame_every = 1;                // record/film every k-th step (and each episode's first and last)

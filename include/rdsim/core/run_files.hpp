@@ -13,7 +13,7 @@ namespace rdsim {
 inline constexpr const char* run_config_name = "config.json";    // the resolved config
 inline constexpr const char* progress_csv_name = "progress.csv";  // one row per update
 inline constexpr const char* episodes_csv_name = "episodes.csv";  // one row per finished episode
-inline constexpr const char* model_file_name = "model.bin";       // the policy (app/model_file.hpp)
+inline constexpr const char* model_file_name = "model.bin";       // the policy (training/model_file.hpp)
 inline constexpr const char* checkpoint_file_name = "checkpoint.bin";  // the model plus what --resume needs
 inline constexpr const char* pretrain_csv_name = "pretrain.csv";  // one row per epoch of learning from demonstrations
 

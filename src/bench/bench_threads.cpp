@@ -1,0 +1,197 @@
+// `rdsim bench-fps --threads N` / `--scaling`: total env steps/s of a VecEnv on 1..N threads,
+// the speed-up over one thread, and the pool's cost per env step against a plain loop, all
+// measured in one run with the runs of every thread count interleaved (so that a machine
+// whose load drifts slows them all alike).
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "bench_util.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
+#include "rdsim/vecenv/vec_env.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/vecenv/worker_pool.hpp"
+
+namespace rdsim::bench {
+namespace {
+
+constexpr std::uint64_t kSeed = 12345;
+
+// 1, 2, 4, ... and every core (--scaling); 1 and N (--threads N).
+std::vector<int> thread_counts(const BenchFpsOptions& o) {
+  std::vector<int> counts = {1};
+  if (o.scaling) {
+    const int cores = available_cores();
+    for (int t = 2; t < cores; t *= 2) counts.push_back(t);
+    if (cores > 1) counts.push_back(cores);
+  }
+  if (o.threads > 1 && std::find(counts.begin(), counts.end(), o.threads) == counts.end()) counts.push_back(o.threads);
+  std::sort(counts.begin(), counts.end());
+  return counts;
+}
+
+std::vector<std::unique_ptr<Env>> make_envs(const Case& c, int n) {
+  std::vector<std::unique_ptr<Env>> envs;
+  const EnvConfig config = row_config(c.entry->name, c.mode, c.image_size);
+  for (int i = 0; i < n; ++i) envs.push_back(c.entry->make(config));
+  return envs;
+}
+
+// The baseline: the same envs stepped one after another on this thread, each writing into its
+// batch column and reset when its episode ends, with no pool and no episode bookkeeping.
+class PlainLoop {
+public:
+  PlainLoop(std::vector<std::unique_ptr<Env>> envs) : envs_(std::move(envs)) {
+    batch_.resize(envs_.front()->spec().observation, static_cast<int>(envs_.size()));
+    for (std::size_t i = 0; i < envs_.size(); ++i)
+      envs_[i]->reset_into(batch_.column(static_cast<int>(i)), kSeed + i);
+  }
+  void step(const std::vector<Action>& actions) {
+    for (std::size_t i = 0; i < envs_.size(); ++i) {
+      const StepOutcome o = envs_[i]->step_into(actions[i], batch_.column(static_cast<int>(i)));
+      if (o.terminated || o.truncated) envs_[i]->reset_into(batch_.column(static_cast<int>(i)));
+    }
+  }
+
+private:
+  std::vector<std::unique_ptr<Env>> envs_;
+  ObservationBatch batch_;
+};
+
+// Training takes the finished episodes once per update; a VecEnv here every 256 steps as well.
+void take_episodes(PlainLoop&) {}
+void take_episodes(VecEnv& vec) { vec.episodes().take_finished(); }
+
+// Env steps per second of `batch_steps` steps of every env.
+template <class Stepper>
+double timed(Stepper& s, const std::vector<std::vector<Action>>& actions, long long batch_steps, int envs) {
+  const auto t0 = Clock::now();
+  for (long long k = 0; k < batch_steps; ++k) {
+    s.step(actions[static_cast<std::size_t>(k) % actions.size()]);
+    if (k % 256 == 255) take_episodes(s);
+  }
+  return static_cast<double>(batch_steps * envs) / seconds_since(t0);
+}
+
+struct ThreadRow {
+  int threads = 1;
+  bool processes = false;  // workers 2.. are processes
+  std::vector<double> runs;
+  double steps_per_s = 0;
+};
+
+struct CaseResult {
+  Case c;
+  int envs = 0;
+  std::vector<double> plain_runs;
+  double plain_per_s = 0;
+  std::vector<ThreadRow> rows;
+
+  // What VecEnv on one thread adds to each env step over the plain loop, in nanoseconds.
+  double overhead_ns() const { return 1e9 / rows.front().steps_per_s - 1e9 / plain_per_s; }
+};
+
+CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, const BenchFpsOptions& o) {
+  CaseResult result{c, envs, {}, 0, {}};
+  PlainLoop plain(make_envs(c, envs));
+  std::vector<std::unique_ptr<VecEnv>> vecs;
+  // Where training's env_workers "auto" picks processes, the same counts on threads too: the
+  // comparison in one run.
+  const bool processes = auto_env_workers(row_config(c.entry->name, c.mode, c.image_size)) == EnvWorkers::processes;
+  for (int t : counts) {
+    for (bool p : {false, true}) {
+      if (p && (t == 1 || !processes)) continue;
+      vecs.push_back(std::make_unique<VecEnv>(make_envs(c, envs), kSeed, 20, t,
+                                              p ? EnvWorkers::processes : EnvWorkers::threads));
+      result.rows.push_back({vecs.back()->num_threads(), p, {}, 0});
+    }
+  }
+  // Random actions drawn before any clock starts: up to 512 batches, reused in turn.
+  const long long batch_steps = std::max<long long>(1, (o.steps + envs - 1) / envs);
+  std::vector<std::vector<Action>> actions;
+  Rng rng = Rng::derive(kSeed, 1);
+  for (long long k = 0; k < std::min<long long>(batch_steps, 512); ++k) {
+    actions.emplace_back();
+    for (int i = 0; i < envs; ++i) actions.back().push_back(random_action(vecs.front()->spec().action, rng));
+  }
+  const long long warmup = std::max<long long>(batch_steps / 10, 10);
+  timed(plain, actions, warmup, envs);
+  for (auto& v : vecs) timed(*v, actions, warmup, envs);
+  for (int r = 0; r < o.runs; ++r) {
+    result.plain_runs.push_back(timed(plain, actions, batch_steps, envs));
+    for (std::size_t k = 0; k < vecs.size(); ++k) result.rows[k].runs.push_back(timed(*vecs[k], actions, batch_steps, envs));
+  }
+  result.plain_per_s = median(result.plain_runs);
+  for (auto& row : result.rows) row.steps_per_s = median(row.runs);
+  return result;
+}
+
+void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFpsOptions& o) {
+  std::fprintf(out, "\nrdsim bench-fps --%s: total env steps/s of a VecEnv, random actions, resets included\n",
+               o.scaling ? "scaling" : "threads");
+  std::fprintf(out, "median of %d runs x %lld env steps (all envs together), runs of every row interleaved; "
+               "%d cores available to this process\n\n", o.runs, o.steps, available_cores());
+  std::fprintf(out, "%-16s %-13s %9s %6s %11s %12s %9s %s\n", "env", "observation", "image", "envs", "workers",
+               "steps/s", "speed-up", "  as");
+  for (const auto& r : results) {
+    const std::string image = image_label(r.c.image_size);
+    std::fprintf(out, "%-16s %-13s %9s %6d %11s %12.0f %9s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
+                 image.c_str(), r.envs, "plain loop", r.plain_per_s, "-");
+    for (const auto& t : r.rows) {
+      const char* as = t.threads == 1 ? "" : t.processes ? "  this thread + processes" : "  threads";
+      std::fprintf(out, "%-16s %-13s %9s %6d %11d %12.0f %8.2fx%s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
+                   image.c_str(), r.envs, t.threads, t.steps_per_s, t.steps_per_s / r.rows.front().steps_per_s, as);
+    }
+  }
+  std::fprintf(out, "\nspeed-up: steps/s over those of 1 thread in the same run. plain loop: the same envs stepped "
+               "one after another\non one thread, no pool, no episode bookkeeping. workers: the training config's "
+               "num_threads; pixel envs drawn by osmesa\nare measured on threads and on worker processes (what "
+               "env_workers \"auto\" picks for them: Mesa's llvmpipe\ndraws one frame at a time per process). "
+               "Pool overhead per env step, "
+               "VecEnv on 1 thread vs the plain loop:\n");
+  for (const auto& r : results) {
+    std::fprintf(out, "  %-16s %-13s %9s %+8.0f ns (%.0f vs %.0f ns per env step)\n", r.c.entry->name.c_str(),
+                 r.c.mode.c_str(), image_label(r.c.image_size).c_str(), r.overhead_ns(),
+                 1e9 / r.rows.front().steps_per_s, 1e9 / r.plain_per_s);
+  }
+}
+
+nlohmann::json to_json(const std::vector<CaseResult>& results, const BenchFpsOptions& o) {
+  nlohmann::json j = {{"runs", o.runs}, {"steps_per_run", o.steps}, {"cores", available_cores()},
+                      {"rows", nlohmann::json::array()}};
+  for (const auto& r : results) {
+    nlohmann::json threads = nlohmann::json::array();
+    for (const auto& t : r.rows)
+      threads.push_back({{"threads", t.threads}, {"env_workers", t.processes ? "processes" : "threads"},
+                         {"steps_per_s", t.steps_per_s}, {"runs_steps_per_s", t.runs},
+                         {"speedup", t.steps_per_s / r.rows.front().steps_per_s}});
+    j["rows"].push_back({{"env", r.c.entry->name}, {"observation", r.c.mode},
+                         {"image_size", r.c.image_size > 0 ? nlohmann::json(r.c.image_size) : nlohmann::json(nullptr)},
+                         {"envs", r.envs}, {"plain_loop_steps_per_s", r.plain_per_s},
+                         {"plain_loop_runs_steps_per_s", r.plain_runs}, {"threads", threads},
+                         {"pool_overhead_ns_per_step", r.overhead_ns()}});
+  }
+  return j;
+}
+
+}  // namespace
+
+int threads_command(const std::vector<Case>& cases, const BenchFpsOptions& o) {
+  const std::vector<int> counts = thread_counts(o);
+  const int envs = o.num_envs > 0 ? o.num_envs : 4 * counts.back();
+  std::vector<CaseResult> results;
+  for (const Case& c : cases) {
+    announce(c);
+    try {
+      results.push_back(measure(c, counts, envs, o));
+    } catch (const Error& e) {
+      std::fprintf(stderr, "bench-fps: skipping %s / %s: %s\n", c.entry->name.c_str(), c.mode.c_str(), e.what());
+    }
+  }
+  if (results.empty()) throw Error("bench-fps: nothing could be measured for the given --env/--mode");
+  print(table_stream(o.json_path), results, o);
+  write_bench_json(o.json_path, to_json(results, o));
+  return 0;
+}
+
+}  // namespace rdsim::bench

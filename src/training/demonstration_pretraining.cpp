@@ -1,0 +1,42 @@
+#include "demonstration_pretraining.hpp"
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "rdsim/core/csv_writer.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/core/run_files.hpp"
+#include "rdsim/demos/demo_file.hpp"
+#include "rdsim/demos/demo_fit.hpp"
+#include "rdsim/envs/registry.hpp"
+
+namespace rdsim {
+
+void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const Spec& spec, bool resume,
+                               const std::filesystem::path& dir, bool quiet) {
+  const DemonstrationsConfig& dc = *config.algorithm.demonstrations;
+  const DemoFile demos = read_demo_file(dc.file);
+  check_demos_fit(demos, to_json(config.env), spec);
+  if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
+  Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);
+  const std::vector<Metrics> rows = algo.learn_from_demonstrations(demos, dc, rng, !resume);
+  if (rows.empty() || dir.empty()) return;
+  std::vector<std::string> columns;
+  for (const auto& [name, value] : rows.front()) columns.push_back(name);
+  CsvWriter log((dir / pretrain_csv_name).string(), columns);
+  for (const Metrics& row : rows) {
+    std::vector<std::string> cells;
+    for (const auto& [name, value] : row) cells.push_back(CsvWriter::cell(value));
+    log.write_row(cells);
+  }
+  if (!quiet) {
+    long long steps = 0;
+    for (const DemoEpisode& e : demos.episodes) steps += e.steps();
+    std::fprintf(stderr, "rdsim train: learnt from %zu demonstrated episodes (%lld steps) of %s: %zu epochs -> %s\n",
+                 demos.episodes.size(), steps, dc.file.c_str(), rows.size(), (dir / pretrain_csv_name).string().c_str());
+  }
+}
+
+}  // namespace rdsim

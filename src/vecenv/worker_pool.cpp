@@ -1,0 +1,120 @@
+#include "rdsim/vecenv/worker_pool.hpp"
+
+#include <chrono>
+#include <sched.h>
+
+#include "rdsim/core/error.hpp"
+
+namespace rdsim {
+namespace {
+
+inline void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
+// Polls `done()` for up to kSpinMicros; true when it became true in that time.
+template <class Done>
+bool spin_until(Done done) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::microseconds(WorkerPool::kSpinMicros);
+  for (int i = 1;; ++i) {
+    if (done()) return true;
+    cpu_relax();
+    if (i % 64 == 0 && Clock::now() > deadline) return done();
+  }
+}
+
+}  // namespace
+
+WorkerPool::WorkerPool(int threads) {
+  if (threads < 1) throw Error("WorkerPool: at least one thread expected, got " + std::to_string(threads));
+  errors_.resize(static_cast<std::size_t>(threads));
+  threads_.reserve(static_cast<std::size_t>(threads - 1));
+  for (int w = 1; w < threads; ++w) threads_.emplace_back([this, w] { worker_main(w); });
+}
+
+WorkerPool::~WorkerPool() {
+  if (threads_.empty()) return;
+  stop_.store(true);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    generation_.fetch_add(1);
+  }
+  job_ready_.notify_all();
+  for (auto& t : threads_) t.join();
+}
+
+void WorkerPool::run_erased(void (*call)(void*, int), void* job) {
+  if (threads_.empty()) {
+    call(job, 0);
+    return;
+  }
+  call_ = call;
+  job_ = job;
+  pending_.store(static_cast<int>(threads_.size()));
+  // seq_cst store then load; a worker stores sleepers_ then loads generation_: one of the two
+  // sides sees the other's write, so a worker that went to sleep is always woken.
+  generation_.fetch_add(1);
+  if (sleepers_.load() > 0) {
+    { std::lock_guard<std::mutex> lock(mutex_); }
+    job_ready_.notify_all();
+  }
+  try {
+    call(job, 0);
+  } catch (...) {
+    errors_[0] = std::current_exception();
+  }
+  if (!spin_until([this] { return pending_.load(std::memory_order_acquire) == 0; })) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    caller_sleeping_.store(true);
+    job_done_.wait(lock, [this] { return pending_.load() == 0; });
+    caller_sleeping_.store(false);
+  }
+  for (auto& e : errors_) {
+    if (e) {
+      std::exception_ptr first = e;
+      for (auto& x : errors_) x = nullptr;
+      std::rethrow_exception(first);
+    }
+  }
+}
+
+void WorkerPool::worker_main(int w) {
+  std::uint64_t seen = 0;
+  for (;;) {
+    if (!spin_until([&] { return generation_.load(std::memory_order_acquire) != seen; })) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      sleepers_.fetch_add(1);
+      job_ready_.wait(lock, [&] { return generation_.load() != seen; });
+      sleepers_.fetch_sub(1);
+    }
+    seen = generation_.load(std::memory_order_acquire);
+    if (stop_.load()) return;
+    try {
+      call_(job_, w);
+    } catch (...) {
+      errors_[static_cast<std::size_t>(w)] = std::current_exception();
+    }
+    if (pending_.fetch_sub(1) == 1 && caller_sleeping_.load()) {
+      { std::lock_guard<std::mutex> lock(mutex_); }
+      job_done_.notify_one();
+    }
+  }
+}
+
+int available_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) {
+    const int n = CPU_COUNT(&set);
+    if (n > 0) return n;
+  }
+  const unsigned n = std::thread::hardware_concurrency();
+  return n > 0 ? static_cast<int>(n) : 1;
+}
+
+}  // namespace rdsim
