@@ -27,6 +27,7 @@ public:
   // Nothing changes the weights after fitting, which every rank does alike (the run's
   // demonstrations stream, not the rank's) before rank 0's weights are shared.
   bool data_parallel() const override { return true; }
+  long long step_multiple(int num_envs) const override { return static_cast<long long>(cfg_.n_steps) * num_envs; }
 
   std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
                                                  bool pretrain) override {

@@ -16,6 +16,16 @@
 #include "rdsim/video/frame_capture.hpp"
 
 namespace rdsim {
+namespace {
+
+// How the header line names where a model trained on remote envs runs.
+std::string where_replayed(const std::string& trained_on, bool remote) {
+  if (trained_on.empty()) return "";
+  if (remote) return ", on the server " + trained_on;
+  return ", on a local env (trained on the server " + trained_on + "; --remote replays there)";
+}
+
+}  // namespace
 
 int replay_command(const ReplayOptions& o) {
   const ModelFile file = read_model_file(o.model_path);
@@ -24,6 +34,10 @@ int replay_command(const ReplayOptions& o) {
   if (o.frame_width > 0) config.env.render_width = o.frame_width;
   if (o.frame_height > 0) config.env.render_height = o.frame_height;
   config.num_envs = 1;
+  // config.env holds the values the server used, so a local env is the same env: the weights replay
+  // without the server (it may be stopped, or the keys elsewhere).
+  const std::string trained_on = config.remote.remote;
+  if (!o.remote) config.remote = RemoteEnvConfig{};
   check_memory(estimate_training_memory(config, config_spec(config)), memory_limit(o.max_memory_gb), o.model_path);
   auto env = open_env(config.env, config.remote);
   check_model_spec(file, env->spec(), o.model_path);
@@ -40,9 +54,9 @@ int replay_command(const ReplayOptions& o) {
   // Environments without a step limit still end: a policy that never fails stops here.
   const long long step_cap = env->spec().max_episode_steps > 0 ? env->spec().max_episode_steps : 1'000'000;
   double sum_return = 0, sum_length = 0, successes = 0;
-  std::printf("%s (%s on %s), %d episode%s, %s actions\n", o.model_path.c_str(), config.algorithm.name().c_str(),
-              config.env.name.c_str(), o.episodes, o.episodes == 1 ? "" : "s",
-              o.stochastic ? "sampled" : "deterministic");
+  std::printf("%s (%s on %s), %d episode%s, %s actions%s\n", o.model_path.c_str(), config.algorithm.name().c_str(),
+              config.env.name.c_str(), o.episodes, o.episodes == 1 ? "" : "s", o.stochastic ? "sampled" : "deterministic",
+              where_replayed(trained_on, o.remote).c_str());
   for (int k = 0; k < o.episodes; ++k) {
     Observation obs = k == 0 ? env->reset(seed) : env->reset();
     frames.start_episode(k + 1);
@@ -98,6 +112,9 @@ Command replay_command_entry() {
             cmd.add_option("--every", o.frame_every, "Keep every k-th step's frame (--record, --video)")
                 ->check(CLI::Range(1, 1000000))
                 ->capture_default_str();
+            cmd.add_flag("--remote", o.remote,
+                         "A model trained on remote envs: replay on the server its config names (default: a local env, "
+                         "the same env the server ran)");
             cmd.add_option("--width", o.frame_width, "Frame width (default: the config's env.render_width)")->check(CLI::Range(8, 4096));
             cmd.add_option("--height", o.frame_height, "Frame height (default: env.render_height)")->check(CLI::Range(8, 4096));
             return [l, &cmd] {

@@ -60,7 +60,10 @@ void load_keys(const std::string& dir, remote::ServerOptions& o) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(clients, ec))
     if (entry.is_regular_file() && entry.path().extension() == ".key")
+    {
       o.authorised.push_back(remote::read_public_key(entry.path().string()));
+      o.key_names[o.authorised.back()] = entry.path().filename().string();  // the log names clients so
+    }
   if (o.authorised.empty())
     throw Error(clients.string() + ": no client public keys (*.key) in it: copy there the NAME.key of each client "
                                    "allowed in (rdsim keygen NAME)");

@@ -55,7 +55,9 @@ Command train_command_entry() {
             config->excludes(resume);
             resume->excludes(config);
             cmd.add_option("--seed", l->seed, "Override the config's seed (integer in [0, 2^64 - 1])")->type_name("INT");
-            cmd.add_option("--timesteps", l->timesteps, "Override the config's total_timesteps (integer in [1, 1e12])")->type_name("INT");
+            cmd.add_option("--timesteps", l->timesteps, "Override the config's total_timesteps (integer in [1, 1e12]); the run ends after the update that reaches it, so it "
+                           "rounds up to whole updates (PPO, A2C, TRPO, BC: rollouts of n_steps x num_envs; ARS, CMA-ES: "
+                           "whole episodes; the others: one step of every env), as the start and the summary say")->type_name("INT");
             cmd.add_option("--log-dir", l->log_dir, "Override the config's log_dir (the run folder)");
             cmd.add_flag("--overwrite", o.overwrite, "Delete another run's files in the run folder first (else refused)");
             cmd.add_option("--max-memory", l->max_memory,
@@ -65,7 +67,7 @@ Command train_command_entry() {
                            "Override the config's num_threads (workers stepping the envs: threads, "
                            "or for pixel envs processes; results do not depend on it)")
                 ->check(CLI::Range(1, 4096));
-            cmd.add_flag("-q,--quiet", o.quiet, "No progress line");
+            cmd.add_flag("-q,--quiet", o.quiet, "No progress line (the summary line stays)");
             cmd.footer("Data-parallel on several processes or machines: mpirun -np K rdsim train --config FILE "
                        "(each rank its own envs; total_timesteps counts all ranks; rank 0 writes the run folder).");
             cmd.add_option("--dashboard", o.dashboard,

@@ -11,6 +11,7 @@
 
 #include "demo_layout.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/files.hpp"
 #include "rdsim/core/input_file.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/demos/demo_fit.hpp"
@@ -46,6 +47,7 @@ int create_locked(const std::string& path, const std::string& bytes) {
   name += target.filename().string();
   name += ".XXXXXX.tmp";
   std::string tmp = (dir / name).string();
+  create_parent_folders(path);  // like every other output file: its folder is made
   const int fd = ::mkstemps(tmp.data(), 4);
   if (fd < 0) throw Error(path + ": cannot create: " + std::strerror(errno));
   const auto fail = [&](const char* what) {

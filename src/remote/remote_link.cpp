@@ -2,7 +2,9 @@
 
 #include <atomic>
 #include <cerrno>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <optional>
 
@@ -25,6 +27,10 @@ zmq::context_t& client_context() {
 // ms a call waits for its reply before it looks at the monitor (a refused key, a lost server)
 // and at its deadline; replies themselves wake it at once.
 constexpr int kWaitSliceMs = 50;
+// s a new link waits for its TCP connection (ZeroMQ retries a refused one every 100 ms): an absent
+// server is reported after this, not after the reply timeout; a server started a moment later
+// (`rdsim serve &` then a client) still gets in.
+constexpr double kConnectSeconds = 3.0;
 
 std::string next_monitor_endpoint() {
   static std::atomic<long long> counter{0};
@@ -36,6 +42,9 @@ std::string next_monitor_endpoint() {
 RemoteLink::RemoteLink(const RemoteEnvConfig& config)
     : endpoint_(config.remote),
       timeout_(config.remote_timeout),
+      connect_deadline_(std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(std::min(config.remote_timeout, kConnectSeconds)))),
       socket_(client_context(), zmq::socket_type::dealer),
       monitor_(client_context(), zmq::socket_type::pair) {
   if (!config.server_key.empty()) {
@@ -52,7 +61,8 @@ RemoteLink::RemoteLink(const RemoteEnvConfig& config)
   socket_.set(zmq::sockopt::rcvtimeo, kWaitSliceMs);
   const std::string monitor = next_monitor_endpoint();
   if (zmq_socket_monitor(socket_.handle(), monitor.c_str(),
-                         ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL | ZMQ_EVENT_DISCONNECTED) != 0)
+                         ZMQ_EVENT_HANDSHAKE_FAILED_AUTH | ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL | ZMQ_EVENT_DISCONNECTED |
+                             ZMQ_EVENT_CONNECTED | ZMQ_EVENT_CONNECT_RETRIED) != 0)
     throw Error(std::string("remote env: cannot monitor the socket: ") + zmq_strerror(zmq_errno()));
   monitor_.connect(monitor);
   try {
@@ -82,6 +92,8 @@ void RemoteLink::check_monitor() {
     if (event.more()) (void)monitor_.recv(address);
     std::uint16_t kind = 0;
     if (event.size() >= 2) std::memcpy(&kind, event.data(), 2);
+    if (kind == ZMQ_EVENT_CONNECTED) connected_ = true;
+    if (kind == ZMQ_EVENT_CONNECT_RETRIED) refused_ = true;
     if (kind == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH)
       throw Error(endpoint_ + ": the server refused this client's key (its public key is not in the server's authorised "
                               "folder)");
@@ -124,6 +136,10 @@ Message RemoteLink::wait_reply(long long id) {
     }
     if (!received) {
       check_monitor();
+      if (!connected_ && !replied_ && Clock::now() >= connect_deadline_)
+        throw Error(endpoint_ + ": " + (refused_ ? "connection refused" : "no connection") + " after " +
+                    std::to_string(static_cast<long long>(std::ceil(std::min(timeout_, kConnectSeconds)))) +
+                    " s: is `rdsim serve` running there?");
       if (Clock::now() >= deadline)
         throw Error(endpoint_ + ": no reply within " + std::to_string(static_cast<long long>(timeout_)) +
                     " s (is `rdsim serve` running there" + (curve_ ? ", and is server_key its public key?" : "?") + ")");

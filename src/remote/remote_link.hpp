@@ -1,6 +1,7 @@
 #pragma once
 #include <zmq.hpp>
 
+#include <chrono>
 #include <string>
 
 #include "rdsim/remote/message.hpp"
@@ -12,8 +13,8 @@ namespace rdsim::remote {
 
 class RemoteLink {
 public:
-  // Loads the key files and connects (ZeroMQ connects in the background: a wrong address or a
-  // refused key shows at the first call).
+  // Loads the key files and connects (ZeroMQ connects in the background: a wrong address, an
+  // absent server (within a few seconds) or a refused key shows at the first call).
   explicit RemoteLink(const RemoteEnvConfig& config);
   ~RemoteLink();
 
@@ -36,11 +37,14 @@ private:
 
   std::string endpoint_;
   double timeout_;
+  std::chrono::steady_clock::time_point connect_deadline_;  // report an absent server after this
   zmq::socket_t socket_;
   zmq::socket_t monitor_;
   long long next_id_ = 1;
   bool curve_ = false;
   bool replied_ = false;  // a reply came on this connection
+  bool connected_ = false;  // the TCP connection is up (a monitor event)
+  bool refused_ = false;    // a connection attempt failed and is retried (nothing listens there)
 };
 
 }  // namespace rdsim::remote

@@ -66,6 +66,7 @@ struct Server::Impl {
   zmq::socket_t monitor{context, zmq::socket_type::pair};
   std::string endpoint;
   std::set<std::string> authorised;  // raw 32-byte public keys
+  std::map<std::string, std::string> key_names;  // raw 32-byte public key -> its name in the log
 
   struct Entry {
     std::unique_ptr<Session> session;
@@ -131,6 +132,7 @@ Server::Server(ServerOptions options) : impl_(std::make_unique<Impl>()) {
   } else {
     if (!zmq_has("curve")) throw Error("serve: this libzmq was built without CurveZMQ");
     for (const std::string& k : o.authorised) s.authorised.insert(raw_key(k));
+    for (const auto& [k, name] : o.key_names) s.key_names[raw_key(k)] = name;
     // The ZAP handler must be bound before the socket that consults it.
     s.zap.bind(kZapEndpoint);
     s.router.set(zmq::sockopt::curve_server, 1);
@@ -239,8 +241,9 @@ void Server::Impl::serve_zap(const std::atomic<bool>& stop) {
     std::string user;
     if (mechanism == "CURVE" && f.size() > 6 && f[6].size() == 32) {
       const std::string key(static_cast<const char*>(f[6].data()), 32);
-      user = z85(key.data());
       ok = authorised.count(key) > 0;
+      const auto name = key_names.find(key);
+      user = ok && name != key_names.end() ? name->second : z85(key.data());
       if (!ok) {
         count(&ServerStats::refused);
         log("refused client key " + user + " from " + address + ": not an authorised key");

@@ -91,7 +91,9 @@ void ProgressDisplay::show(long long t, long long total, const EpisodeStats& sta
                            bool force) {
   if (quiet_) return;
   if (!force && wall - last_ < (tty_ ? 0.1 : 10.0)) return;
+  if (force && shown_ && t == last_t_) return;  // the last line is already on screen (a run of one update)
   last_ = wall;
+  last_t_ = t;
   if (tty_) {
     std::fprintf(out_, "\r%s\x1b[K", terminal_line(t, total, stats, sps, terminal_width()).c_str());
   } else {

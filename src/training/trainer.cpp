@@ -60,6 +60,39 @@ LoopDecision agree(Communicator& comm, int signal, bool save_due) {
   return d;
 }
 
+// The step count a run of `total` steps ends on: the loop stops after the first update that reaches
+// `total`, and every update ends on a multiple of `multiple` steps per rank (Algorithm::
+// step_multiple; 0: none known in advance). Ranks in lockstep take the same steps each.
+long long planned_timesteps(long long total, long long multiple, int ranks) {
+  if (multiple <= 0) return total;
+  const long long all = multiple * ranks;
+  return (total + all - 1) / all * all;
+}
+
+// "20480 timesteps (total_timesteps 20000 rounded up to whole rollouts of ...)".
+std::string summary_steps(long long steps, long long total, const std::string& rounding) {
+  std::string text = std::to_string(steps) + " timesteps";
+  if (steps > total)
+    text += " (total_timesteps " + std::to_string(total) + " rounded up to " +
+            (rounding.empty() ? std::string("whole episodes") : rounding) + ")";
+  return text;
+}
+
+// "last 100 episodes: success 0.93, mean return -36.56".
+std::string summary_stats(const EpisodeStats& s) {
+  if (s.count == 0) return "no episode ended";
+  char text[160];
+  std::snprintf(text, sizeof text, "last %d episode%s: success %.2f, mean return %.2f", s.count, s.count == 1 ? "" : "s",
+                s.success_rate, s.mean_return);
+  return text;
+}
+
+// What one update's steps are, for the start note and the summary.
+std::string update_unit(long long multiple, int num_envs) {
+  if (multiple == num_envs) return "whole steps of all " + std::to_string(num_envs) + " envs";
+  return "whole rollouts of " + std::to_string(multiple) + " steps (n_steps x num_envs)";
+}
+
 }  // namespace
 
 void TrainerSettings::set_seed(std::uint64_t seed) { overrides.push_back({"seed", "seed", std::to_string(seed)}); }
@@ -88,6 +121,9 @@ struct Trainer::Run {
   // total_timesteps counts the steps of all ranks (the gradient methods' ranks step in lockstep,
   // each its share; the population methods' do not). `steps`: the run's, the same on every rank.
   long long total = 0, rank_total = 0, steps = 0;
+  // The steps the run ends on: total rounded up to whole updates (planned_timesteps), and how.
+  long long target = 0;
+  std::string rounding;  // "whole rollouts of 2048 steps (n_steps x num_envs)"; empty: whole episodes
   std::optional<CheckpointSchedule> schedule;
   std::optional<ProgressDisplay> display;
   long long start_steps = 0, last_steps = 0;
@@ -149,7 +185,7 @@ void Trainer::Run::write_progress(const Metrics& metrics, long long allreduce_by
   tensorboard->scalars(steps, scalars_of_row(progress->columns(), row));
   tensorboard->flush();
   overall_sps = wall > start_wall ? static_cast<double>(steps - start_steps) / (wall - start_wall) : 0.0;
-  display->show(steps, total, s, overall_sps, wall);
+  display->show(steps, target, s, overall_sps, wall);
 }
 
 Trainer::Trainer(TrainerSettings settings) : settings_(std::move(settings)) {}
@@ -220,6 +256,12 @@ void Trainer::start() {
   r.total = config.total_timesteps;
   r.rank_total = (r.total + r.ranks - 1) / r.ranks;
   r.steps = run_timesteps(comm, *r.vec);
+  const long long multiple = r.algo->lockstep() ? r.algo->step_multiple(r.vec->size()) : 0;
+  r.target = std::max(planned_timesteps(r.total, multiple, r.ranks), r.steps);
+  if (multiple > 0) r.rounding = update_unit(multiple, r.vec->size()) + (r.ranks > 1 ? " on each of " + std::to_string(r.ranks) + " ranks" : "");
+  if (r.root && !settings_.quiet && r.target != r.total && r.steps < r.total)
+    std::fprintf(stderr, "rdsim train: total_timesteps %lld rounds up to %lld: an update takes %s\n", r.total, r.target,
+                 r.rounding.c_str());
   if (r.root) {
     r.tensorboard = std::make_unique<EventWriter>(r.start.folder->path().string());
     // A resumed run: TensorBoard drops the earlier files' points after the checkpoint (the rows
@@ -302,17 +344,16 @@ TrainResult Trainer::finish() {
   result.checkpoint_path = r.file(checkpoint_file_name);
   result.episodes = r.run_episodes->episodes(*r.vec);
   result.stats = r.run_episodes->stats(*r.vec);
-  r.display->show(r.steps, r.total, result.stats, r.overall_sps, result.wall_time, true);
+  r.display->show(r.steps, r.target, result.stats, r.overall_sps, result.wall_time, true);
   r.display->finish();
   if (r.decision.signal) {
     std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
                  r.steps, r.total, result.checkpoint_path.c_str(), result.model_path.c_str(), result.run_dir.c_str());
-  } else if (!settings_.quiet) {
+  } else {
     const TrainConfig& config = r.start.config;
-    std::printf("rdsim train: %s on %s, %lld timesteps, %lld episodes, mean return of the last %d: %.2f, "
-                "%.1f s -> %s\n",
-                config.algorithm.name().c_str(), config.env.name.c_str(), r.steps, result.episodes, result.stats.count,
-                result.stats.mean_return, result.wall_time, result.model_path.c_str());
+    std::printf("rdsim train: %s on %s, %s, %lld episodes, %s, %.1f s -> %s\n", config.algorithm.name().c_str(),
+                config.env.name.c_str(), summary_steps(r.steps, r.total, r.rounding).c_str(), result.episodes,
+                summary_stats(result.stats).c_str(), result.wall_time, result.model_path.c_str());
     if (r.ranks > 1) {
       const Communicator::Traffic& a = r.comm->allreduce_traffic();
       std::printf("rdsim train: %d MPI ranks x %d envs (%d threads each); rank 0 allreduced %lld bytes in %lld calls "

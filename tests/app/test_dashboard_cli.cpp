@@ -62,7 +62,7 @@ TEST_CASE("train --dashboard serves the run being trained from the same process"
   std::string rest;
   while (std::fgets(line, sizeof line, pipe)) rest += line;
   CHECK(::pclose(pipe) == 0);
-  CHECK_THAT(rest, Contains("30208/30000 steps (100%)"));
+  CHECK_THAT(rest, Contains("30208/30208 steps (100%)"));
   CHECK(http_get(port, "/api/runs").empty());  // it stopped with the training
 }
 

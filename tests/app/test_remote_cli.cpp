@@ -5,7 +5,14 @@
 #include <nlohmann/json.hpp>
 #include <sys/stat.h>
 
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <regex>
+#include <thread>
+
 #include "../remote/remote_test_util.hpp"
+#include "process_util.hpp"
 #include "rl_test_util.hpp"
 
 using Catch::Matchers::Contains;
@@ -29,6 +36,20 @@ std::string jaka_config(const ScratchDir& dir, const std::string& name, const st
 nlohmann::json without_link_keys(nlohmann::json config) {
   for (const char* key : {"remote", "server_key", "client_key", "remote_timeout"}) config["env"].erase(key);
   return config;
+}
+
+std::vector<std::string> split_serve_args() { return {"serve", "--insecure", "--bind", "tcp://127.0.0.1:*"}; }
+
+// The address `rdsim serve` prints on start ("listening on tcp://127.0.0.1:PORT"); empty if none within 30 s.
+std::string wait_for_endpoint(const std::string& out_path) {
+  const std::regex listening("listening on (tcp://127\\.0\\.0\\.1:[0-9]+)");
+  for (int i = 0; i < 3000; ++i) {
+    std::smatch m;
+    const std::string out = rltest::slurp(out_path);
+    if (std::regex_search(out, m, listening)) return m[1];
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return "";
 }
 
 }  // namespace
@@ -125,4 +146,65 @@ TEST_CASE("bench-remote: every row measured, the VecEnv rows against the same lo
     }
   }
   CHECK(j["rows"][4]["observation"] == "raw pixels 16x16");
+}
+
+// A model trained through `rdsim serve` replays on a local env by default: from another folder,
+// with the server stopped, episode by episode as with the server (--remote).
+TEST_CASE("replay: a model trained through rdsim serve replays locally from another folder with the server stopped",
+          "[cli][remote]") {
+  ScratchDir dir("cli_remote_replay");
+  std::filesystem::create_directories(dir.path / "elsewhere");
+  proctest::Child server = proctest::start(split_serve_args(), dir / "serve.out", dir / "serve.err");
+  const std::string endpoint = wait_for_endpoint(dir / "serve.out");
+  REQUIRE(!endpoint.empty());
+  const std::string config = jaka_config(dir, "remote", "\"remote\": \"" + endpoint + "\"", 2048);
+  auto r = run_rdsim("train --quiet --config " + config + " --log-dir " + (dir / "run"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string model = dir / "run/model.bin";
+  // With the server: --remote.
+  r = run_rdsim("replay " + model + " -n 2 --remote", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("on the server " + endpoint));
+  const std::string through_server = r.out.substr(r.out.find('\n') + 1);
+  ::kill(server.pid, SIGTERM);
+  CHECK(proctest::wait(server, std::chrono::seconds(30)).exit_code == 0);
+  // Without it, from another folder: the same episodes.
+  r = rltest::run_captured("cd " + (dir / "elsewhere") + " && " + RDSIM_BINARY, "replay ../run/model.bin -n 2", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("on a local env (trained on the server " + endpoint + "; --remote replays there)"));
+  CHECK(r.out.substr(r.out.find('\n') + 1) == through_server);
+  // --remote with the server gone: said at once (not after remote_timeout's 60 s), naming the address.
+  const auto start = std::chrono::steady_clock::now();
+  r = run_rdsim("replay " + model + " -n 1 --remote", dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains(endpoint + ": connection refused after 3 s: is `rdsim serve` running there?"));
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(30));
+}
+
+TEST_CASE("train: key file paths of a remote env are recorded absolute, found from any folder", "[cli][remote]") {
+  ScratchDir dir("cli_remote_keys");
+  rdsim::test::Scratch keydir("cli_remote_keys_files");
+  rdsim::test::TestKeys keys(keydir);
+  rdsim::test::ServerThread server(rdsim::test::curve_options(keys));
+  // Keys named relative to the folder rdsim runs in (here: the key folder's parent).
+  const std::filesystem::path server_key(keys.server_public), client_key(keys.client_secret);
+  const std::filesystem::path base = server_key.parent_path().parent_path();
+  const std::string config = jaka_config(dir, "remote",
+                                         "\"remote\": \"" + server.endpoint() + "\", \"server_key\": \"" +
+                                             std::filesystem::relative(server_key, base).string() + "\", \"client_key\": \"" +
+                                             std::filesystem::relative(client_key, base).string() + "\"",
+                                         1024);
+  auto r = rltest::run_captured("cd " + base.string() + " && " + RDSIM_BINARY,
+                                "train --quiet --config " + config + " --log-dir " + (dir / "run"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto recorded = nlohmann::json::parse(rltest::slurp(dir / "run/config.json"));
+  CHECK(recorded["env"]["server_key"] == std::filesystem::absolute(server_key).lexically_normal().string());
+  CHECK(recorded["env"]["client_key"] == std::filesystem::absolute(client_key).lexically_normal().string());
+  // From the test's folder, through the server: the recorded paths resolve.
+  r = run_rdsim("replay " + (dir / "run/model.bin") + " -n 1 --remote", dir);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
 }

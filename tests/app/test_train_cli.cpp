@@ -53,7 +53,8 @@ TEST_CASE("train: same config and seed give identical logs, the run folder has e
   for (const char* run : {"a", "b"}) {
     const auto r = run_rdsim("train --quiet --config " + config + " --log-dir " + (dir / run), dir);
     REQUIRE(r.exit_code == 0);
-    CHECK(r.out.empty());
+    CHECK(rltest::lines(r.out).size() == 1);  // the summary, which --quiet keeps
+    CHECK(r.err.empty());                     // no progress line
   }
   for (const char* file : {"progress.csv", "episodes.csv", "config.json", "model.bin", "checkpoint.bin"}) {
     CHECK(std::filesystem::exists(dir.path / "a" / file));
@@ -70,6 +71,36 @@ TEST_CASE("train: same config and seed give identical logs, the run folder has e
   REQUIRE(r.exit_code == 0);
   CHECK(rltest::drop_columns(rltest::slurp(dir / "c/progress.csv"), 2) != rltest::drop_columns(pa, 2));
   CHECK_THAT(rltest::slurp(dir / "c/config.json"), Contains("\"seed\": 4"));
+}
+
+TEST_CASE("train: the summary has success and the model, the rounding to whole rollouts is said", "[cli]") {
+  ScratchDir dir("cli_summary");
+  const std::string config = short_ppo(dir);  // rollouts of 64 steps x 4 envs
+  auto r = run_rdsim("train --config " + config + " --timesteps 3000 --log-dir " + (dir / "run"), dir);
+  REQUIRE(r.exit_code == 0);
+  INFO(r.err);
+  CHECK_THAT(r.err, Contains("rdsim train: total_timesteps 3000 rounds up to 3072: an update takes whole rollouts of 256 "
+                             "steps (n_steps x num_envs)"));
+  CHECK_THAT(r.err, Contains("3072/3072 steps (100%)"));
+  CHECK(r.err.find("/3000") == std::string::npos);
+  const auto out = rltest::lines(r.out);
+  REQUIRE(out.size() == 1);
+  CHECK_THAT(out[0], StartsWith("rdsim train: ppo on cartpole, 3072 timesteps (total_timesteps 3000 rounded up to whole "
+                                "rollouts of 256 steps (n_steps x num_envs)), "));
+  CHECK_THAT(out[0], Contains(" episodes, last 20 episodes: success "));
+  CHECK_THAT(out[0], Contains(", mean return "));
+  CHECK_THAT(out[0], Contains(" s -> " + (dir / "run/model.bin")));
+  // --quiet: the same summary, no progress line; a whole number of rollouts is not called rounded.
+  r = run_rdsim("train --quiet --config " + config + " --timesteps 256 --log-dir " + (dir / "quiet"), dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.empty());
+  CHECK_THAT(r.out, StartsWith("rdsim train: ppo on cartpole, 256 timesteps, "));
+  CHECK_THAT(r.out, Contains(" -> " + (dir / "quiet/model.bin")));
+  // One update: its progress line is also the last, shown once.
+  r = run_rdsim("train --config " + config + " --timesteps 256 --log-dir " + (dir / "one"), dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, StartsWith("256/256 steps (100%)"));
 }
 
 TEST_CASE("train --resume continues a run exactly like an uninterrupted one", "[cli]") {

@@ -1,6 +1,8 @@
 // Key files as `rdsim keygen` writes them, and the link keys of a config's "env" object.
 #include <catch2/catch.hpp>
 
+#include <filesystem>
+
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sys/stat.h>
@@ -84,7 +86,9 @@ TEST_CASE("env link keys: read beside the env's own keys, checked, written back 
   CHECK(c.remote == "tcp://lab:7777");
   CHECK(c.remote_timeout == 60.0);
   write_remote_env_config(c, out);
-  CHECK(out["server_key"] == "s.key");
+  // Recorded absolute (taken from the current folder), so the run's files find it from anywhere.
+  CHECK(out["server_key"] == (std::filesystem::current_path() / "s.key").string());
+  CHECK(out["client_key"] == (std::filesystem::current_path() / "c.key_secret").string());
   CHECK(out["remote_timeout"] == 60.0);
   CHECK_THROWS_WITH(read_link({{"server_key", "s.key"}}), Contains("run.json: env.server_key: only with \"remote\""));
   CHECK_THROWS_WITH(read_link({{"remote", "tcp://lab:7777"}, {"server_key", "s.key"}}),

@@ -46,6 +46,8 @@ class PythonClientTest(unittest.TestCase):
         shutil.rmtree(cls.dir, ignore_errors=True)
         assert status == 0, f"rdsim serve exited with {status}:\n{log}"
         assert "stopped after" in log, log
+        # Clients are logged by their key file's name in DIR/clients/, not by the raw Z85 key.
+        assert "opened: jaka_button for client alice.key from 127.0.0.1" in log, log
 
     def env(self, config, key=None, timeout=30.0):
         return RemoteEnv(self.server.address, config, server_key=self.server_key, client_key=key or self.alice,

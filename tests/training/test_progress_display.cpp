@@ -121,3 +121,17 @@ TEST_CASE("progress: quiet shows nothing", "[progress]") {
   CHECK(contents(f).empty());
   std::fclose(f);
 }
+
+TEST_CASE("progress: a first line that is also the last is shown once", "[progress]") {
+  for (const bool tty : {false, true}) {
+    std::FILE* f = std::tmpfile();
+    rdsim::ProgressDisplay display(false, f, tty);
+    display.show(2048, 2048, {}, 1000, 2.0);        // the run's only update
+    display.show(2048, 2048, {}, 1000, 2.1, true);  // the end of the run
+    display.finish();
+    const std::string text = contents(f);
+    std::fclose(f);
+    INFO(text);
+    CHECK(text.find("2048/2048 steps") == text.rfind("2048/2048 steps"));
+  }
+}

@@ -105,6 +105,12 @@ public:
   // gradient methods: n_steps, train_freq), so that the run's steps are K x a rank's. The
   // population methods' ranks run different whole episodes (policy_search.hpp).
   virtual bool lockstep() const { return true; }
+  // The step count an update ends on: after every update a process's env steps are a multiple of
+  // it, so the last update rounds total_timesteps up to one (the training loop says so). Default:
+  // `num_envs` (one VecEnv step steps every env; the last collection phase stops at the goal,
+  // TrainProgress::phase_steps). Whole rollouts: n_steps x num_envs. 0: no fixed multiple (whole
+  // episodes, the population methods).
+  virtual long long step_multiple(int num_envs) const { return num_envs; }
   // Every weight the ranks must share: rank 0 broadcasts them before the first update, and the
   // loop compares their hash across ranks. Default: the model (save/load without training state);
   // an algorithm whose model leaves out trained networks (critics, targets) adds them.

@@ -17,6 +17,7 @@ public:
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
   // PPO and A2C average every minibatch's gradients over the ranks (average_gradients below).
   bool data_parallel() const override { return true; }
+  long long step_multiple(int num_envs) const override { return static_cast<long long>(settings_.n_steps) * num_envs; }
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
   // Pre-trains the actor (and with fit_critic the critic) on the demonstrations (behavior_cloning.hpp).

@@ -26,6 +26,7 @@ public:
   // from the same stream, evaluates its slice and makes the same update from all returns.
   bool data_parallel() const override { return true; }
   bool lockstep() const override { return false; }
+  long long step_multiple(int) const override { return 0; }  // whole episodes
   // Model: the policy's parameters and the observation statistics. Checkpoint: those, the
   // perturbation stream and the method's own state (save_search).
   void save(std::ostream& out, bool training_state) const override;

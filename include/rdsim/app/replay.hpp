@@ -18,6 +18,7 @@ struct ReplayOptions {
   int video_fps = 20;
   int frame_every = 1;                // record/film every k-th step (and each episode's first and last)
   int frame_width = 0, frame_height = 0;  // frame size; 0: env.render_width/height of the model's config
+  bool remote = false;  // a model trained on remote envs: replay on that server (default: a local env)
 };
 int replay_command(const ReplayOptions& options);
 

@@ -38,7 +38,9 @@ void describe(V& v, C& c) {
 // Reads the link keys of an "env" object (only those: read_env_config reads the rest and its
 // finish() rejects unknown keys). Checks that the link keys come with "remote", that both key
 // files or neither are given, that the address is tcp://HOST:PORT, and that a non-loopback
-// server gets keys (plain text is loopback only). rdsim::Error naming the key otherwise.
+// server gets keys (plain text is loopback only). rdsim::Error naming the key otherwise. Key file
+// paths come back absolute (relative ones are taken from the current folder), so that a run's
+// config.json and model files find the keys from any folder.
 RemoteEnvConfig read_remote_env_config(ConfigReader& env);
 
 // Adds the link keys to a resolved "env" object when the env is remote.

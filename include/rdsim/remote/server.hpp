@@ -2,6 +2,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,6 +39,9 @@ struct ServerOptions {
   std::string bind = "tcp://127.0.0.1:7777";  // port * = any free port (see Server::endpoint)
   std::optional<CurveKeyPair> keys;           // the server's pair; none = plain text
   std::vector<std::string> authorised;        // client public keys (Z85) allowed in
+  // What the log calls an authorised key (rdsim serve: its file's name in DIR/clients/, e.g.
+  // "alice.key"), by Z85 public key; a key without one is logged as its Z85 text.
+  std::map<std::string, std::string> key_names;
   bool insecure = false;                      // allow plain text (loopback addresses only)
   int max_sessions = 16;
   double idle_timeout = 300.0;                // s without a request before a session is closed

@@ -8,8 +8,9 @@
 // The progress `rdsim train` shows on stderr. On a terminal: one line rewritten in place, at most
 // ten times a second, with a bar, the percentage, steps, success rate, mean return, steps/s and the
 // time left, fitted to the terminal's width. Otherwise (a log file, a pipe): a plain line every
-// 10 s. The last line (force) is always shown and reads 100% once the run reached its total; the
-// percentage is rounded down, so 100% means done.
+// 10 s. The last line (force) is shown unless the same steps' line already is, and reads 100% once
+// the run reached its total (the trainer passes the steps the run ends on: total_timesteps rounded up
+// to whole updates); the percentage is rounded down, so 100% means done.
 namespace rdsim {
 
 class ProgressDisplay {
@@ -33,6 +34,7 @@ private:
   std::FILE* out_;
   bool shown_ = false;
   double last_ = -1e9;
+  long long last_t_ = -1;  // the steps of the line last shown
 };
 
 }  // namespace rdsim

@@ -41,7 +41,8 @@ template <class V, class C>
   requires config::Describes<C, TrainConfig>
 void describe(V& v, C& c) {
   v.field("seed", c.seed, "seed of every random stream (envs, network init, sampling)");
-  v.field("total_timesteps", c.total_timesteps, config::Range{1LL, max_timesteps}, "env steps to train, all envs together");
+  v.field("total_timesteps", c.total_timesteps, config::Range{1LL, max_timesteps}, "env steps to train, all envs together; the run ends after the update that reaches it (rounded up to whole "
+          "updates: rollouts of n_steps x num_envs, one step of every env, or whole episodes)");
   v.field("num_envs", c.num_envs, config::Range{1, 4096}, "envs stepped in lockstep (VecEnv)");
   v.field("log_dir", c.log_dir, "run folder; empty = runs/<config file stem>");
   v.field("checkpoint_interval", c.checkpoint_interval, config::Range{0LL, max_timesteps},

@@ -36,7 +36,7 @@ struct TrainerSettings {
   std::optional<int> threads;     // replaces the config's num_threads
   bool overwrite = false;         // a new run may replace another run's files in its folder
   std::optional<double> max_memory_gb;  // the memory limit (memory_check.hpp); default: 80% of the machine's
-  bool quiet = false;             // no progress line, no summary
+  bool quiet = false;             // no progress line (the summary line stays)
   std::string dashboard;          // serve the live dashboard of the run at HOST:PORT while training
   // Whether SIGINT/SIGTERM ask the run to stop (interrupt.hpp), as in `rdsim train`. A host with
   // its own signal handling (Python) leaves it false and calls Trainer::request_stop.
@@ -80,7 +80,7 @@ public:
   bool update();
   // Writes checkpoint.bin and model.bin now (collective under MPI).
   void save();
-  // Ends the run: compares the ranks' weights, saves, prints the summary unless quiet.
+  // Ends the run: compares the ranks' weights, saves, prints the summary line.
   TrainResult finish();
   // start(), update() until false, finish().
   TrainResult run();
