@@ -27,7 +27,7 @@ TEST_CASE("help: seeds and timesteps are integers", "[cli][help]") {
   CHECK_THAT(run_rdsim("train --help", dir).out, Contains("--timesteps INT"));
 }
 
-TEST_CASE("demos record: the scripted expert records without --expert; errors point at its own help", "[cli][help][demos]") {
+TEST_CASE("demos record: the scripted expert records without --expert, errors point at its own help", "[cli][help][demos]") {
   ScratchDir dir("help_demos");
   auto r = run_rdsim("demos record --help", dir);
   REQUIRE(r.exit_code == 0);
