@@ -46,7 +46,8 @@ inline void make_run(const fs::path& dir, const std::string& algorithm, int seed
 
 // Sends `request` to 127.0.0.1:port and returns everything the server answers until it closes the
 // connection or is quiet for `quiet_ms`.
-inline std::string raw_http(int port, const std::string& request, int quiet_ms = 2000) {
+// A connection to 127.0.0.1:port that is held open; -1 when it cannot connect.
+inline int connect_to(int port) {
   const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -54,8 +55,14 @@ inline std::string raw_http(int port, const std::string& request, int quiet_ms =
   addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   if (::connect(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
     ::close(sock);
-    return "";
+    return -1;
   }
+  return sock;
+}
+
+inline std::string raw_http(int port, const std::string& request, int quiet_ms = 2000) {
+  const int sock = connect_to(port);
+  if (sock < 0) return "";
   std::size_t sent = 0;
   while (sent < request.size()) {
     const ssize_t n = ::send(sock, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);

@@ -258,20 +258,6 @@ TEST_CASE("dashboard stops while a browser keeps polling on a kept-alive connect
 
 namespace {
 
-// A connection to the dashboard that is held open; -1 when it cannot connect.
-int connect_to(int port) {
-  const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_port = htons(static_cast<std::uint16_t>(port));
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
-    ::close(sock);
-    return -1;
-  }
-  return sock;
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
