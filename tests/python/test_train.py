@@ -95,8 +95,11 @@ def test_dict_config_and_the_gil(cli_run, tmp_path):
     assert ticks >= min(50, seconds / 0.002 / 4), (ticks, seconds)
 
 
+# Python installs its KeyboardInterrupt handler only where SIGINT is not ignored, and a shell starts
+# background jobs with SIGINT ignored: installed here, as in an interactive session.
 INTERRUPTED = """
-import sys, rdsim
+import signal, sys, rdsim
+signal.signal(signal.SIGINT, signal.default_int_handler)
 try:
     rdsim.train(sys.argv[1], seed=5, timesteps=10**7, log_dir=sys.argv[2], quiet=True)
 except KeyboardInterrupt as e:
