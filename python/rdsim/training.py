@@ -46,32 +46,31 @@ class TrainResult:
         return self.run_dir
 
 
-def _fail(message: str) -> None:
-    raise _rdsim.Error(f"{_WHERE}: {message}")
+def _error(message: str) -> Exception:
+    return _rdsim.Error(f"{_WHERE}: {message}")
 
 
 def _path(name: str, value: Any) -> str:
     if not isinstance(value, (str, os.PathLike)):
-        _fail(f"{name}: expected a path (str or os.PathLike), got a Python {type(value).__name__}")
+        raise _error(f"{name}: expected a path (str or os.PathLike), got a Python {type(value).__name__}")
     path = os.fspath(value)
     if not isinstance(path, str) or not path:
-        _fail(f"{name}: expected a non-empty path")
+        raise _error(f"{name}: expected a non-empty path")
     return path
 
 
 def _integer(name: str, value: Any) -> int:
     if isinstance(value, bool):
-        _fail(f"{name}: expected an integer, got a bool")
+        raise _error(f"{name}: expected an integer, got a bool")
     try:
         return operator.index(value)  # Python and NumPy integers; not floats
     except TypeError:
-        _fail(f"{name}: expected an integer, got a Python {type(value).__name__}")
-        raise  # unreachable
+        raise _error(f"{name}: expected an integer, got a Python {type(value).__name__}") from None
 
 
 def _flag(name: str, value: Any) -> bool:
     if not isinstance(value, bool):
-        _fail(f"{name}: expected True or False, got a Python {type(value).__name__}")
+        raise _error(f"{name}: expected True or False, got a Python {type(value).__name__}")
     return value
 
 
@@ -83,7 +82,7 @@ def _config(config: Any) -> tuple[str, str]:
         try:
             return "", json.dumps(dict(config), allow_nan=False)
         except (TypeError, ValueError) as e:
-            _fail(f"config: expected a dict of JSON values (str, numbers, bools, None, lists, dicts): {e}")
+            raise _error(f"config: expected a dict of JSON values (str, numbers, bools, None, lists, dicts): {e}") from None
     return _path("config", config), ""
 
 
@@ -104,15 +103,16 @@ def train(config: Union[str, os.PathLike, Mapping[str, Any], None] = None, **ove
 
     The progress line and the summary go to the process's stderr and stdout (file descriptors 2 and
     1, as the binary writes them). The GIL is released while the trainer works; Python's signal
-    handlers run between updates. Ctrl-C (``KeyboardInterrupt``) stops the run as it stops
-    ``rdsim train``: the update in progress finishes, checkpoint.bin and model.bin are saved, the
-    message saying how to resume is printed, and then the ``KeyboardInterrupt`` is raised again, with
-    the stopped run's :class:`TrainResult` as its ``result`` attribute. Bad arguments, configs and
-    run folders raise :class:`rdsim.Error` with the CLI's one-line message.
+    handlers run between updates. Ctrl-C (``KeyboardInterrupt``, or any exception a signal handler
+    raises) stops the run as it stops ``rdsim train``: the update in progress finishes,
+    checkpoint.bin and model.bin are saved, the message saying how to resume is printed, and then
+    the exception is raised again, with the stopped run's :class:`TrainResult` as its ``result``
+    attribute. Bad arguments, configs and run folders raise :class:`rdsim.Error` with the CLI's
+    one-line message.
     """
     unknown = sorted(set(overrides) - set(_ARGUMENTS))
     if unknown:
-        _fail(f"unknown argument {unknown[0]!r}: expected one of {', '.join(_ARGUMENTS)}")
+        raise _error(f"unknown argument {unknown[0]!r}: expected one of {', '.join(_ARGUMENTS)}")
     config_path, config_json = _config(config)
     settings: list[tuple[str, str, str]] = []  # TrainerSettings::overrides: (option, config key, text)
     for name, key in (("seed", "seed"), ("timesteps", "total_timesteps")):
@@ -124,19 +124,19 @@ def train(config: Union[str, os.PathLike, Mapping[str, Any], None] = None, **ove
     if threads is not None:
         threads = _integer("threads", threads)
         if not 1 <= threads <= 4096:
-            _fail(f"threads: expected an integer in [1, 4096], got {threads}")
+            raise _error(f"threads: expected an integer in [1, 4096], got {threads}")
     max_memory = overrides.get("max_memory")
     if max_memory is not None:
         if isinstance(max_memory, bool) or not isinstance(max_memory, numbers.Real):
-            _fail(f"max_memory: expected a number of GB in [0.001, 1e6], got a Python {type(max_memory).__name__}")
+            raise _error(f"max_memory: expected a number of GB in [0.001, 1e6], got a Python {type(max_memory).__name__}")
         max_memory = float(max_memory)
         if not (math.isfinite(max_memory) and 0.001 <= max_memory <= 1e6):
-            _fail(f"max_memory: expected a number of GB in [0.001, 1e6], got {max_memory:g}")
+            raise _error(f"max_memory: expected a number of GB in [0.001, 1e6], got {max_memory:g}")
     resume = overrides.get("resume")
     resume = "" if resume is None else _path("resume", resume)
     dashboard = overrides.get("dashboard")
     if dashboard is not None and not isinstance(dashboard, str):
-        _fail(f"dashboard: expected \"HOST:PORT\", got a Python {type(dashboard).__name__}")
+        raise _error(f"dashboard: expected \"HOST:PORT\", got a Python {type(dashboard).__name__}")
     overwrite = _flag("overwrite", overrides.get("overwrite", False))
     quiet = _flag("quiet", overrides.get("quiet", False))
 

@@ -161,6 +161,10 @@ def test_a_run_folder_is_not_replaced(cli_run, tmp_path):
     assert result.timesteps == 2048
 
 
+def config_with(**keys):
+    return {**json.loads(CONFIG.read_text()), **keys}
+
+
 BAD_TRAIN_CALLS = {
     "no config": lambda d: rdsim.train(),
     "config not a path": lambda d: rdsim.train(42),
@@ -189,11 +193,11 @@ BAD_TRAIN_CALLS = {
     "config and resume": lambda d: rdsim.train(CONFIG, resume=d),
     "dashboard not a string": lambda d: rdsim.train(CONFIG, dashboard=8097, timesteps=1, log_dir=d / "r"),
     "bad dashboard address": lambda d: rdsim.train(CONFIG, dashboard="nowhere", timesteps=1, log_dir=d / "r", quiet=True),
-    "dict with a bad key": lambda d: rdsim.train({**json.loads(CONFIG.read_text()), "seeed": 1}, log_dir=d / "r"),
+    "dict with a bad key": lambda d: rdsim.train(config_with(seeed=1), log_dir=d / "r"),
     "dict without env": lambda d: rdsim.train({"algorithm": "ppo"}, log_dir=d / "r"),
-    "dict with NaN": lambda d: rdsim.train({**json.loads(CONFIG.read_text()), "seed": float("nan")}, log_dir=d / "r"),
-    "dict with an object": lambda d: rdsim.train({**json.loads(CONFIG.read_text()), "seed": object()}, log_dir=d / "r"),
-    "dict with an unknown algorithm": lambda d: rdsim.train({**json.loads(CONFIG.read_text()), "algorithm": "nope"}, log_dir=d / "r"),
+    "dict with NaN": lambda d: rdsim.train(config_with(seed=float("nan")), log_dir=d / "r"),
+    "dict with an object": lambda d: rdsim.train(config_with(seed=object()), log_dir=d / "r"),
+    "dict with an unknown algorithm": lambda d: rdsim.train(config_with(algorithm="nope"), log_dir=d / "r"),
 }
 
 
@@ -207,7 +211,8 @@ def test_bad_train_call_raises_rdsim_error(name, tmp_path):
 
 
 def test_messages_name_the_argument():
-    with pytest.raises(rdsim.Error, match=r"^rdsim.train\(seed=...\): seed: expected an integer in \[0, 2\^64 - 1\], got -1$"):
+    expected = r"^rdsim.train\(seed=...\): seed: expected an integer in \[0, 2\^64 - 1\], got -1$"
+    with pytest.raises(rdsim.Error, match=expected):
         rdsim.train(CONFIG, seed=-1)
     with pytest.raises(rdsim.Error, match=r"^rdsim.train: unknown argument 'timestep': expected one of seed, timesteps"):
         rdsim.train(CONFIG, timestep=10)
