@@ -72,7 +72,7 @@ py::tuple train(const std::string& config_path, const std::string& config_json, 
     trainer.start();
   }
   while (true) {
-    check_signals(trainer, pending);  // a Ctrl-C during start() or the last update stops here
+    check_signals(trainer, pending);  // a Ctrl-C during start() or the update before stops the run here
     bool more = false;
     {
       py::gil_scoped_release unlocked;
