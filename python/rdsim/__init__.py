@@ -4,6 +4,7 @@
 - :func:`make_vec` -- the C++ vector env as a ``gymnasium.vector.VectorEnv`` (zero-copy batches,
   GIL released while stepping, ``step_async``/``step_wait``).
 - :func:`load_model` -- a policy saved by ``rdsim train``.
+- :func:`train` -- ``rdsim train`` in this process (the C++ trainer), returning a :class:`TrainResult`.
 - :class:`RemoteEnv` -- an env served by ``rdsim serve`` (needs pyzmq).
 - :class:`Error` -- every bad input (an option, an action, a call after ``close()``) raises it,
   with the CLI's one-line message.
@@ -28,6 +29,7 @@ from ._ids import IDS, register_envs
 from ._rdsim import Error, env_seed
 from .env import RdsimEnv, make
 from .model import Model, load_model
+from .training import TrainResult, train
 from .vector import RdsimVectorEnv, make_vec
 
 __version__: str = _rdsim.__version__
@@ -39,6 +41,7 @@ __all__ = [
     "RdsimEnv",
     "RdsimVectorEnv",
     "RemoteEnv",
+    "TrainResult",
     "env_seed",
     "envs",
     "load_model",
@@ -60,12 +63,6 @@ def envs() -> list[dict]:
          "defaults": json.loads(defaults)}
         for name, description, pixels, defaults in _rdsim.registry()
     ]
-
-
-def train(config, **overrides):
-    """Runs the C++ trainer in-process (``rdsim train``). Not bound yet: the trainer is being moved
-    into a library of its own (include/rdsim/training/); until then use ``rdsim train CONFIG``."""
-    raise NotImplementedError("rdsim.train is not available yet: run `rdsim train CONFIG` (the C++ trainer)")
 
 
 def __getattr__(name: str):

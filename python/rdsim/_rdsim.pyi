@@ -1,4 +1,4 @@
-"""Type stubs of rdsim._rdsim, the compiled half of the package (use rdsim.make / make_vec / load_model)."""
+"""Type stubs of rdsim._rdsim, the compiled half of the package (use rdsim.make / make_vec / load_model / train)."""
 from typing import Any, Optional, Union
 
 import numpy as np
@@ -71,3 +71,9 @@ class Model:
     @property
     def algorithm(self) -> str: ...
     def predict(self, observations: npt.ArrayLike, deterministic: bool = True) -> Union[np.ndarray, int]: ...
+
+def train(config_path: str, config_json: str, resume_dir: str, overrides: list[tuple[str, str, str]],
+          threads: Optional[int], overwrite: bool, max_memory_gb: Optional[float], quiet: bool,
+          dashboard: str) -> tuple[dict[str, Any], Optional[BaseException]]:
+    """One `rdsim train` run in this process (use rdsim.train): (the result as a dict, the exception
+    a signal handler raised between updates, after which the run stopped and saved, or None)."""

@@ -31,4 +31,5 @@ PYBIND11_MODULE(_rdsim, m) {
   bind_env(m);
   bind_vec_env(m);
   bind_model(m);
+  bind_train(m);
 }
