@@ -97,7 +97,7 @@ def train(config: Union[str, os.PathLike, Mapping[str, Any], None] = None, **ove
     - ``threads`` (int in [1, 4096]): the config's ``num_threads``;
     - ``overwrite=True``: a new run may replace another run's files in its folder;
     - ``resume`` (path): continue the run in this folder from its checkpoint (no ``config``);
-    - ``quiet=True``: no progress line, no summary;
+    - ``quiet=True``: no progress line (the summary line stays, as with ``rdsim train -q``);
     - ``max_memory`` (GB): the limit for the run's estimated memory (default 80% of the machine's);
     - ``dashboard`` ("HOST:PORT"): serve the run's live dashboard while training.
 
