@@ -32,8 +32,9 @@ Eigen::VectorXf home_pose(const RobotModel& model) {
 }  // namespace
 
 EnvConfig inmoov_tomato_defaults() {
-  return EnvConfig{.name = "inmoov_tomato", .max_distance = 0.6, .max_steps = 400, .action_step = 0.004,
-                   .success_threshold = 0.06, .ik_iterations = 3};
+  return reach_env_config(EnvConfig{.name = "inmoov_tomato", .max_steps = 400},
+                          ReachOptions{.max_distance = 0.6, .action_step = 0.004, .success_threshold = 0.06,
+                                       .ik_iterations = 3});
 }
 
 OrbitView inmoov_main_view() {
@@ -45,7 +46,7 @@ OrbitView inmoov_second_view() {
 }
 
 ReachTaskSpec inmoov_tomato_spec(const EnvConfig& config) {
-  const std::string assets = asset_root(config);
+  const std::string assets = asset_root(config.get<ReachOptions>());
   ReachTaskSpec s;
   s.name = "inmoov_tomato";
   s.robot_urdf = assets + "/inmoov/inmoov.urdf";

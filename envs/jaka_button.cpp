@@ -6,8 +6,9 @@ namespace rdsim {
 
 EnvConfig jaka_button_defaults() {
   // max_steps: the paper used 1000 and had no success end.
-  return EnvConfig{.name = "jaka_button", .max_distance = 0.7, .max_steps = 200, .action_step = 0.015,
-                   .success_threshold = 0.025, .ik_iterations = 1};
+  return reach_env_config(EnvConfig{.name = "jaka_button", .max_steps = 200},
+                          ReachOptions{.max_distance = 0.7, .action_step = 0.015, .success_threshold = 0.025,
+                                       .ik_iterations = 1});
 }
 
 // The paper's main camera (yaw 155, pitch -36, fov 60) re-aimed: the paper's target
@@ -22,7 +23,7 @@ OrbitView reach_second_view() {
 }
 
 ReachTaskSpec jaka_button_spec(const EnvConfig& config) {
-  const std::string assets = asset_root(config);
+  const std::string assets = asset_root(config.get<ReachOptions>());
   ReachTaskSpec s;
   s.name = "jaka_button";
   s.statics = {{assets + "/objects/table.urdf", Eigen::Isometry3f(Eigen::Translation3f(0.35f, 0.0f, 0.0f))},

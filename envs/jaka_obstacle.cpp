@@ -9,7 +9,8 @@ EnvConfig jaka_obstacle_defaults() {
   EnvConfig c = jaka_button_defaults();
   c.name = "jaka_obstacle";
   c.max_steps = 300;     // the way round is about twice as long
-  c.max_distance = 0.9;  // the home flange is up to 0.68 m from a random button: room for the way round
+  c.get<ReachOptions>().max_distance = 0.9;  // the home flange is up to 0.68 m from a random button: room for the way round
+  c.options.emplace_back(ObstacleOptions{});
   return c;
 }
 
@@ -26,7 +27,7 @@ ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
   s.home << 0.66f, 1.50f, -2.32f, 2.39f, 1.5708f, 0.0f;
   Eigen::Isometry3f column = Eigen::Isometry3f::Identity();
   column.translation() << 0.35f, 0.15f, 0.0f;
-  s.statics.push_back({asset_root(config) + "/objects/column.urdf", column});
+  s.statics.push_back({asset_root(config.get<ReachOptions>()) + "/objects/column.urdf", column});
   // Random buttons: x 0.45..0.65, y -0.2..0.0.
   s.random_centre = Eigen::Vector3f(0.55f, -0.1f, 0.03f);
   s.target_half_range = Eigen::Vector3f(0.1f, 0.1f, 0.0f);
@@ -35,8 +36,9 @@ ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
 
 ReachTerms jaka_obstacle_terms(const EnvConfig& config) {
   ReachTerms t;
-  t.reward = config.reward;
-  if (config.column_motion == ColumnMotion::RandomWalk) t.walking_body = JakaObstacle::column_index;
+  const ObstacleOptions& options = config.get<ObstacleOptions>();
+  t.reward = options.reward;
+  if (options.column_motion == ColumnMotion::RandomWalk) t.walking_body = JakaObstacle::column_index;
   t.press_body = JakaObstacle::button_index;
   t.forbidden_body = JakaObstacle::column_index;
   t.collision_reward = JakaObstacle::collision_reward;

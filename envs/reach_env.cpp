@@ -117,9 +117,10 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   }
   task_ = std::make_unique<ReachTask>(std::move(task));
   for (const std::string& link : terms_.observed_links) observed_links_.push_back(task_->robot_model().require_link(link));
-  random_target_ = config.random_target;
-  layout_ = config.observation_layout;
-  end_on_success_ = config.end_on_success;
+  const ReachOptions& options = config.get<ReachOptions>();
+  random_target_ = options.random_target;
+  layout_ = options.observation_layout;
+  end_on_success_ = options.end_on_success;
   if (!terms_.target_choices.empty()) select_target(terms_.default_choice);
 
   const ReachTaskSpec& s = task_->spec();

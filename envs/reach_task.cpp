@@ -44,14 +44,15 @@ RobotModel ik_model(const RobotModel& robot_model, const Robot& robot, const Rea
 
 }  // namespace
 
-void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
-  spec.discrete = config.is_discrete;
+void apply_env_config(const EnvConfig& env, ReachTaskSpec& spec) {
+  const ReachOptions& config = env.get<ReachOptions>();
+  spec.discrete = env.is_discrete;
   spec.step = static_cast<float>(config.action_step);
   spec.move_noise = static_cast<float>(config.move_noise);
   spec.success_threshold = static_cast<float>(config.success_threshold);
   spec.max_distance = static_cast<float>(config.max_distance);
   spec.workspace_bounds = config.workspace_bounds;
-  spec.max_steps = config.max_steps;
+  spec.max_steps = env.max_steps;
   spec.action_repeat = config.action_repeat;
   spec.ik_method = config.ik_method;
   spec.ik_iterations = config.ik_iterations;

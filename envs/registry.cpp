@@ -14,29 +14,36 @@
 namespace rdsim {
 namespace {
 
-// The options of every reaching env.
-const std::vector<std::string>& reach_keys() {
-  static const std::vector<std::string> keys = {
-      "observation",   "is_discrete",      "render_mode",       "multi_view",    "random_target", "max_distance",
-      "urdf_root",     "max_steps",        "action_step",       "success_threshold", "action_repeat",
-      "solver_iterations", "ik_method",    "ik_iterations",     "ik_joints",     "drive",         "position_gain",
-      "velocity_gain", "move_noise",       "workspace_bounds",  "end_on_success", "reset_pose",   "reset_noise",
-      "observation_layout", "image_width", "image_height",      "render_width",  "render_height", "renderer"};
-  return keys;
-}
-
-// jaka_obstacle's: a reaching env's, and its column and reward.
-const std::vector<std::string>& obstacle_keys() {
+// Every key some env reads (core's and every env's option groups).
+const std::vector<std::string>& declared_keys() {
   static const std::vector<std::string> keys = [] {
-    std::vector<std::string> k = reach_keys();
-    k.insert(k.end(), {"column_motion", "reward"});
-    return k;
+    std::vector<std::string> all;
+    for (const EnvEntry& e : env_registry())
+      for (const std::string& k : env_keys(e))
+        if (std::find(all.begin(), all.end(), k) == all.end()) all.push_back(k);
+    return all;
   }();
   return keys;
 }
 
-bool reads(const EnvEntry& entry, const std::string& key) {
-  return key == "name" || std::find(entry.keys.begin(), entry.keys.end(), key) != entry.keys.end();
+// Core's keys an env reads (the drawing ones only with cameras), through `v`.
+template <class V, class C>
+void describe_core(V& v, C& config, bool supports_pixels) {
+  describe_env_basics(v, config);
+  if (supports_pixels) describe_env_drawing(v, config);
+}
+
+// `config`'s groups in the order of `defaults`' (the env's), each taken from `config` when it has
+// one of that type, else from the defaults; groups the env does not read are dropped.
+std::vector<const EnvOptions*> groups_of(const EnvConfig& config, const EnvConfig& defaults) {
+  std::vector<const EnvOptions*> out;
+  for (const EnvOptions& d : defaults.options) {
+    const EnvOptions* pick = &d;
+    for (const EnvOptions& o : config.options)
+      if (o.type() == d.type()) pick = &o;
+    out.push_back(pick);
+  }
+  return out;
 }
 
 }  // namespace
@@ -44,15 +51,15 @@ bool reads(const EnvEntry& entry, const std::string& key) {
 const std::vector<EnvEntry>& env_registry() {
   static const std::vector<EnvEntry> entries = {
       {"cartpole", "Classic cart-pole balancing (Gym CartPole-v1 dynamics), Discrete(2)", false, cartpole_defaults,
-       {"observation", "is_discrete", "max_steps"}, make_cartpole},
+       make_cartpole},
       {"pendulum", "Inverted pendulum swing-up (Gymnasium Pendulum-v1 dynamics), Box(1) torque", false,
-       pendulum_defaults, {"observation", "is_discrete", "max_steps"}, make_pendulum},
+       pendulum_defaults, make_pendulum},
       {"jaka_button", "JAKA Zu 7 moves its flange to a button on a table by IK moves (RobotDrlSim 4.1)", true,
-       jaka_button_defaults, reach_keys(), make_jaka_button},
+       jaka_button_defaults, make_jaka_button},
       {"jaka_obstacle", "jaka_button with a column to go around; -200 for touching it (RobotDrlSim 4.2)", true,
-       jaka_obstacle_defaults, obstacle_keys(), make_jaka_obstacle},
+       jaka_obstacle_defaults, make_jaka_obstacle},
       {"inmoov_tomato", "InMoov humanoid moves its right palm to a tomato on a tree by IK moves (RobotDrlSim 4.3)",
-       true, inmoov_tomato_defaults, reach_keys(), make_inmoov_tomato},
+       true, inmoov_tomato_defaults, make_inmoov_tomato},
   };
   return entries;
 }
@@ -75,6 +82,27 @@ EnvConfig default_env_config(const std::string& name) {
   return c;
 }
 
+std::vector<config::FieldDoc> env_fields(const EnvEntry& entry) {
+  const EnvConfig defaults = default_env_config(entry.name);
+  std::vector<config::FieldDoc> rows;
+  config::FieldDocs docs(rows);
+  describe_core(docs, defaults, entry.supports_pixels);
+  for (const EnvOptions& group : defaults.options)
+    for (config::FieldDoc& row : group.document()) rows.push_back(std::move(row));
+  return rows;
+}
+
+std::vector<std::string> env_keys(const EnvEntry& entry) {
+  std::vector<std::string> keys;
+  for (const config::FieldDoc& row : env_fields(entry)) keys.push_back(row.key);
+  return keys;
+}
+
+bool env_reads(const EnvEntry& entry, const std::string& key) {
+  const std::vector<std::string> keys = env_keys(entry);
+  return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
 EnvConfig read_env_config(ConfigReader& r) {
   std::string name;
   r.read("name", name);
@@ -85,18 +113,23 @@ EnvConfig read_env_config(ConfigReader& r) {
   } catch (const Error& e) {
     r.fail("name", e.what());
   }
-  // Keys EnvConfig declares but this env does not read would silently do nothing.
-  static const nlohmann::json declared = config::write_fields(EnvConfig{});
+  // Keys another env declares but this env does not read would silently do nothing.
+  const std::vector<std::string> keys = env_keys(*entry);
+  const std::vector<std::string>& declared = declared_keys();
   for (const auto& key : r.keys()) {
-    if (declared.contains(key) && !reads(*entry, key)) {
+    if (std::find(declared.begin(), declared.end(), key) != declared.end() &&
+        std::find(keys.begin(), keys.end(), key) == keys.end()) {
       std::string list;
-      for (const auto& k : entry->keys) list += ", " + k;
-      r.fail(key, "has no effect on " + name + " (it reads: name" + list + ")");
+      for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+      r.fail(key, "has no effect on " + name + " (it reads: " + list + ")");
     }
   }
   const EnvConfig defaults = default_env_config(name);
   EnvConfig c = defaults;
-  config::read_fields(r, c);
+  config::FieldReader fields(r);
+  describe_core(fields, c, entry->supports_pixels);
+  for (EnvOptions& group : c.options) group.read(r);
+  r.finish();
   if (c.observation == ObservationMode::RawPixels && !entry->supports_pixels)
     r.fail("observation", name + " has no camera: expected \"ground_truth\"");
   // Image options only matter when something is drawn.
@@ -116,9 +149,11 @@ EnvConfig read_env_config(ConfigReader& r) {
 
 nlohmann::json to_json(const EnvConfig& config) {
   const EnvEntry& entry = env_entry(config.name);
-  nlohmann::json all = config::write_fields(config), out = nlohmann::json::object();
-  for (auto it = all.begin(); it != all.end(); ++it)
-    if (reads(entry, it.key())) out[it.key()] = it.value();
+  nlohmann::json out = nlohmann::json::object();
+  config::FieldWriter fields(out);
+  describe_core(fields, config, entry.supports_pixels);
+  const EnvConfig defaults = default_env_config(config.name);
+  for (const EnvOptions* group : groups_of(config, defaults)) group->write(out);
   return out;
 }
 
@@ -165,10 +200,11 @@ void estimate_env_memory(const EnvConfig& config, int num_envs, MemoryEstimate& 
 std::unique_ptr<Env> make_env(const EnvConfig& config) {
   const EnvEntry& entry = env_entry(config.name);
   // The same rules as a config file: write the values out and read them back.
+  // (The config read back is the one the env gets: the same values, with every option group the
+  // env reads, even when `config` was built in code without them.)
   const nlohmann::json json = to_json(config);
   ConfigReader reader(json, config.name, "env");
-  (void)read_env_config(reader);
-  return entry.make(config);
+  return entry.make(read_env_config(reader));
 }
 
 }  // namespace rdsim

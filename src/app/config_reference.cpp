@@ -3,6 +3,7 @@
 #include "rdsim/app/config_reference.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -51,22 +52,25 @@ std::string table(const std::vector<config::FieldDoc>& rows) {
   return out;
 }
 
-// One column of defaults per registered env; "—" where the env does not read the key.
+// One column of defaults per registered env; "—" where the env does not read the key. The rows:
+// every key some env reads (core's, then each env's option groups), in the order of first reading.
 std::string env_table() {
   std::vector<std::string> names = {"key", "type", "range"};
   std::vector<std::map<std::string, std::string>> defaults;
+  std::vector<config::FieldDoc> rows;
   for (const EnvEntry& e : env_registry()) {
     names.push_back(e.name);
     std::map<std::string, std::string> values;
-    const EnvConfig config = default_env_config(e.name);
-    const nlohmann::json read = to_json(config);  // only the keys the env reads
-    for (const auto& r : config::document_fields(config))
-      if (read.contains(r.key)) values[r.key] = code(cell(r.default_value));
+    for (const auto& r : env_fields(e)) {
+      values[r.key] = code(cell(r.default_value));
+      if (std::none_of(rows.begin(), rows.end(), [&](const config::FieldDoc& d) { return d.key == r.key; }))
+        rows.push_back(r);
+    }
     defaults.push_back(std::move(values));
   }
   names.push_back("meaning");
   std::string out = header(names);
-  for (const auto& r : config::document_fields(EnvConfig{})) {
+  for (const auto& r : rows) {
     std::vector<std::string> cells = {code(r.key), r.type, cell(r.range)};
     for (const auto& values : defaults) {
       const auto it = values.find(r.key);

@@ -12,6 +12,7 @@
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
 #include "rdsim/envs/reach_expert.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/training/train_config.hpp"
 
@@ -46,7 +47,7 @@ int demos_record_command(const DemosRecordOptions& o) {
     env_config = read_train_config(o.config_path).env;
   } else {
     env_config = default_env_config(o.env);
-    env_config.random_target = !o.fixed_target;
+    if (auto* reach = env_config.find<ReachOptions>()) reach->random_target = !o.fixed_target;
     env_config.is_discrete = !o.continuous;
   }
   auto env = make_env(env_config);

@@ -8,6 +8,7 @@
 
 #include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/render/png.hpp"
 
@@ -20,7 +21,7 @@ int render_command(const RenderOptions& o) {
   EnvConfig config = default_env_config(o.env);
   config.observation = ObservationMode::RawPixels;
   config.multi_view = o.view == 2;
-  config.random_target = o.random_target;
+  if (auto* reach = config.find<ReachOptions>()) reach->random_target = o.random_target;
   config.image_width = o.width;
   config.image_height = o.height;
   const std::unique_ptr<Env> env = make_env(config);

@@ -10,6 +10,7 @@
 #include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_writer.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"
@@ -30,7 +31,7 @@ int teleop_command(const TeleopOptions& o) {
     remote = train.remote;
   } else {
     config = default_env_config(o.env);
-    config.random_target = !o.fixed_target;
+    if (auto* reach = config.find<ReachOptions>()) reach->random_target = !o.fixed_target;
     config.is_discrete = !o.continuous;
   }
   if (!o.connect.empty()) {

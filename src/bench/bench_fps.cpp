@@ -11,6 +11,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/training/train_config.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "bench_util.hpp"
 
@@ -75,10 +76,10 @@ std::optional<BenchRow> bench_row(const EnvConfig& config, const std::string& pr
   row.preset = preset;
   row.image_size = image_size;
   row.paper_steps_per_s = paper_rate(entry.name, mode, image_size);
-  if (entry.supports_pixels) {  // the reaching envs: what one env step simulates
-    row.action_repeat = config.action_repeat;
-    row.solver_iterations = config.solver_iterations;
-    row.ik_iterations = config.ik_iterations;
+  if (const auto* reach = config.find<ReachOptions>()) {  // the reaching envs: what one env step simulates
+    row.action_repeat = reach->action_repeat;
+    row.solver_iterations = reach->solver_iterations;
+    row.ik_iterations = reach->ik_iterations;
   }
   long long warmup_episodes = 0;
   env_run(*env, std::max<long long>(o.steps / 10, 100), 12345, warmup_episodes);

@@ -2,6 +2,8 @@
 
 #include <cstdlib>
 
+#include "rdsim/core/error.hpp"
+
 namespace rdsim {
 
 const char* to_string(ObservationMode mode) {
@@ -10,14 +12,14 @@ const char* to_string(ObservationMode mode) {
 
 const char* to_string(RenderMode mode) { return mode == RenderMode::RgbArray ? "rgb_array" : "none"; }
 
+void EnvConfig::throw_missing_group() const {
+  throw Error("env " + name + ": its config has no options of that kind (start from default_env_config(\"" + name +
+              "\"); envs/registry.hpp)");
+}
+
 std::string repo_root() {
   if (const char* root = std::getenv("RDSIM_ROOT"); root && *root) return root;
   return RDSIM_SOURCE_DIR;
-}
-
-std::string asset_root(const EnvConfig& config) {
-  if (!config.urdf_root.empty()) return config.urdf_root;
-  return repo_root() + "/assets";
 }
 
 }  // namespace rdsim

@@ -2,6 +2,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
@@ -10,7 +11,7 @@ SceneMirror::SceneMirror(const EnvConfig& config) {
   EnvConfig local = config;
   local.observation = ObservationMode::GroundTruth;  // no camera of its own
   local.render_mode = RenderMode::None;
-  local.urdf_root.clear();  // this machine's assets, wherever the env itself runs
+  if (auto* reach = local.find<ReachOptions>()) reach->urdf_root.clear();  // this machine's assets, wherever the env itself runs
   std::unique_ptr<Env> env = make_env(local);
   auto* reach = dynamic_cast<ReachEnv*>(env.get());
   if (!reach) throw Error("env " + config.name + " has no robot scene to show (the reaching envs have one)");

@@ -158,7 +158,7 @@ void upgrade_v1_config(nlohmann::json& config) {
   nlohmann::json upgraded = nlohmann::json::object();
   for (auto it = env.begin(); it != env.end(); ++it) {
     const std::string& key = it.key();
-    const bool read = key == "name" || std::find(entry->keys.begin(), entry->keys.end(), key) != entry->keys.end();
+    const bool read = env_reads(*entry, key);
     const bool zero_default = (key == "max_distance" || key == "max_steps" || key == "action_step" ||
                                key == "success_threshold") && it.value().is_number() && it.value().get<double>() == 0.0;
     if (read && !zero_default) upgraded[key] = it.value();

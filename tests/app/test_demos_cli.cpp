@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/stat.h>
 
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/training/train_config.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
@@ -28,7 +29,7 @@ double replay_success(const std::string& out) {
 // Success rate of uniformly random actions over `episodes` episodes from reset(seed), then continued resets.
 double random_success(const std::string& env_name, std::uint64_t seed, int episodes) {
   rdsim::EnvConfig c = rdsim::default_env_config(env_name);
-  c.random_target = true;
+  c.get<rdsim::ReachOptions>().random_target = true;
   auto env = rdsim::make_env(c);
   rdsim::Rng rng(seed);
   int successes = 0;

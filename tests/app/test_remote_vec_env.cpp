@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "../remote/remote_test_util.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
@@ -25,7 +26,7 @@ struct Served {
 
 EnvConfig short_jaka() {
   EnvConfig config = default_env_config("jaka_button");
-  config.random_target = true;
+  config.get<ReachOptions>().random_target = true;
   config.max_steps = 25;  // several resets within the test
   return config;
 }
@@ -127,7 +128,7 @@ TEST_CASE("VecEnv of remote envs: drop_caches reaches the server's envs, so long
           "[remote][vec_env]") {
   Served served("vec_env_caches");
   EnvConfig config = default_env_config("jaka_button");
-  config.random_target = true;
+  config.get<ReachOptions>().random_target = true;
   const int n = 8;
   VecEnv local(local_envs(config, n), 3, 20, 1);
   VecEnv remote(remote_envs(served.link(), config, n), 3, 20, 1);

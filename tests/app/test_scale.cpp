@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/training/data_parallel.hpp"
 #include "rdsim/training/model_file.hpp"
@@ -127,7 +128,7 @@ TEST_CASE("VecEnv: pixel envs render the same images on 1 and 3 threads or worke
   config.renderer = backend;
   config.observation = rdsim::ObservationMode::RawPixels;
   config.image_width = config.image_height = 32;
-  config.random_target = true;
+  config.get<rdsim::ReachOptions>().random_target = true;
   auto envs = [&] {
     std::vector<std::unique_ptr<rdsim::Env>> v;
     for (int i = 0; i < 3; ++i) v.push_back(rdsim::make_env(config));

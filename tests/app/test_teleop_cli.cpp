@@ -7,6 +7,7 @@
 
 #include "../remote/remote_test_util.hpp"
 #include "rdsim/demos/demo_file.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"
@@ -157,7 +158,7 @@ TEST_CASE("a teleop session over rdsim serve records what the same env in this p
   ScratchDir dir("teleop_remote_session");
   rdsim::test::ServerThread server(rdsim::test::plain_options());
   rdsim::EnvConfig config = rdsim::default_env_config("jaka_obstacle");
-  config.random_target = true;
+  config.get<rdsim::ReachOptions>().random_target = true;
   rdsim::RemoteEnvConfig link;
   link.remote = server.endpoint();
   std::unique_ptr<rdsim::RemoteEnv> env = rdsim::connect_remote_env(link, config);

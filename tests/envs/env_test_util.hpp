@@ -7,6 +7,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Helpers shared by the env tests.
@@ -14,7 +15,7 @@ namespace rdsim::test {
 
 inline EnvConfig env_config(const std::string& name, bool random_target = false) {
   EnvConfig c = rdsim::default_env_config(name);
-  c.random_target = random_target;
+  if (auto* reach = c.find<ReachOptions>()) reach->random_target = random_target;
   return c;
 }
 

@@ -4,6 +4,8 @@
 
 #include "../error_of.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/envs/obstacle_options.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using Catch::Matchers::Contains;
@@ -38,16 +40,16 @@ TEST_CASE("env config rejects a bad observation mode and unknown keys", "[config
 
 TEST_CASE("every env publishes real defaults and a config is read over them", "[config]") {
   const auto button = read(R"({"name": "jaka_button"})");
-  CHECK(button.action_step == 0.015);
-  CHECK(button.success_threshold == 0.025);
-  CHECK(button.max_distance == 0.7);
+  CHECK(button.get<rdsim::ReachOptions>().action_step == 0.015);
+  CHECK(button.get<rdsim::ReachOptions>().success_threshold == 0.025);
+  CHECK(button.get<rdsim::ReachOptions>().max_distance == 0.7);
   CHECK(button.max_steps == 200);
   const auto obstacle = read(R"({"name": "jaka_obstacle", "action_step": 0.01})");
   CHECK(obstacle.max_steps == 300);
-  CHECK(obstacle.max_distance == 0.9);
-  CHECK(obstacle.action_step == 0.01);
+  CHECK(obstacle.get<rdsim::ReachOptions>().max_distance == 0.9);
+  CHECK(obstacle.get<rdsim::ReachOptions>().action_step == 0.01);
   const auto tomato = read(R"({"name": "inmoov_tomato"})");
-  CHECK(tomato.action_step == 0.004);
+  CHECK(tomato.get<rdsim::ReachOptions>().action_step == 0.004);
   CHECK(tomato.max_steps == 400);
   CHECK(read(R"({"name": "cartpole"})").max_steps == 500);
   // The resolved JSON records the values used, and reads back to the same config.
@@ -65,7 +67,7 @@ TEST_CASE("env keys an env does not read are errors, and ranges hold for configs
              Contains("env.action_step") && Contains("[0.0001, 2]"));
   CHECK_THAT(error_of([] { read(R"({"name": "no_such_env"})"); }), Contains("env.name") && Contains("jaka_button"));
   rdsim::EnvConfig zero = rdsim::default_env_config("jaka_button");
-  zero.action_step = 0.0;
+  zero.get<rdsim::ReachOptions>().action_step = 0.0;
   CHECK_THAT(error_of([&] { rdsim::make_env(zero); }), Contains("env.action_step"));
 }
 
@@ -90,22 +92,22 @@ TEST_CASE("env.renderer is read, written back and checked", "[config][render]") 
 TEST_CASE("the paper-preset options: published per env, read only where they act", "[config]") {
   // Defaults that keep today's behaviour, with each env's own IK iterations.
   const auto button = read(R"({"name": "jaka_button"})");
-  CHECK(button.ik_iterations == 1);
-  CHECK(button.solver_iterations == 10);
-  CHECK(button.drive == rdsim::DriveMode::ComputedTorque);
-  CHECK(button.move_noise == 1.0 / 30.0);
-  CHECK(button.reset_noise == 0.02);
-  CHECK(button.end_on_success);
-  CHECK(button.workspace_bounds);
-  CHECK(read(R"({"name": "inmoov_tomato"})").ik_iterations == 3);
+  CHECK(button.get<rdsim::ReachOptions>().ik_iterations == 1);
+  CHECK(button.get<rdsim::ReachOptions>().solver_iterations == 10);
+  CHECK(button.get<rdsim::ReachOptions>().drive == rdsim::DriveMode::ComputedTorque);
+  CHECK(button.get<rdsim::ReachOptions>().move_noise == 1.0 / 30.0);
+  CHECK(button.get<rdsim::ReachOptions>().reset_noise == 0.02);
+  CHECK(button.get<rdsim::ReachOptions>().end_on_success);
+  CHECK(button.get<rdsim::ReachOptions>().workspace_bounds);
+  CHECK(read(R"({"name": "inmoov_tomato"})").get<rdsim::ReachOptions>().ik_iterations == 3);
   // The column and its reward belong to jaka_obstacle alone.
   CHECK_THAT(error_of([] { read(R"({"name": "jaka_button", "column_motion": "random_walk"})"); }),
              Contains("env.column_motion") && Contains("no effect on jaka_button"));
   CHECK_THAT(error_of([] { read(R"({"name": "inmoov_tomato", "reward": "inverse_distance"})"); }),
              Contains("env.reward") && Contains("no effect on inmoov_tomato"));
   const auto obstacle = read(R"({"name": "jaka_obstacle", "column_motion": "random_walk", "reward": "inverse_distance"})");
-  CHECK(obstacle.column_motion == rdsim::ColumnMotion::RandomWalk);
-  CHECK(obstacle.reward == rdsim::RewardRule::InverseDistance);
+  CHECK(obstacle.get<rdsim::ObstacleOptions>().column_motion == rdsim::ColumnMotion::RandomWalk);
+  CHECK(obstacle.get<rdsim::ObstacleOptions>().reward == rdsim::RewardRule::InverseDistance);
   CHECK_THAT(error_of([] { read(R"({"name": "cartpole", "solver_iterations": 150})"); }),
              Contains("no effect on cartpole"));
   // Choices and ranges are checked; the resolved JSON reads back to itself.

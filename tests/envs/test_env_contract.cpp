@@ -14,15 +14,12 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
 
 namespace {
-
-bool reads(const EnvEntry& entry, const std::string& key) {
-  return std::find(entry.keys.begin(), entry.keys.end(), key) != entry.keys.end();
-}
 
 struct Case {
   std::string label;
@@ -36,7 +33,7 @@ std::vector<Case> contract_cases() {
   std::vector<Case> cases;
   for (const EnvEntry& entry : env_registry()) {
     EnvConfig c = default_env_config(entry.name);
-    if (reads(entry, "random_target")) c.random_target = true;
+    if (auto* reach = c.find<ReachOptions>()) reach->random_target = true;
     cases.push_back({entry.name + ", ground_truth", c});
     if (!entry.supports_pixels) continue;
     c.observation = ObservationMode::RawPixels;
@@ -214,7 +211,7 @@ TEST_CASE("env contract: render draws frames with render_mode rgb_array, and onl
     auto plain = make_env(config);
     Image frame;
     CHECK_FALSE(plain->render(frame));
-    if (!reads(entry, "render_mode")) continue;
+    if (!env_reads(entry, "render_mode")) continue;
     config.render_mode = RenderMode::RgbArray;
     config.render_width = 40;
     config.render_height = 30;

@@ -8,6 +8,7 @@
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
@@ -35,7 +36,7 @@ void run(Env& env, Rng& rng, int steps) {
 
 EnvConfig config_of(const std::string& name) {
   EnvConfig c = default_env_config(name);
-  if (name != "cartpole") c.random_target = true;
+  if (auto* reach = c.find<ReachOptions>()) reach->random_target = true;
   return c;
 }
 

@@ -3,6 +3,7 @@
 #include "env_test_util.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/jaka_button.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Spaces, bounds, determinism and truncation: tests/envs/test_env_contract.cpp.
@@ -80,7 +81,7 @@ TEST_CASE("jaka_button: continuous actions move the flange", "[jaka_button]") {
 
 TEST_CASE("jaka_button: leaving the workspace ends the episode with a penalty", "[jaka_button]") {
   EnvConfig c = env_config("jaka_button");
-  c.max_distance = 0.35;  // m: moving sideways gets there long before the step limit
+  c.get<ReachOptions>().max_distance = 0.35;  // m: moving sideways gets there long before the step limit
   auto env = make_env(c);
   const auto e = run_episode(*env, 2, [](const Observation&) { return Action::discrete(3); });  // +y
   CHECK(e.last.terminated);
@@ -93,16 +94,16 @@ TEST_CASE("jaka_button: leaving the workspace ends the episode with a penalty", 
 
 TEST_CASE("jaka_button: bad config values name their key", "[jaka_button]") {
   EnvConfig c = env_config("jaka_button");
-  c.action_step = -0.01;
+  c.get<ReachOptions>().action_step = -0.01;
   CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.action_step"));
   c = env_config("jaka_button");
-  c.success_threshold = -1;
+  c.get<ReachOptions>().success_threshold = -1;
   CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.success_threshold"));
   c = env_config("jaka_button");
   c.max_steps = -5;
   CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.max_steps"));
   c = env_config("jaka_button");
-  c.urdf_root = "/nonexistent";
+  c.get<ReachOptions>().urdf_root = "/nonexistent";
   CHECK_THROWS_WITH(make_env(c), Catch::Contains("/nonexistent"));
   auto env = make_env(env_config("jaka_button"));
   env->reset(0);

@@ -2,6 +2,7 @@
 
 #include "env_test_util.hpp"
 #include "rdsim/envs/jaka_obstacle.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Spaces, bounds, determinism and truncation: tests/envs/test_env_contract.cpp.
@@ -75,7 +76,7 @@ TEST_CASE("jaka_obstacle: bad config gives clear errors, raw pixels are 64x64x3"
   c.observation = ObservationMode::RawPixels;  // in detail: tests/envs/test_pixels.cpp
   CHECK(make_env(c)->spec().observation.shape == std::vector<int>{64, 64, 3});
   c = env_config("jaka_obstacle");
-  c.action_step = -1;
+  c.get<ReachOptions>().action_step = -1;
   CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.action_step"));
   // Config overrides reach the env.
   c = env_config("jaka_obstacle");

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/core/rng.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
@@ -26,7 +27,7 @@ TEST_CASE("every env's step_into/reset_into match step/reset exactly", "[envs][i
       if (pixels && !entry.supports_pixels) continue;
       INFO(entry.name << (pixels ? " raw_pixels" : " ground_truth"));
       EnvConfig config = entry.defaults();
-      config.random_target = true;
+      if (auto* reach = config.find<ReachOptions>()) reach->random_target = true;
       if (pixels) {
         config.observation = ObservationMode::RawPixels;
         config.image_width = config.image_height = 24;

@@ -13,6 +13,7 @@
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/robot_control.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/envs/reach_options.hpp"
 
 using namespace rdsim;
 using namespace rdsim::test;
@@ -134,7 +135,7 @@ TEST_CASE("paper jaka_button probe: beam search over move sequences on the simul
   int keep = 24, hold = 4, first = 100, episodes = 8;
   if (const char* v = std::getenv("RDSIM_BEAM")) std::sscanf(v, "%d %d %d %d", &keep, &hold, &first, &episodes);
   EnvConfig config = paper_env_config("jaka_button");
-  config.end_on_success = true;
+  config.get<ReachOptions>().end_on_success = true;
   auto env = make_env(config);
   auto* state = dynamic_cast<EnvState*>(env.get());
   auto* robot = dynamic_cast<RobotControl*>(env.get());

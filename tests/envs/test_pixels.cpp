@@ -2,6 +2,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/jaka_button.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/envs/robot_scene.hpp"
 
@@ -13,7 +14,7 @@ namespace {
 EnvConfig pixel_config(bool random_target = false) {
   EnvConfig c = rdsim::default_env_config("jaka_button");
   c.observation = rdsim::ObservationMode::RawPixels;
-  c.random_target = random_target;
+  c.get<rdsim::ReachOptions>().random_target = random_target;
   return c;
 }
 
@@ -140,7 +141,7 @@ TEST_CASE("RobotScene: one item per URDF visual, poses follow the robot", "[pixe
 TEST_CASE("inmoov_tomato raw pixels: the tomatoes are visible, the target choice is deterministic", "[pixels]") {
   EnvConfig config = rdsim::default_env_config("inmoov_tomato");
   config.observation = rdsim::ObservationMode::RawPixels;
-  config.random_target = true;
+  config.get<rdsim::ReachOptions>().random_target = true;
   const auto env = rdsim::make_env(config);
   CHECK(env->spec().observation.type == ObsType::UInt8);
   CHECK(env->spec().observation.shape == std::vector<int>{64, 64, 3});
@@ -154,7 +155,7 @@ TEST_CASE("inmoov_tomato raw pixels: the tomatoes are visible, the target choice
 TEST_CASE("jaka_obstacle raw pixels: button and column in view, two views stack", "[pixels]") {
   EnvConfig config = rdsim::default_env_config("jaka_obstacle");
   config.observation = rdsim::ObservationMode::RawPixels;
-  config.random_target = true;
+  config.get<rdsim::ReachOptions>().random_target = true;
   config.multi_view = true;
   const auto env = rdsim::make_env(config);
   REQUIRE(env->spec().observation.shape == std::vector<int>{64, 64, 6});

@@ -4,6 +4,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/reach_expert.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
@@ -14,7 +15,7 @@ TEST_CASE("the scripted expert solves every reaching task with the env's own act
     for (bool discrete : {true, false}) {
       INFO(name << (discrete ? " Discrete" : " Box"));
       EnvConfig config = default_env_config(name);
-      config.random_target = true;
+      config.get<ReachOptions>().random_target = true;
       config.is_discrete = discrete;
       auto env = make_env(config);
       ReachExpert expert(*env);

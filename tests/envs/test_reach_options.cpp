@@ -7,6 +7,7 @@
 #include "env_test_util.hpp"
 #include "rdsim/envs/jaka_obstacle.hpp"
 #include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
@@ -24,7 +25,7 @@ Eigen::Vector3f column_position(const ReachEnv& env) {
 
 TEST_CASE("observation_layout relative: end effector - target, then end effector - each landmark", "[envs][paper]") {
   EnvConfig c = env_config("jaka_button", true);
-  c.observation_layout = ObservationLayout::Relative;
+  c.get<ReachOptions>().observation_layout = ObservationLayout::Relative;
   auto env = make_env(c);
   CHECK(env->spec().observation.shape == std::vector<int>{3});
   Observation o = env->reset(1);
@@ -34,7 +35,7 @@ TEST_CASE("observation_layout relative: end effector - target, then end effector
   CHECK((o.values - (task.ee_position() - task.target())).norm() < 1e-6f);
 
   EnvConfig oc = env_config("jaka_obstacle");
-  oc.observation_layout = ObservationLayout::Relative;
+  oc.get<ReachOptions>().observation_layout = ObservationLayout::Relative;
   auto obstacle = make_env(oc);
   CHECK(obstacle->spec().observation.shape == std::vector<int>{6});
   o = obstacle->reset(2);
@@ -45,7 +46,7 @@ TEST_CASE("observation_layout relative: end effector - target, then end effector
 
 TEST_CASE("end_on_success false: success does not end an episode, info.success is its last step's", "[envs][paper]") {
   EnvConfig c = env_config("jaka_button");
-  c.success_threshold = 10.0;  // every step is within the threshold
+  c.get<ReachOptions>().success_threshold = 10.0;  // every step is within the threshold
   c.max_steps = 5;
   auto ends = make_env(c);
   ends->reset(1);
@@ -53,7 +54,7 @@ TEST_CASE("end_on_success false: success does not end an episode, info.success i
   CHECK(r.terminated);
   CHECK(r.info.success);
 
-  c.end_on_success = false;
+  c.get<ReachOptions>().end_on_success = false;
   auto goes_on = make_env(c);
   goes_on->reset(1);
   for (int t = 1; t <= 5; ++t) {
@@ -67,15 +68,15 @@ TEST_CASE("end_on_success false: success does not end an episode, info.success i
 
 TEST_CASE("workspace_bounds false: nothing is out of bounds, goals are not clipped", "[envs][paper]") {
   EnvConfig c = env_config("jaka_button");
-  c.max_distance = 0.001;  // farther than 1 mm from the button ends a bounded episode at once
+  c.get<ReachOptions>().max_distance = 0.001;  // farther than 1 mm from the button ends a bounded episode at once
   auto bounded = make_env(c);
   bounded->reset(1);
   StepResult r = bounded->step(Action::discrete(1));
   CHECK(r.terminated);
   CHECK(r.info.out_of_bounds);
 
-  c.workspace_bounds = false;
-  c.action_step = 1.0;  // goals 1 m away, far outside the workspace box
+  c.get<ReachOptions>().workspace_bounds = false;
+  c.get<ReachOptions>().action_step = 1.0;  // goals 1 m away, far outside the workspace box
   c.max_steps = 60;
   auto free = make_env(c);
   free->reset(1);
@@ -93,8 +94,8 @@ TEST_CASE("reset_pose rest and reset_noise 0: every episode starts at RobotDrlSi
   for (const char* name : {"jaka_button", "inmoov_tomato"}) {
     INFO(name);
     EnvConfig c = env_config(name, true);
-    c.reset_pose = ResetPose::Rest;
-    c.reset_noise = 0.0;
+    c.get<ReachOptions>().reset_pose = ResetPose::Rest;
+    c.get<ReachOptions>().reset_noise = 0.0;
     auto env = make_env(c);
     const ReachTask& task = reach(*env).task();
     Eigen::VectorXf rest = Eigen::VectorXf::Zero(task.robot().dof());
@@ -116,7 +117,7 @@ TEST_CASE("reset_pose rest and reset_noise 0: every episode starts at RobotDrlSi
 TEST_CASE("ik_joints all: the InMoov's IK also moves the torso joints on the way to the palm", "[envs][paper]") {
   EnvConfig c = env_config("inmoov_tomato");
   CHECK(reach(*make_env(c)).task().chain().dof() == 6);
-  c.ik_joints = IkJoints::All;
+  c.get<ReachOptions>().ik_joints = IkJoints::All;
   CHECK(reach(*make_env(c)).task().chain().dof() == 8);  // + mid_stomach, top_stomach
 }
 
@@ -175,9 +176,9 @@ TEST_CASE("paper presets: a far-target move carries the end effector along its a
 
 TEST_CASE("column_motion random_walk: the column wanders within 5 cm by the seed and is back at reset", "[envs][paper]") {
   EnvConfig c = env_config("jaka_obstacle");
-  c.column_motion = ColumnMotion::RandomWalk;
+  c.get<ObstacleOptions>().column_motion = ColumnMotion::RandomWalk;
   c.max_steps = 150;
-  c.max_distance = 5.0;
+  c.get<ReachOptions>().max_distance = 5.0;
   auto path = [&](std::uint64_t seed) {
     auto env = make_env(c);
     env->reset(seed);
@@ -208,7 +209,7 @@ TEST_CASE("column_motion random_walk: the column wanders within 5 cm by the seed
 
 TEST_CASE("reward inverse_distance: 1/d - 2t/T, -10 per step on the column without ending, +10 within 0.1 m", "[envs][paper]") {
   EnvConfig c = env_config("jaka_obstacle");
-  c.reward = RewardRule::InverseDistance;
+  c.get<ObstacleOptions>().reward = RewardRule::InverseDistance;
   c.max_steps = 250;
   auto env = make_env(c);
   Observation o = env->reset(0);

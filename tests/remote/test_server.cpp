@@ -20,6 +20,7 @@
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/robot_control.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/protocol.hpp"
 #include "rdsim/remote/remote_env.hpp"
@@ -148,7 +149,7 @@ TEST_CASE("server: an authorised CurveZMQ client gets the local env's results bi
   TestKeys keys(dir);
   ServerThread server(curve_options(keys));
   EnvConfig config = default_env_config("jaka_button");
-  config.random_target = true;
+  config.get<ReachOptions>().random_target = true;
   config.max_steps = 40;
   const auto remote = connect_remote_env(keys.link(server.endpoint()), config);
   const auto local = make_env(config);

@@ -7,6 +7,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"
 #include "rdsim/teleop/teleop_session.hpp"
@@ -19,7 +20,7 @@ namespace {
 
 EnvConfig button_config() {
   EnvConfig c = default_env_config("jaka_button");
-  c.random_target = true;
+  c.get<ReachOptions>().random_target = true;
   return c;
 }
 
@@ -130,7 +131,7 @@ TEST_CASE("the window's scene mirror poses the robot as the env has it", "[teleo
   for (const char* name : {"jaka_obstacle", "inmoov_tomato"}) {
     INFO(name);
     EnvConfig config = default_env_config(name);
-    config.random_target = true;
+    config.get<ReachOptions>().random_target = true;
     auto env = make_env(config);
     env->reset(3);
     auto& reach = dynamic_cast<ReachEnv&>(*env);
@@ -151,7 +152,7 @@ TEST_CASE("the status shows the real distance to the target before the first ste
   for (const char* name : {"jaka_button", "jaka_obstacle", "inmoov_tomato"}) {
     INFO(name);
     EnvConfig c = default_env_config(name);
-    c.random_target = true;
+    c.get<ReachOptions>().random_target = true;
     auto env = make_env(c);
     TeleopSession session(*env, 3, nullptr, to_json(c));
     const RobotSnapshot start = session.control().robot_state();
@@ -169,7 +170,7 @@ TEST_CASE("the status shows the real distance to the target before the first ste
 
 TEST_CASE("the scene mirror marks the target tomato among the tree's tomatoes, and only it", "[teleop]") {
   EnvConfig config = default_env_config("inmoov_tomato");
-  config.random_target = true;
+  config.get<ReachOptions>().random_target = true;
   auto env = make_env(config);
   auto& reach = dynamic_cast<ReachEnv&>(*env);
   SceneMirror mirror(config);

@@ -1,61 +1,64 @@
 #pragma once
 #include <string>
+#include <vector>
 
 #include "rdsim/core/config_fields.hpp"
+#include "rdsim/core/env_options.hpp"
 
 namespace rdsim {
 
 enum class ObservationMode { GroundTruth, RawPixels };
 enum class RenderMode { None, RgbArray };
-// How a reaching env turns an end-effector goal into joint targets, which joints may move, how the
-// joints are driven, where an episode starts, what the ground-truth vector holds, and the
-// obstacle task's column and reward (jaka_obstacle only). The describe() entries below say what
-// each choice does; envs/reach_task.hpp and envs/reach_env.hpp implement them.
-enum class IkMethod { DampedLeastSquares, NullSpace };
-enum class IkJoints { Arm, All };
-enum class DriveMode { ComputedTorque, PositionMotor };
-enum class ResetPose { Home, Rest };
-enum class ObservationLayout { Full, Relative };
-enum class ColumnMotion { Static, RandomWalk };
-enum class RewardRule { NegativeDistance, InverseDistance };
 
-// Options shared by all environments (the paper's Table 1 parameters and a few more): the "env"
-// object of a training config. Every registered env publishes its defaults with real values
-// (default_env_config in envs/registry.hpp); a config is read over them, so the resolved config
-// records the numbers an env really used. The initial values below are the generic ones.
+// The "env" object of a training config: the keys every env has (what the agent sees, the action
+// kind, the episode length) and the drawing keys of the envs with cameras, here; each env's own
+// options (the reaching tasks' IK, drive, target and workspace rules, the obstacle's column, ...)
+// live with the env as option groups (core/env_options.hpp) that `options` holds. Every registered
+// env publishes its defaults with real values, its groups included (default_env_config in
+// envs/registry.hpp); a config is read over them, so the resolved config records the numbers an
+// env really used. The initial values below are the generic ones.
 struct EnvConfig {
   std::string name;
   ObservationMode observation = ObservationMode::GroundTruth;
   bool is_discrete = true;
+  int max_steps = 200;
   RenderMode render_mode = RenderMode::None;
   bool multi_view = false;
-  bool random_target = false;
-  double max_distance = 0.7;        // m
-  std::string urdf_root{};          // empty = the repo's assets/ (asset_root)
-  int max_steps = 200;
-  double action_step = 0.015;       // m
-  double success_threshold = 0.025; // m
-  int action_repeat = 1;
-  int solver_iterations = 10;
-  IkMethod ik_method = IkMethod::DampedLeastSquares;
-  int ik_iterations = 1;
-  IkJoints ik_joints = IkJoints::Arm;
-  DriveMode drive = DriveMode::ComputedTorque;
-  double position_gain = 1.0;       // kp
-  double velocity_gain = 1.0;       // kd
-  double move_noise = 1.0 / 30.0;   // sigma as a fraction of action_step
-  bool workspace_bounds = true;
-  bool end_on_success = true;
-  ResetPose reset_pose = ResetPose::Home;
-  double reset_noise = 0.02;        // rad
-  ObservationLayout observation_layout = ObservationLayout::Full;
-  ColumnMotion column_motion = ColumnMotion::Static;
-  RewardRule reward = RewardRule::NegativeDistance;
   int image_width = 64;
   int image_height = 64;
   int render_width = 320;
   int render_height = 240;
   std::string renderer = "osmesa";
+  // The env's own option groups, one struct each (e.g. ReachOptions), as its defaults list them.
+  std::vector<EnvOptions> options{};
+
+  // The group of type T, or nullptr when this config has none (an env that does not read it).
+  template <class T>
+  T* find() {
+    for (EnvOptions& o : options)
+      if (T* t = o.get<T>()) return t;
+    return nullptr;
+  }
+  template <class T>
+  const T* find() const {
+    for (const EnvOptions& o : options)
+      if (const T* t = o.get<T>()) return t;
+    return nullptr;
+  }
+  // The group of type T; rdsim::Error naming the env when it has none.
+  template <class T>
+  T& get() {
+    if (T* t = find<T>()) return *t;
+    throw_missing_group();
+  }
+  template <class T>
+  const T& get() const {
+    if (const T* t = find<T>()) return *t;
+    throw_missing_group();
+  }
+
+private:
+  [[noreturn]] void throw_missing_group() const;
 };
 
 inline const config::Names<ObservationMode>& observation_mode_names() {
@@ -68,105 +71,25 @@ inline const config::Names<RenderMode>& render_mode_names() {
   return names;
 }
 
-inline const config::Names<IkMethod>& ik_method_names() {
-  static const config::Names<IkMethod> names = {{"damped_least_squares", IkMethod::DampedLeastSquares},
-                                                {"null_space", IkMethod::NullSpace}};
-  return names;
-}
-inline const config::Names<IkJoints>& ik_joints_names() {
-  static const config::Names<IkJoints> names = {{"arm", IkJoints::Arm}, {"all", IkJoints::All}};
-  return names;
-}
-inline const config::Names<DriveMode>& drive_mode_names() {
-  static const config::Names<DriveMode> names = {{"computed_torque", DriveMode::ComputedTorque},
-                                                 {"position_motor", DriveMode::PositionMotor}};
-  return names;
-}
-inline const config::Names<ResetPose>& reset_pose_names() {
-  static const config::Names<ResetPose> names = {{"home", ResetPose::Home}, {"rest", ResetPose::Rest}};
-  return names;
-}
-inline const config::Names<ObservationLayout>& observation_layout_names() {
-  static const config::Names<ObservationLayout> names = {{"full", ObservationLayout::Full},
-                                                         {"relative", ObservationLayout::Relative}};
-  return names;
-}
-inline const config::Names<ColumnMotion>& column_motion_names() {
-  static const config::Names<ColumnMotion> names = {{"static", ColumnMotion::Static},
-                                                    {"random_walk", ColumnMotion::RandomWalk}};
-  return names;
-}
-inline const config::Names<RewardRule>& reward_rule_names() {
-  static const config::Names<RewardRule> names = {{"negative_distance", RewardRule::NegativeDistance},
-                                                  {"inverse_distance", RewardRule::InverseDistance}};
-  return names;
-}
-
+// The keys every env reads.
 template <class V, class C>
   requires config::Describes<C, EnvConfig>
-void describe(V& v, C& c) {
+void describe_env_basics(V& v, C& c) {
   v.field("name", c.name, "registry name (`rdsim envs`)");
   v.check(!c.name.empty(), "name", "expected an environment name (see `rdsim envs`)");
   v.choice("observation", c.observation, observation_mode_names(),
            "what the agent sees: ground-truth vectors or UInt8 camera images");
   v.field("is_discrete", c.is_discrete, "Discrete(6) end-effector moves, else a continuous Box(3)");
+  v.field("max_steps", c.max_steps, config::Range{1, 100'000'000}, "truncation limit (env steps)");
+}
+
+// The drawing keys, read by the envs with cameras (EnvEntry::supports_pixels).
+template <class V, class C>
+  requires config::Describes<C, EnvConfig>
+void describe_env_drawing(V& v, C& c) {
   v.choice("render_mode", c.render_mode, render_mode_names(),
            "the paper's `renders`: rgb_array makes Env::render draw frames for people");
   v.field("multi_view", c.multi_view, "raw pixels from a second camera too (6 channels)");
-  v.field("random_target", c.random_target, "target drawn at each reset");
-  v.field("max_distance", c.max_distance, config::Range{1e-3, 100.0},
-          "m; farther than this from the target ends the episode");
-  v.field("urdf_root", c.urdf_root, "folder holding the URDF assets; empty = the repo's assets/");
-  v.field("max_steps", c.max_steps, config::Range{1, 100'000'000}, "truncation limit (env steps)");
-  v.field("action_step", c.action_step, config::Range{1e-4, 2.0},
-          "m per discrete move / largest continuous move (the end-effector goal of one move; the robot's "
-          "dynamics decide how far it gets within one env step)");
-  v.field("success_threshold", c.success_threshold, config::Range{1e-4, 10.0}, "m; closer than this to the target is success");
-  v.field("action_repeat", c.action_repeat, config::Range{1, 1000},
-          "physics steps (1/240 s each) per env step; the move's joint targets hold for all of them");
-  v.field("solver_iterations", c.solver_iterations, config::Range{1, 10'000},
-          "Bullet sequential-impulse solver iterations per physics step (contacts, motors, joint limits)");
-  v.choice("ik_method", c.ik_method, ik_method_names(),
-           "how a move's goal becomes joint targets, by ik_iterations steps from the current joint angles: "
-           "damped_least_squares (damping 0.02 m) or null_space (pybullet's calculateInverseKinematics with "
-           "rest poses: damping 0.6, a pull of 0.001 x (rest pose - q) in the Jacobian's null space, at most "
-           "45 deg per joint per step, stops within 0.1 mm)");
-  v.field("ik_iterations", c.ik_iterations, config::Range{1, 1000}, "IK steps per move (one FK + Jacobian each)");
-  v.choice("ik_joints", c.ik_joints, ik_joints_names(),
-           "joints the IK moves: arm (the task's arm joints) or all (every joint on the path from the base to "
-           "the end effector; the InMoov's torso too). Joints off that path hold their targets either way");
-  v.choice("drive", c.drive, drive_mode_names(),
-           "joint drive: computed_torque (torques from the arm's dynamics within the URDF efforts; the IK "
-           "step is slowed so no joint passes its URDF speed limit) or position_motor (pybullet's "
-           "POSITION_CONTROL: Bullet joint motors with force = URDF effort and joint-limit constraints, "
-           "solved with the contacts; the IK solution is the motors' target as it is)");
-  v.field("position_gain", c.position_gain, config::Range{1e-4, 1.0},
-          "kp of the drive law: joint speed = kp (target - q) / dt + (1 - kd) qdot, within the URDF speed limit");
-  v.field("velocity_gain", c.velocity_gain, config::Range{0.0, 1.0}, "kd of that law (target velocity 0)");
-  v.field("move_noise", c.move_noise, config::Range{0.0, 1.0},
-          "Gaussian noise on each component of a move's goal, sigma = move_noise x action_step");
-  v.field("workspace_bounds", c.workspace_bounds,
-          "move goals are clipped into the task's workspace box, and leaving it (by 3 cm) or being farther "
-          "than max_distance from the target ends the episode; false: neither");
-  v.field("end_on_success", c.end_on_success,
-          "success ends the episode; false: episodes end at max_steps (or a failure) and info.success is "
-          "whether the success rule holds at the episode's last step");
-  v.choice("reset_pose", c.reset_pose, reset_pose_names(),
-           "joint angles at reset: home (the task's working pose) or rest (RobotDrlSim's: Jaka "
-           "[0,0,1,1,1,1], InMoov all 0; also null_space's rest pose)");
-  v.field("reset_noise", c.reset_noise, config::Range{0.0, 1.0},
-          "rad; U(-reset_noise, reset_noise) added to every IK joint at reset");
-  v.choice("observation_layout", c.observation_layout, observation_layout_names(),
-           "ground-truth vector: full (target - end effector, end effector - each landmark, end-effector "
-           "position, the task's observed links - each landmark) or relative (end effector - target, end "
-           "effector - each landmark: RobotDrlSim's)");
-  v.choice("column_motion", c.column_motion, column_motion_names(),
-           "the obstacle column: static, or random_walk (each env step it moves by U(-3, 3) mm in x and y, "
-           "staying within 5 cm of its place; back there at reset)");
-  v.choice("reward", c.reward, reward_rule_names(),
-           "negative_distance (-distance per step; touching the column: -200 and the end) or "
-           "inverse_distance (RobotDrlSim's obstacle env: 1/max(distance, 1 cm) - 2 t/max_steps per step, "
-           "-10 on each step touching the column (the episode goes on), +10 on each step within 0.1 m)");
   v.field("image_width", c.image_width, config::Range{8, 4096}, "raw-pixel observation width");
   v.field("image_height", c.image_height, config::Range{8, 4096}, "raw-pixel observation height");
   v.field("render_width", c.render_width, config::Range{8, 4096}, "width of Env::render frames (render_mode rgb_array)");
@@ -177,13 +100,18 @@ void describe(V& v, C& c) {
           "has no effect without \"observation\": \"raw_pixels\" (it adds a second camera to the images)");
 }
 
+// Both: every key core declares (the option groups describe their own).
+template <class V, class C>
+  requires config::Describes<C, EnvConfig>
+void describe(V& v, C& c) {
+  describe_env_basics(v, c);
+  describe_env_drawing(v, c);
+}
+
 const char* to_string(ObservationMode mode);
 const char* to_string(RenderMode mode);
 
 // rdsim's source tree: $RDSIM_ROOT when set, else the one known at build time.
 std::string repo_root();
-
-// The folder holding rdsim's assets: `urdf_root` when set, else repo_root()/assets.
-std::string asset_root(const EnvConfig& config);
 
 }  // namespace rdsim

@@ -9,6 +9,7 @@
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/core/robot_control.hpp"
+#include "rdsim/envs/obstacle_options.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reach_task.hpp"
 #include "rdsim/envs/robot_cameras.hpp"
@@ -18,7 +19,7 @@
 // ReachTask does the physics and IK moves; ReachTerms says what differs between tasks. A task file
 // only builds its ReachTaskSpec and ReachTerms.
 //
-// Episode rules, shared by all reaching tasks (the env options named are EnvConfig's):
+// Episode rules, shared by all reaching tasks (the env options named are ReachOptions', envs/reach_options.hpp):
 //   observation   ground truth, observation_layout full: target - end effector (3), end effector -
 //                 landmark (3 per landmark), end-effector position (3), then observed link - landmark
 //                 (3 per observed link per landmark; none unless a task asks); relative: end effector

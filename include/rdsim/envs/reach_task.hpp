@@ -10,6 +10,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/envs/reach_options.hpp"
 #include "rdsim/sim/kinematics.hpp"
 #include "rdsim/sim/physics_world.hpp"
 
@@ -54,7 +55,7 @@ struct ReachTaskSpec {
   std::optional<Eigen::Vector3f> random_centre;
   Eigen::AlignedBox3f workspace;  // move targets are clipped into it; the ee leaving it ends an episode
 
-  // Task numbers, from the env's EnvConfig (apply_env_config; core/env_config.hpp says what each does):
+  // Task numbers, from the env's EnvConfig (apply_env_config; envs/reach_options.hpp says what each does):
   bool discrete = true;           // actions: Discrete(6) moves, else a continuous Box(3)
   float step = 0.0f;              // m per discrete move / largest continuous move
   float move_noise = 1.0f / 30.0f;  // Gaussian noise on each move component, sigma = move_noise * step
@@ -78,8 +79,8 @@ struct ReachTaskSpec {
   RobotOptions robot{.drive = JointDrive::ComputedTorque, .limit_constraints = false};
 };
 
-// Copies the task numbers and physics options of `config` (checked by read_env_config / make_env)
-// into `spec`: everything above from is_discrete, action_step, move_noise, success_threshold,
+// Copies the task numbers and physics options of `config` (checked by read_env_config / make_env;
+// its ReachOptions group) into `spec`: everything above from is_discrete, action_step, move_noise, success_threshold,
 // max_distance, workspace_bounds, max_steps, action_repeat, ik_method, ik_iterations, ik_joints,
 // reset_pose, reset_noise, solver_iterations, drive, position_gain and velocity_gain.
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec);

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/core/config_fields.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
@@ -14,9 +15,10 @@ namespace rdsim {
 struct EnvEntry {
   std::string name;
   std::string description;
-  bool supports_pixels = false;
-  EnvConfig (*defaults)();                    // every option with the value the env uses by default
-  std::vector<std::string> keys;              // the "env" keys it reads besides "name"
+  bool supports_pixels = false;  // has cameras: reads the drawing keys too (describe_env_drawing)
+  // Every option with the value the env uses by default: core's keys and the env's own option
+  // groups (EnvConfig::options), which say what else it reads.
+  EnvConfig (*defaults)();
   std::unique_ptr<Env> (*make)(const EnvConfig&);
 };
 
@@ -29,6 +31,14 @@ const EnvEntry& env_entry(const std::string& name);
 
 // The env's published defaults (EnvConfig with real values, name set).
 EnvConfig default_env_config(const std::string& name);
+
+// The "env" keys `entry` reads with their docs and its default values, "name" first, each from its
+// one declaration: core's describe_env_basics, describe_env_drawing (envs with cameras), then the
+// describe() of each option group its defaults hold.
+std::vector<config::FieldDoc> env_fields(const EnvEntry& entry);
+// The keys of env_fields(entry), in that order.
+std::vector<std::string> env_keys(const EnvEntry& entry);
+bool env_reads(const EnvEntry& entry, const std::string& key);
 
 // Reads the "env" object of a config: "name" first, then the other keys over that env's
 // defaults, so the result holds the values the env will use. Unknown keys, keys the env does not

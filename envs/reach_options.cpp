@@ -1,0 +1,17 @@
+#include "rdsim/envs/reach_options.hpp"
+
+#include <utility>
+
+namespace rdsim {
+
+std::string asset_root(const ReachOptions& options) {
+  if (!options.urdf_root.empty()) return options.urdf_root;
+  return repo_root() + "/assets";
+}
+
+EnvConfig reach_env_config(EnvConfig common, ReachOptions options) {
+  common.options = {EnvOptions(std::move(options))};
+  return common;
+}
+
+}  // namespace rdsim
