@@ -69,6 +69,12 @@ void apply_env_config(const EnvConfig& env, ReachTaskSpec& spec) {
   spec.robot.velocity_gain = static_cast<float>(config.velocity_gain);
 }
 
+RobotModel load_robot_urdf(const ReachTaskSpec& spec) {
+  // MERGE (branch mesh): pass the search path once the loader takes it:
+  //   return load_urdf(spec.robot_urdf, UrdfLoadOptions{.search_path = spec.package_paths});
+  return load_urdf(spec.robot_urdf);
+}
+
 ActionSpace ReachTask::action_space() const {
   ActionSpace a;
   a.discrete = spec_.discrete;
@@ -110,7 +116,7 @@ ReachTask::ReachTask(ReachTaskSpec spec) : spec_(std::move(spec)) {
     static_models_.push_back(load_urdf(s.urdf));
     static_ids_.push_back(world_->add_static_body(static_models_.back(), s.pose));
   }
-  const RobotModel model = load_urdf(spec_.robot_urdf);
+  const RobotModel model = load_robot_urdf(spec_);
   robot_ = &world_->add_robot(model, spec_.base_pose, spec_.robot);
   ee_link_ = robot_->model().require_link(spec_.ee_link);
   chain_ = std::make_unique<KinematicChain>(ik_model(robot_->model(), *robot_, spec_), spec_.ee_link);

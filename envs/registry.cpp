@@ -10,6 +10,7 @@
 #include "rdsim/envs/jaka_button.hpp"
 #include "rdsim/envs/jaka_obstacle.hpp"
 #include "rdsim/envs/pendulum.hpp"
+#include "rdsim/envs/reach_arm.hpp"
 
 namespace rdsim {
 namespace {
@@ -60,6 +61,8 @@ const std::vector<EnvEntry>& env_registry() {
        jaka_obstacle_defaults, make_jaka_obstacle},
       {"inmoov_tomato", "InMoov humanoid moves its right palm to a tomato on a tree by IK moves (RobotDrlSim 4.3)",
        true, inmoov_tomato_defaults, make_inmoov_tomato},
+      {"reach", "Any arm (env.urdf; the repo's Jaka by default) moves its effector link to a target point by IK moves",
+       true, reach_arm_defaults, make_reach_arm},
   };
   return entries;
 }
@@ -101,6 +104,10 @@ std::vector<std::string> env_keys(const EnvEntry& entry) {
 bool env_reads(const EnvEntry& entry, const std::string& key) {
   const std::vector<std::string> keys = env_keys(entry);
   return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+void resolve_env_paths(EnvConfig& config, const std::string& folder) {
+  if (auto* arm = config.find<ArmOptions>()) resolve_arm_paths(*arm, folder);
 }
 
 EnvConfig read_env_config(ConfigReader& r) {

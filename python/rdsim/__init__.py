@@ -10,7 +10,7 @@
   with the CLI's one-line message.
 
 Importing the package registers the ids (``rdsim/JakaButton-v0``, ``rdsim/JakaObstacle-v0``,
-``rdsim/InMoovTomato-v0``, ``rdsim/CartPole-v1``, ``rdsim/Pendulum-v1``) with Gymnasium.
+``rdsim/InMoovTomato-v0``, ``rdsim/Reach-v0``, ``rdsim/CartPole-v1``, ``rdsim/Pendulum-v1``) with Gymnasium.
 """
 from __future__ import annotations
 

@@ -7,6 +7,7 @@ IDS: dict[str, str] = {
     "rdsim/JakaButton-v0": "jaka_button",
     "rdsim/JakaObstacle-v0": "jaka_obstacle",
     "rdsim/InMoovTomato-v0": "inmoov_tomato",
+    "rdsim/Reach-v0": "reach",
     "rdsim/CartPole-v1": "cartpole",
     "rdsim/Pendulum-v1": "pendulum",
 }

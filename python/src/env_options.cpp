@@ -22,10 +22,18 @@ nlohmann::json json_value(const std::string& where, const std::string& key, cons
   }
   if (py::isinstance<py::float_>(value)) return value.cast<double>();
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  // Lists (home_pose, joints, ...): a list or tuple of the values above, or a 1-D NumPy array.
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const py::handle item : value) list.push_back(json_value(where, key, item));
+    return list;
+  }
+  if (py::hasattr(value, "tolist") && py::hasattr(value, "dtype") && py::len(value.attr("shape")) == 1)
+    return json_value(where, key, value.attr("tolist")());
   // NumPy scalars (np.int64(5), np.float32(0.1), np.bool_) read as the Python values they hold.
   if (py::hasattr(value, "item") && py::hasattr(value, "dtype") && py::len(value.attr("shape")) == 0)
     return json_value(where, key, value.attr("item")());
-  throw Error(where + ": " + key + ": expected a number, true/false or a string, got a Python " +
+  throw Error(where + ": " + key + ": expected a number, true/false, a string or a list of them, got a Python " +
               type_name(value));
 }
 

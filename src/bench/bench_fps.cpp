@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -93,10 +94,13 @@ std::optional<BenchRow> bench_row(const EnvConfig& config, const std::string& pr
   return row;
 }
 
+std::string paper_preset_path(const std::string& env, const std::string& mode) {
+  return repo_root() + "/configs/paper/" + env + (mode == "raw_pixels" ? "_pixels" : "") + ".json";
+}
+
 // The "env" object of configs/paper/<env>[_pixels].json, read by the rules of a training config.
 EnvConfig paper_preset(const std::string& env, const std::string& mode) {
-  const std::string path = repo_root() + "/configs/paper/" + env + (mode == "raw_pixels" ? "_pixels" : "") + ".json";
-  return read_train_config(path).env;
+  return read_train_config(paper_preset_path(env, mode)).env;
 }
 
 std::string fmt(double v, const char* spec = "%.0f") {
@@ -176,7 +180,9 @@ bool wanted(const std::vector<std::string>& filter, const std::string& value) {
 std::vector<BenchRow> measure(const BenchFpsOptions& o) {
   std::vector<BenchRow> rows;
   for (const auto& entry : env_registry()) {
-    if (!wanted(o.envs, entry.name) || (o.paper && !entry.supports_pixels)) continue;  // presets: the robot tasks
+    // Presets: the paper's robot tasks (the generic reach env has none).
+    if (!wanted(o.envs, entry.name) || (o.paper && !std::filesystem::exists(paper_preset_path(entry.name, "ground_truth"))))
+      continue;
     for (std::string mode : {"ground_truth", "raw_pixels"}) {
       if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.supports_pixels)) continue;
       if (o.paper) {

@@ -119,21 +119,41 @@ void ConfigReader::read(const std::string& key, bool& out) {
   out = v->get<bool>();
 }
 
+namespace {
+
+// Config strings are names and paths: bounded, and no control characters (a NUL would cut a
+// path short, a newline would split a message).
+bool plain_string(const nlohmann::json& v) {
+  if (!v.is_string() || v.get_ref<const std::string&>().size() > max_string_bytes) return false;
+  for (const char c : v.get_ref<const std::string&>())
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return false;
+  return true;
+}
+
+const std::string plain_string_text =
+    "at most " + std::to_string(max_string_bytes) + " bytes without control characters";
+
+}  // namespace
+
 void ConfigReader::read(const std::string& key, std::string& out) {
   const auto* v = find(key);
   if (!v) return;
-  // Config strings are names and paths: bounded, and no control characters (a NUL would cut a
-  // path short, a newline would split a message).
-  const auto printable = [](const std::string& t) {
-    for (const char c : t)
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return false;
-    return true;
-  };
-  if (!v->is_string() || v->get_ref<const std::string&>().size() > max_string_bytes ||
-      !printable(v->get_ref<const std::string&>()))
-    fail(key, "expected a string of at most " + std::to_string(max_string_bytes) +
-                  " bytes without control characters, got " + describe(*v));
+  if (!plain_string(*v)) fail(key, "expected a string of " + plain_string_text + ", got " + describe(*v));
   out = v->get<std::string>();
+}
+
+void ConfigReader::read(const std::string& key, std::vector<std::string>& out) {
+  const auto* v = find(key);
+  if (!v) return;
+  const std::string expected =
+      "expected a list of at most " + std::to_string(max_list_items) + " strings of " + plain_string_text;
+  if (!v->is_array() || v->size() > max_list_items) fail(key, expected + ", got " + describe(*v));
+  std::vector<std::string> result;
+  for (const auto& e : *v) {
+    if (!plain_string(e)) fail(key, expected + ", got " + describe(e) + " in " + describe(*v));
+    result.push_back(e.get<std::string>());
+  }
+  out = std::move(result);
 }
 
 void ConfigReader::read(const std::string& key, long long& out, long long lo, long long hi) {

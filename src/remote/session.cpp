@@ -5,6 +5,7 @@
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/env_caches.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/envs/arm_options.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/codec.hpp"
@@ -18,6 +19,9 @@ EnvConfig read_hello_env(const nlohmann::json& env) {
   EnvConfig c = read_env_config(reader);
   if (const auto* reach = c.find<ReachOptions>(); reach && !reach->urdf_root.empty())
     reader.fail("urdf_root", "not accepted over the link: the server uses its own assets");
+  if (const auto* arm = c.find<ArmOptions>(); arm && (!arm->urdf.empty() || !arm->package_paths.empty()))
+    reader.fail(arm->urdf.empty() ? "package_paths" : "urdf",
+                "not accepted over the link: the server loads only its own robots");
   if (c.render_mode != RenderMode::None)
     reader.fail("render_mode", "not available over the link: ask for camera images with the cameras request");
   if (c.observation == ObservationMode::RawPixels) {

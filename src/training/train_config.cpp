@@ -101,7 +101,9 @@ void apply_overrides(nlohmann::json& config, const std::vector<ConfigOverride>& 
 TrainConfig read_train_config(const std::string& path, const std::vector<ConfigOverride>& overrides) {
   nlohmann::json json = read_json_file(path);
   apply_overrides(json, overrides, path);
-  return parse_train_config(json, path, std::filesystem::path(path).stem().string());
+  TrainConfig c = parse_train_config(json, path, std::filesystem::path(path).stem().string());
+  resolve_env_paths(c.env, std::filesystem::path(path).parent_path().string());  // the file's own paths
+  return c;
 }
 
 Spec config_spec(const TrainConfig& config) {

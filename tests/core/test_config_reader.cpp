@@ -93,3 +93,21 @@ TEST_CASE("config reader: ranges read well, lists and strings are bounded", "[co
   std::vector<int> list;
   CHECK_THAT(error_of([&] { r.read("list", list, 0, 10); }), Contains("at most 256"));
 }
+
+TEST_CASE("config reader: lists of strings, each checked as one string", "[config]") {
+  const auto j = nlohmann::json::parse(R"({"names": ["joint_1", "joint_2"], "empty": [], "mixed": ["a", 3],
+                                           "ctrl": ["a\nb"], "not_list": "a"})");
+  ConfigReader r(j, "cfg.json");
+  std::vector<std::string> names, empty = {"kept?"}, absent = {"default"};
+  r.read("names", names);
+  r.read("empty", empty);
+  r.read("absent", absent);
+  CHECK(names == std::vector<std::string>{"joint_1", "joint_2"});
+  CHECK(empty.empty());
+  CHECK(absent == std::vector<std::string>{"default"});
+  for (const char* key : {"mixed", "ctrl", "not_list"}) {
+    std::vector<std::string> out;
+    CHECK_THAT(error_of([&] { r.read(key, out); }),
+               Contains(std::string("cfg.json: ") + key + ": expected a list of at most 256 strings of at most 4096 bytes"));
+  }
+}

@@ -246,6 +246,7 @@ TEST_CASE("env contract: each env publishes the spec its header documents", "[en
       {"jaka_obstacle", 15, 6, 300, 1.0 / 240.0},
       {"inmoov_tomato", 6, 6, 400, 1.0 / 240.0},
       {"pendulum", 3, 1, 200, 0.05, false},
+      {"reach", 6, 6, 200, 1.0 / 240.0},
   };
   CHECK(std::size(table) == env_registry().size());  // a new env adds its row
   for (const Published& p : table) {

@@ -12,6 +12,7 @@
 
 #include "../error_of.hpp"
 #include "rdsim/core/config_fields.hpp"
+#include "rdsim/envs/arm_options.hpp"
 #include "rdsim/envs/obstacle_options.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -67,8 +68,8 @@ TEST_CASE("every env option key is declared exactly once", "[config][envs]") {
     INFO(key);
     CHECK(count == 1);
   }
-  // The groups are the reaching tasks' and the obstacle's (a new group shows up here).
-  CHECK(groups == std::set<std::type_index>{typeid(ReachOptions), typeid(ObstacleOptions)});
+  // The groups are the reaching tasks', the obstacle's and reach's arm (a new group shows up here).
+  CHECK(groups == std::set<std::type_index>{typeid(ReachOptions), typeid(ObstacleOptions), typeid(ArmOptions)});
 }
 
 TEST_CASE("the registry accepts for each env exactly the union of the descriptions it uses", "[config][envs]") {
@@ -85,18 +86,21 @@ TEST_CASE("the registry accepts for each env exactly the union of the descriptio
       {"jaka_button", with(pixel_core, group<ReachOptions>())},
       {"jaka_obstacle", with(with(pixel_core, group<ReachOptions>()), group<ObstacleOptions>())},
       {"inmoov_tomato", with(pixel_core, group<ReachOptions>())},
+      {"reach", with(with(pixel_core, group<ReachOptions>()), group<ArmOptions>())},
   };
   std::set<std::string> every;
   for (const EnvEntry& e : env_registry()) {
     const auto keys = env_keys(e);
     every.insert(keys.begin(), keys.end());
   }
+  CHECK(expected.size() == env_registry().size());
   for (const EnvEntry& e : env_registry()) {
     INFO(e.name);
     const std::vector<std::string> keys = env_keys(e);
     CHECK(keys.front() == "name");
     CHECK(set_of(keys).size() == keys.size());
-    if (expected.count(e.name)) CHECK(set_of(keys) == expected.at(e.name));
+    REQUIRE(expected.count(e.name) == 1);
+    CHECK(set_of(keys) == expected.at(e.name));
     // The resolved config names exactly these keys and reads back to itself.
     const nlohmann::json json = to_json(default_env_config(e.name));
     std::set<std::string> written;
@@ -109,7 +113,9 @@ TEST_CASE("the registry accepts for each env exactly the union of the descriptio
       if (set_of(keys).count(key)) continue;
       INFO(key);
       nlohmann::json bad = {{"name", e.name}};
-      bad[key] = json.contains(key) ? json[key] : nlohmann::json(to_json(default_env_config("jaka_obstacle"))[key]);
+      // A valid value of the key, from an env that reads it.
+      for (const EnvEntry& other : env_registry())
+        if (env_reads(other, key)) bad[key] = to_json(default_env_config(other.name))[key];
       CHECK_THAT(error_of([&] {
                    ConfigReader r = reader_of(bad);
                    read_env_config(r);

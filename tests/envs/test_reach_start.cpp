@@ -45,6 +45,7 @@ TEST_CASE("reaching envs: the robot starts clear of the scene and holds its pose
     cases.emplace_back(name, test::env_config(name, /*random_target=*/true));
     cases.emplace_back(name + " paper preset", test::paper_env_config(name));
   }
+  cases.emplace_back("reach", test::env_config("reach", /*random_target=*/true));
   for (const auto& [label, config] : cases) {
     auto env = make_env(config);
     auto& reach = dynamic_cast<ReachEnv&>(*env);

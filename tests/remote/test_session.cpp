@@ -56,6 +56,8 @@ TEST_CASE("session: a hello's env config is read by the training-config code, wi
   CHECK_THAT(hello_error(R"({"name": "cartpole", "image_width": 64})"), Contains("env.image_width: has no effect on cartpole"));
   CHECK_THAT(hello_error(R"({"name": "jaka_button", "remote": "tcp://127.0.0.1:1"})"), Contains("env.remote: unknown key"));
   CHECK_THAT(hello_error(R"({"name": "jaka_button", "urdf_root": "/etc"})"), Contains("env.urdf_root: not accepted over the link"));
+  CHECK_THAT(hello_error(R"({"name": "reach", "urdf": "/etc/arm.urdf"})"), Contains("env.urdf: not accepted over the link"));
+  CHECK_THAT(hello_error(R"({"name": "reach", "package_paths": ["/etc"]})"), Contains("env.package_paths: not accepted over the link"));
   CHECK_THAT(hello_error(R"({"name": "jaka_button", "render_mode": "rgb_array"})"), Contains("cameras request"));
   CHECK_THAT(hello_error(R"({"name": "jaka_button", "observation": "raw_pixels", "image_width": 4096, "image_height": 4096})"),
              Contains("larger than this server allows"));

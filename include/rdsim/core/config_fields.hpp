@@ -57,6 +57,7 @@ public:
   void field(const char* key, double& v, Range<double> r, const char*) { r_.read(key, v, r.lo, r.hi); }
   void field(const char* key, std::vector<int>& v, Range<int> r, const char*) { r_.read(key, v, r.lo, r.hi); }
   void field(const char* key, std::vector<double>& v, Range<double> r, const char*) { r_.read(key, v, r.lo, r.hi); }
+  void field(const char* key, std::vector<std::string>& v, const char*) { r_.read(key, v); }
   void choice(const char* key, std::string& v, const std::vector<std::string>& choices, const char*) {
     r_.read_choice(key, v, choices);
   }
@@ -169,6 +170,9 @@ public:
   }
   void field(const char* key, const std::vector<double>& v, Range<double> r, const char* doc) {
     add(key, "list of numbers", v, "each " + range(r), doc);
+  }
+  void field(const char* key, const std::vector<std::string>& v, const char* doc) {
+    add(key, "list of strings", v, "", doc);
   }
   void choice(const char* key, const std::string& v, const std::vector<std::string>& choices, const char* doc) {
     add(key, "string", v, alternatives(choices), doc);

@@ -36,6 +36,8 @@ public:
   void read(const std::string& key, double& out, double lo, double hi);
   void read(const std::string& key, std::vector<int>& out, int lo, int hi);
   void read(const std::string& key, std::vector<double>& out, double lo, double hi);
+  // A list of strings (names, paths), each checked as read(key, std::string&) checks one.
+  void read(const std::string& key, std::vector<std::string>& out);
   void read_choice(const std::string& key, std::string& out, const std::vector<std::string>& choices);
 
   // A nested object; its own finish() checks its keys.

@@ -33,6 +33,9 @@ struct StaticBodySpec {
 struct ReachTaskSpec {
   std::string name;        // the env's registry name, for Spec::env_name and messages
   std::string robot_urdf;  // path of the robot's URDF file
+  // Folders searched for the robot URDF's package:// and relative mesh paths, in order
+  // (load_robot_urdf).
+  std::vector<std::string> package_paths;
   Eigen::Isometry3f base_pose = Eigen::Isometry3f::Identity();
   std::string ee_link;          // end-effector link (the IK chain runs from the root link to it)
   // Joints the IK may move (names); empty = every movable joint between the root and ee_link. The
@@ -84,6 +87,9 @@ struct ReachTaskSpec {
 // max_distance, workspace_bounds, max_steps, action_repeat, ik_method, ik_iterations, ik_joints,
 // reset_pose, reset_noise, solver_iterations, drive, position_gain and velocity_gain.
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec);
+
+// The robot of `spec`: its URDF, with spec.package_paths as the mesh search path.
+RobotModel load_robot_urdf(const ReachTaskSpec& spec);
 
 class ReachTask {
 public:

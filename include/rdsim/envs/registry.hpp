@@ -40,6 +40,11 @@ std::vector<config::FieldDoc> env_fields(const EnvEntry& entry);
 std::vector<std::string> env_keys(const EnvEntry& entry);
 bool env_reads(const EnvEntry& entry, const std::string& key);
 
+// Makes the relative file paths among `config`'s options (reach's urdf and package_paths) absolute
+// paths relative to `folder`: a config file's paths are relative to the file's folder. Options given
+// in code or from Python stay as they are (relative to the current directory).
+void resolve_env_paths(EnvConfig& config, const std::string& folder);
+
 // Reads the "env" object of a config: "name" first, then the other keys over that env's
 // defaults, so the result holds the values the env will use. Unknown keys, keys the env does not
 // read, wrong types and out-of-range values are rdsim::Errors naming the key.
