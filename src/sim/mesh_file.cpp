@@ -10,13 +10,16 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <system_error>
 #include <utility>
 #include <vector>
 
+#include "assimp_input.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/input_file.hpp"
 
 namespace rdsim {
 namespace {
@@ -135,17 +138,18 @@ struct Converter {
   }
 };
 
-void check_size(const std::string& file) {
-  std::error_code ec;
-  const auto status = std::filesystem::status(file, ec);
-  if (ec || !std::filesystem::exists(status)) throw Error(file + ": file not found");
-  if (!std::filesystem::is_regular_file(status)) throw Error(file + ": not a regular file");
-  const std::uintmax_t bytes = std::filesystem::file_size(file, ec);
-  if (ec) throw Error(file + ": cannot read it (" + ec.message() + ")");
-  if (bytes > max_mesh_bytes)
-    throw Error(file + ": file is " + std::to_string(bytes) + " bytes, over the limit of " + std::to_string(max_mesh_bytes) +
-                " bytes (32 MiB) for a mesh");
-  if (bytes == 0) throw Error(file + ": empty file");
+// The file's bytes under rdsim's rule for input files; "file not found" said plainly.
+std::string read_whole(const std::string& file) {
+  std::string bytes;
+  try {
+    InputFile in(file, max_mesh_bytes);
+    bytes = in.read_rest();
+  } catch (const FileOpenError& e) {
+    if (e.code() == ENOENT) throw Error(file + ": file not found");
+    throw;
+  }
+  if (bytes.empty()) throw Error(file + ": empty file");
+  return bytes;
 }
 
 }  // namespace
@@ -155,9 +159,12 @@ TriangleMesh read_mesh_file(const std::string& file, const Eigen::Vector3d& scal
   if (!scale.allFinite() || !(scale.cwiseAbs().minCoeff() > 0.0))
     throw Error(file + ": scale (" + std::to_string(scale.x()) + " " + std::to_string(scale.y()) + " " +
                 std::to_string(scale.z()) + ") must be finite and non-zero in x, y and z");
-  check_size(file);
+  std::string bytes = read_whole(file);
 
   Assimp::Importer importer;
+  // Files the mesh names (an OBJ's .mtl) share the mesh's byte budget.
+  const std::uint64_t left = max_mesh_bytes - bytes.size();
+  importer.SetIOHandler(new AssimpInput(file, std::move(bytes), left));  // the importer owns it
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   importer.SetPropertyFloat(AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, 45.0f);
   // Read first, count, then process: the processing steps cost far more than the reading.

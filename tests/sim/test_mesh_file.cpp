@@ -126,7 +126,7 @@ TEST_CASE("mesh file: missing, foreign, empty, malformed and oversized files are
   // Over the size limit: refused unread (a sparse file).
   const std::string big = write("big.stl", "solid big\n");
   std::filesystem::resize_file(big, max_mesh_bytes + 1);
-  CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(big, one); }), Contains("big.stl: file is 33554433 bytes, over the limit"));
+  CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(big, one); }), Contains("big.stl: is 33554433 bytes, more than the 33554432 bytes"));
   // Over the triangle limit: a binary STL of 500,001 (degenerate) triangles, 25 MB.
   std::string stl(80, ' ');
   const std::uint32_t count = max_mesh_triangles + 1;

@@ -16,9 +16,12 @@
 // Normals are recomputed (smooth across edges under 45 degrees, sharp above); file colours are the
 // materials' diffuse colours (textures are not read).
 //
-// Limits, each an rdsim::Error "<file>: <reason>": files over max_mesh_bytes are refused unread;
-// over max_mesh_triangles (counted before any processing), no triangles, coordinates that are not
-// finite or beyond max_mesh_extent, or anything Assimp cannot read.
+// Files are read under rdsim's rule for input files (rdsim/core/input_file.hpp: regular files
+// only, opened without blocking), the mesh and the files it names (an OBJ's .mtl) together at most
+// max_mesh_bytes; Assimp parses them from memory. Limits, each an rdsim::Error "<file>: <reason>":
+// a file over max_mesh_bytes is refused unread; more than max_mesh_triangles (counted before any
+// processing), no triangles, coordinates that are not finite or beyond max_mesh_extent, or
+// anything Assimp cannot read.
 namespace rdsim {
 
 inline constexpr std::uint64_t max_mesh_bytes = 32ull * 1024 * 1024;  // 32 MiB
