@@ -519,6 +519,8 @@ def gen_meshes():
         ("dae-no-geometry.dae", dae_head + b"</COLLADA>", "not a readable DAE file"),
         ("dae-count-mismatch.dae", dae_head + dae_geometry % (90, b"0 0 0 1 0 0 0 1 0", 30, b"0 1 2"), "not a readable DAE file"),
         ("dae-index-out-of-range.dae", dae_head + dae_geometry % (9, b"0 0 0 1 0 0 0 1 0", 3, b"0 1 7"), "not a readable DAE file"),
+        ("dae-stray-byte-in-p.dae", dae_head + dae_geometry % (9, b"0 0 0 1 0 0 0 1 0", 3, b"0 1!2"), "where integers are expected"),
+        ("dae-count-huge.dae", dae_head + dae_geometry % (99999999999, b"0 0 0 1 0 0 0 1 0", 3, b"0 1 2"), "count over"),
         ("ply-unsupported.ply", b"ply\nformat ascii 1.0\nend_header\n", 'unsupported mesh format ".ply"'),
     ]
     for name, data, expected in cases_:

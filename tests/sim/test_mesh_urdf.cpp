@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <thread>
 
 #include "../error_of.hpp"
 #include "mesh_test_util.hpp"
@@ -225,5 +226,22 @@ TEST_CASE("mesh URDF: pybullet_data's Franka Panda loads; it stands, falls witho
     CHECK(touched);
     CHECK(deepest < 0.02f);  // the floor stops it
     for (int l = 0; l < static_cast<int>(limp.links.size()); ++l) CHECK(robot.link_pose(l).translation().z() > -0.02f);
+  }
+}
+
+TEST_CASE("mesh URDF: envs built on several threads at once share one copy of each mesh", "[urdf][mesh][pybullet_data]") {
+  const std::string data = pybullet_data();
+  if (data.empty()) return;
+  std::vector<RobotModel> models(6);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < models.size(); ++i)
+    threads.emplace_back([&, i] { models[i] = load_urdf(data + "/kuka_iiwa/model.urdf"); });
+  for (auto& t : threads) t.join();
+  for (const RobotModel& m : models) {
+    REQUIRE(m.links.size() == 8);
+    for (std::size_t l = 0; l < m.links.size(); ++l) {
+      CHECK(m.links[l].visuals[0].shape.mesh.mesh == models[0].links[l].visuals[0].shape.mesh.mesh);
+      CHECK(m.links[l].collisions[0].mesh.hull == models[0].links[l].collisions[0].mesh.hull);
+    }
   }
 }
