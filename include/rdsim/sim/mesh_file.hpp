@@ -28,7 +28,7 @@ inline constexpr std::uint64_t max_mesh_bytes = 32ull * 1024 * 1024;  // 32 MiB
 inline constexpr std::size_t max_mesh_triangles = 500'000;            // per file, after instancing
 inline constexpr double max_mesh_extent = 1000.0;                     // m: |coordinate| after scaling
 // A convex hull with more vertices than this is reduced (Bullet's btShapeHull: the hull's support
-// points in 42 directions, about 40 vertices) so that a moving link's collision test stays cheap.
+// points in 42 fixed directions, at most 42 vertices) so that a moving link's collision test stays cheap.
 inline constexpr std::size_t max_hull_points = 100;
 
 // Reads and converts one file, uncached. `scale` must be finite and non-zero in x, y and z.
