@@ -1,12 +1,17 @@
 // Mesh robots in the pixels: pybullet_data's Franka Panda and KUKA iiwa (from the installed
 // pybullet package) drawn through RobotScene by the osmesa renderer.
+//   ./build/test_envs "[.demo]"   writes docs/robot_panda.png and docs/robot_kuka_iiwa.png (to
+//                                 $RDSIM_DOCS_IMAGES or /tmp; the docs' copies went through
+//                                 `convert -strip -define png:compression-level=9`)
 #include <catch2/catch.hpp>
 
 #include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "rdsim/envs/robot_scene.hpp"
+#include "rdsim/render/png.hpp"
 #include "rdsim/render/renderer.hpp"
 #include "rdsim/sim/urdf_loader.hpp"
 
@@ -139,4 +144,29 @@ TEST_CASE("mesh robots: the KUKA arm draws in its URDF's blue and orange", "[env
     }
   CHECK(blue > 200);
   CHECK(orange > 50);
+}
+
+TEST_CASE("mesh robots: the docs' pictures of the Panda and the KUKA arm", "[.demo]") {
+  const std::string data = pybullet_data();
+  if (data.empty()) return;
+  const char* dir = std::getenv("RDSIM_DOCS_IMAGES");
+  const std::string out = dir && *dir ? dir : "/tmp";
+  struct Bot {
+    const char* urdf;
+    const char* png;
+    std::vector<float> q;
+  };
+  for (const Bot& b : {Bot{"/franka_panda/panda.urdf", "/robot_panda.png", {0.3f, 0.4f, 0.0f, -1.9f, 0.0f, 2.2f, 0.8f, 0.03f, 0.03f}},
+                       Bot{"/kuka_iiwa/model.urdf", "/robot_kuka_iiwa.png", {0.3f, 0.6f, 0.0f, -1.3f, 0.0f, 0.9f, 0.0f}}}) {
+    PhysicsWorld world;
+    Robot& robot = world.add_robot(load_urdf(data + b.urdf), Eigen::Isometry3f::Identity());
+    robot.reset_joints(Eigen::Map<const Eigen::VectorXf>(b.q.data(), static_cast<Eigen::Index>(b.q.size())));
+    RobotScene scene;
+    scene.scene.add(make_plane(1.0f, 1.0f, Eigen::Vector4f(0.55f, 0.55f, 0.6f, 1.0f)));  // a floor
+    add_robot(scene, robot);
+    const Image img = render(scene.scene, make_orbit_camera(OrbitView{.target = {0.25f, 0.0f, 0.4f}, .distance = 1.45f,
+                                                                      .yaw_deg = 40.0f, .pitch_deg = -22.0f},
+                                                            224, 224));
+    write_png(out + b.png, img.w, img.h, 3, img.rgb.data());
+  }
 }
