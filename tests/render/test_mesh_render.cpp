@@ -47,7 +47,7 @@ Camera oblique_camera(int w, int h) {
 
 }  // namespace
 
-TEST_CASE("a cube mesh draws exactly like the box of the same size", "[render][mesh]") {
+TEST_CASE("a cube mesh draws like the box of the same size, but for a few edge pixels", "[render][mesh]") {
   const int w = 64, h = 64;
   auto r = make_renderer("osmesa", w, h);
   const Eigen::Vector4f red(0.9f, 0.05f, 0.05f, 1.0f);
@@ -71,7 +71,7 @@ TEST_CASE("a cube mesh draws exactly like the box of the same size", "[render][m
   CHECK(differing <= 4);  // at most a few edge pixels split differently
 }
 
-TEST_CASE("a mesh's own colours multiply the item colour; faces turned away are not drawn", "[render][mesh]") {
+TEST_CASE("a mesh's own colours multiply the item colour, and faces turned away are not drawn", "[render][mesh]") {
   const int w = 48, h = 48;
   auto r = make_renderer("osmesa", w, h);
   auto coloured = cube_mesh(0.3f);

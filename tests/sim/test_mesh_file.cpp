@@ -62,7 +62,7 @@ TEST_CASE("mesh file: the cube in STL and OBJ reads as written, OBJ with its .mt
   }
 }
 
-TEST_CASE("mesh file: scale applies per axis; a mirroring scale keeps the triangles wound outward", "[mesh]") {
+TEST_CASE("mesh file: scale applies per axis, and a mirroring scale keeps the triangles wound outward", "[mesh]") {
   const TriangleMesh m = read_mesh_file(mesh_fixture("cube.stl"), Eigen::Vector3d(0.05, 0.1, 0.2));
   const Bounds b = bounds(m);
   CHECK(near(b.lo, Eigen::Vector3f(-0.05f, -0.1f, -0.2f)));

@@ -173,7 +173,7 @@ TEST_CASE("mesh URDF: pybullet_data's KUKA iiwa loads with its meshes", "[urdf][
   CHECK(kuka.links[3].visuals[0].rgba.head<3>().isApprox(Eigen::Vector3f(1.0f, 0.423529411765f, 0.0392156862745f)));  // "Orange"
 }
 
-TEST_CASE("mesh URDF: pybullet_data's Franka Panda loads; it stands, falls without motors, holds with them, hits the floor",
+TEST_CASE("mesh URDF: pybullet_data's Franka Panda loads, holds its pose with motors, falls without them onto the floor",
           "[urdf][mesh][physics][pybullet_data]") {
   const std::string data = pybullet_data();
   if (data.empty()) return;
