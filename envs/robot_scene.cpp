@@ -13,6 +13,7 @@ DrawItem visual_item(const VisualShape& visual) {
       item = make_cylinder(static_cast<float>(s.radius), static_cast<float>(s.length), visual.rgba);
       break;
     case ShapeType::Sphere: item = make_sphere(static_cast<float>(s.radius), visual.rgba); break;
+    case ShapeType::Mesh: item = make_mesh(s.mesh.mesh, visual.rgba); break;
   }
   item.pose = s.origin.cast<float>();
   return item;

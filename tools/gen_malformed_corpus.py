@@ -6,8 +6,11 @@ Every case is an input a user could give rdsim that must end with ONE line
 The manifest cases.tsv has one case per line, tab-separated:
     kind    input    target    expected
 kind:     config (train --config INPUT), urdf (INPUT replaces the asset TARGET, train on the
-          env using it), cli (TARGET is the argument list, with {root} the repository, {tmp} a
-          scratch folder, {big} a 16 MiB + 2 byte config; INPUT is -).
+          env using it), mesh (INPUT is a mesh file copied to the asset path TARGET, e.g.
+          jaka/mesh.stl, and urdfs/jaka-mesh-EXT.urdf, the Jaka URDF whose base link shows
+          mesh.EXT, replaces jaka/jaka_zu7.urdf; train on jaka_button), cli (TARGET is the
+          argument list, with {root} the repository, {tmp} a scratch folder, {big} a 16 MiB + 2
+          byte config; INPUT is -).
 expected: a fragment the message must contain (besides the file name for config/urdf cases).
 Model and checkpoint cases are made by the test itself from a model it trains (their bytes
 depend on the current format), see the test file.
@@ -436,7 +439,9 @@ def gen_urdfs():
     for k, text in enumerate(bad_shapes):
         expected = "must be finite and positive" if k == 0 else "jaka_zu7.urdf"
         out.append(("shape-%s-%d" % (shape, k), "jaka/jaka_zu7.urdf", at(b, text), expected))
-    out.append(("mesh", "jaka/jaka_zu7.urdf", at(b, '<mesh filename="arm.stl"/>'), "mesh geometry"))
+    out.append(("mesh", "jaka/jaka_zu7.urdf", at(b, '<mesh filename="arm.stl"/>'), 'mesh "arm.stl": file not found (searched: '))
+    for ext in ("stl", "obj", "dae", "ply"):  # the URDFs of the mesh cases (gen_meshes)
+        out.append(("jaka-mesh-" + ext, None, at(b, '<mesh filename="mesh.%s" scale="0.1 0.1 0.1"/>' % ext), None))
     out.append(("joint-floating", "jaka/jaka_zu7.urdf", replace_once(jaka, 'type="revolute"', 'type="floating"'),
                 "floating joints are not supported"))
     out.append(("joint-planar", "jaka/jaka_zu7.urdf", replace_once(jaka, 'type="revolute"', 'type="planar"'),
@@ -469,15 +474,69 @@ def gen_urdfs():
         path = os.path.join("urdfs", name + ".urdf")
         with open(os.path.join(OUT, path), "w", encoding="utf-8", newline="") as f:
             f.write(text)
-        cases.append(("urdf", path, target, expected))
+        if target:
+            cases.append(("urdf", path, target, expected))
+
+
+# Mesh cases: (file name, bytes, expected). Each is read as the Jaka base link's visual mesh.
+def gen_meshes():
+    import struct
+
+    def binary_stl(triangles, count=None):
+        out = b"rdsim malformed corpus".ljust(80, b" ") + struct.pack("<I", len(triangles) if count is None else count)
+        for tri in triangles:
+            out += struct.pack("<3f", 0, 0, 1) + b"".join(struct.pack("<3f", *v) for v in tri) + b"\0\0"
+        return out
+
+    tri = ((0, 0, 0), (1, 0, 0), (0, 1, 0))
+    dae_head = b'<?xml version="1.0"?><COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">'
+    dae_geometry = (b'<library_geometries><geometry id="g"><mesh><source id="p"><float_array id="a" count="%d">%s</float_array>'
+                    b'<technique_common><accessor source="#a" count="%d" stride="3"><param name="X" type="float"/>'
+                    b'<param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>'
+                    b'<vertices id="v"><input semantic="POSITION" source="#p"/></vertices><triangles count="1">'
+                    b'<input semantic="VERTEX" source="#v" offset="0"/><p>%s</p></triangles></mesh></geometry></library_geometries>'
+                    b'<library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node></visual_scene>'
+                    b'</library_visual_scenes><scene><instance_visual_scene url="#s"/></scene></COLLADA>')
+    cases_ = [
+        ("stl-empty.stl", b"", "empty file"),
+        ("stl-text.stl", b"this is not a mesh\n", "not a readable STL file"),
+        ("stl-ascii-truncated.stl", b"solid x\n facet normal 0 0 1\n  outer loop\n   vertex 0 0", "not a readable STL file"),
+        ("stl-ascii-no-facets.stl", b"solid x\nendsolid x\n", "not a readable STL file"),
+        ("stl-binary-count-too-big.stl", binary_stl([tri], count=1000), "not a readable STL file"),
+        ("stl-binary-nan.stl", binary_stl([((float("nan"), 0, 0), (1, 0, 0), (0, 1, 0))]), "not finite"),
+        ("stl-binary-huge.stl", binary_stl([((1e30, 0, 0), (1, 0, 0), (0, 1, 0))]), "beyond 1000 m"),
+        ("stl-random-bytes.stl", bytes((i * 151 + 7) % 256 for i in range(3000)), "not a readable STL file"),
+        ("obj-empty.obj", b"", "empty file"),
+        ("obj-vertices-only.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "not a readable OBJ file"),
+        ("obj-index-out-of-range.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "vertex index out of range"),
+        ("obj-nan.obj", b"v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "not finite"),
+        ("obj-lines-only.obj", b"v 0 0 0\nv 1 0 0\nl 1 2\n", "not a readable OBJ file"),
+        ("obj-random-bytes.obj", bytes((i * 37 + 11) % 256 for i in range(3000)), "not a readable OBJ file"),
+        ("dae-empty.dae", b"", "empty file"),
+        ("dae-not-xml.dae", b"this is not XML", "not a readable DAE file"),
+        ("dae-truncated.dae", dae_head + b"<library_geometries><geometry", "not a readable DAE file"),
+        ("dae-other-xml.dae", b'<?xml version="1.0"?><svg></svg>', "not a readable DAE file"),
+        ("dae-no-geometry.dae", dae_head + b"</COLLADA>", "not a readable DAE file"),
+        ("dae-count-mismatch.dae", dae_head + dae_geometry % (90, b"0 0 0 1 0 0 0 1 0", 30, b"0 1 2"), "not a readable DAE file"),
+        ("dae-index-out-of-range.dae", dae_head + dae_geometry % (9, b"0 0 0 1 0 0 0 1 0", 3, b"0 1 7"), "not a readable DAE file"),
+        ("dae-stray-byte-in-p.dae", dae_head + dae_geometry % (9, b"0 0 0 1 0 0 0 1 0", 3, b"0 1!2"), "where integers are expected"),
+        ("dae-count-huge.dae", dae_head + dae_geometry % (99999999999, b"0 0 0 1 0 0 0 1 0", 3, b"0 1 2"), "count over"),
+        ("ply-unsupported.ply", b"ply\nformat ascii 1.0\nend_header\n", 'unsupported mesh format ".ply"'),
+    ]
+    for name, data, expected in cases_:
+        path = os.path.join("meshes", name)
+        with open(os.path.join(OUT, path), "wb") as f:
+            f.write(data)
+        cases.append(("mesh", path, "jaka/mesh." + name.rsplit(".", 1)[1], expected))
 
 
 def main():
-    for sub in ("configs", "urdfs"):
+    for sub in ("configs", "urdfs", "meshes"):
         shutil.rmtree(os.path.join(OUT, sub), ignore_errors=True)
         os.makedirs(os.path.join(OUT, sub))
     gen_configs()
     gen_urdfs()
+    gen_meshes()
     gen_cli()
     with open(os.path.join(OUT, "cases.tsv"), "w", encoding="utf-8") as f:
         f.write("# kind\tinput\ttarget\texpected  (written by tools/gen_malformed_corpus.py)\n")

@@ -71,19 +71,38 @@ void GlSceneDrawer::add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view,
                          {to_byte(rgb.x() * shade), to_byte(rgb.y() * shade),
                           to_byte(rgb.z() * shade), 255}});
   }
-  // Back faces culled here rather than by GL: half the triangles then skip the rasteriser's
-  // per-triangle clip and setup work. In eye space the camera sits at the origin, so a triangle
-  // faces it when its (counter-clockwise) normal points back towards the origin.
   const std::uint16_t* tri = meshes_.indices.data() + r.first_index;
-  for (int t = 0; t < r.index_count; t += 3, tri += 3) {
-    const Vertex& a = vertices_[base + tri[0]];
-    const Vertex& b = vertices_[base + tri[1]];
-    const Vertex& c = vertices_[base + tri[2]];
-    const Eigen::Vector3f pa(a.x, a.y, a.z);
-    const Eigen::Vector3f normal =
-        (Eigen::Vector3f(b.x, b.y, b.z) - pa).cross(Eigen::Vector3f(c.x, c.y, c.z) - pa);
-    if (normal.dot(pa) < 0.0f) indices_.insert(indices_.end(), {base + tri[0], base + tri[1], base + tri[2]});
+  for (int t = 0; t < r.index_count; t += 3, tri += 3) add_if_facing(base + tri[0], base + tri[1], base + tri[2]);
+}
+
+void GlSceneDrawer::add_triangle_mesh(const TriangleMesh& mesh, const Eigen::Matrix4f& model_view,
+                                      const Eigen::Vector3f& rgb, const Lighting& light) {
+  const Eigen::Matrix3f linear = model_view.topLeftCorner<3, 3>();
+  const Eigen::Vector3f offset = model_view.topRightCorner<3, 1>();
+  const auto base = static_cast<GLuint>(vertices_.size());
+  const bool coloured = mesh.colors.size() == mesh.positions.size();
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    const Eigen::Vector3f p = linear * mesh.positions[i] + offset;
+    const Eigen::Vector3f n = linear * mesh.normals[i];  // a rigid pose: no inverse transpose needed
+    const float shade = light.ambient + light.diffuse * std::max(0.0f, n.dot(light.to_light));
+    const Eigen::Vector3f c = coloured ? Eigen::Vector3f(rgb.cwiseProduct(mesh.colors[i])) : rgb;
+    vertices_.push_back({p.x(), p.y(), p.z(),
+                         {to_byte(c.x() * shade), to_byte(c.y() * shade), to_byte(c.z() * shade), 255}});
   }
+  for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+    add_if_facing(base + mesh.indices[t], base + mesh.indices[t + 1], base + mesh.indices[t + 2]);
+}
+
+// Back faces culled here rather than by GL: half the triangles then skip the rasteriser's
+// per-triangle clip and setup work. In eye space the camera sits at the origin, so a triangle
+// faces it when its (counter-clockwise) normal points back towards the origin.
+void GlSceneDrawer::add_if_facing(GLuint ia, GLuint ib, GLuint ic) {
+  const Vertex& a = vertices_[ia];
+  const Vertex& b = vertices_[ib];
+  const Vertex& c = vertices_[ic];
+  const Eigen::Vector3f pa(a.x, a.y, a.z);
+  const Eigen::Vector3f normal = (Eigen::Vector3f(b.x, b.y, b.z) - pa).cross(Eigen::Vector3f(c.x, c.y, c.z) - pa);
+  if (normal.dot(pa) < 0.0f) indices_.insert(indices_.end(), {ia, ib, ic});
 }
 
 void GlSceneDrawer::add_item(const DrawItem& item, const Eigen::Matrix4f& view, float far_extent,
@@ -110,6 +129,9 @@ void GlSceneDrawer::add_item(const DrawItem& item, const Eigen::Matrix4f& view, 
       add_mesh(UnitMesh::Hemisphere, scaled(translated_z(mv, -half), {-r, r, -r}), rgb, light);
       break;
     }
+    case DrawShape::Mesh:
+      if (item.mesh) add_triangle_mesh(*item.mesh, mv, rgb, light);
+      break;
     case DrawShape::Plane: {
       const float hx = s.x() > 0.0f ? s.x() : far_extent;
       const float hy = s.y() > 0.0f ? s.y() : far_extent;

@@ -41,6 +41,11 @@ private:
                 const Lighting& light);
   void add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view, const Eigen::Vector3f& rgb,
                 const Lighting& light);
+  // A loaded mesh (DrawShape::Mesh): the same transform, lighting and culling, 32-bit indices.
+  void add_triangle_mesh(const TriangleMesh& mesh, const Eigen::Matrix4f& model_view, const Eigen::Vector3f& rgb,
+                         const Lighting& light);
+  // Back-face culling of the triangle (a, b, c) of vertices_ (indices absolute).
+  void add_if_facing(GLuint a, GLuint b, GLuint c);
 
   const GlApi& gl_;
   int width_, height_;

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rdsim {
 namespace {
@@ -32,6 +33,12 @@ DrawItem make_capsule(float radius, float length, const Eigen::Vector4f& rgba) {
 
 DrawItem make_plane(float half_x, float half_y, const Eigen::Vector4f& rgba) {
   return make_item(DrawShape::Plane, {half_x, half_y, 0.0f}, rgba);
+}
+
+DrawItem make_mesh(std::shared_ptr<const TriangleMesh> mesh, const Eigen::Vector4f& rgba) {
+  DrawItem item = make_item(DrawShape::Mesh, Eigen::Vector3f::Ones(), rgba);
+  item.mesh = std::move(mesh);
+  return item;
 }
 
 int Scene::add(const DrawItem& item) {

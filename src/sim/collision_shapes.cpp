@@ -1,7 +1,16 @@
 // Bullet collision shapes from rdsim Shapes.
+//
+// Meshes, as Bullet users expect: a link of a robot collides through the convex hull of its mesh
+// (btConvexHullShape over the hull's at most max_hull_points vertices, computed once per file and
+// scale); a static body collides with the mesh's triangles themselves (btBvhTriangleMeshShape,
+// concave allowed, built per world). Both take a 1 mm margin (pybullet's default for URDF meshes):
+// Bullet adds it outside a hull, and the default 4 cm would make parts collide early.
+#include <BulletCollision/CollisionShapes/btTriangleIndexVertexArray.h>
+
 #include <algorithm>
 
 #include "physics_world_impl.hpp"
+#include "rdsim/core/error.hpp"
 
 namespace rdsim {
 namespace {
@@ -13,7 +22,45 @@ btScalar margin_for(const btVector3& half_extents) {
   return std::min(btScalar(0.004), btScalar(0.25) * half_extents[half_extents.minAxis()]);
 }
 
-std::unique_ptr<btCollisionShape> make_primitive(const Shape& s) {
+constexpr btScalar kMeshMargin = 0.001f;  // m
+
+std::unique_ptr<btCollisionShape> make_hull(const ConvexHull& hull) {
+  auto shape = std::make_unique<btConvexHullShape>();
+  for (const Eigen::Vector3f& p : hull.points) shape->addPoint(to_bt(p), false);
+  shape->recalcLocalAabb();
+  shape->setMargin(kMeshMargin);
+  return shape;
+}
+
+// A triangle-mesh shape that owns its index/vertex view (the mesh data itself is shared, immutable).
+class OwningTriangleMeshShape : public btBvhTriangleMeshShape {
+public:
+  OwningTriangleMeshShape(std::unique_ptr<btTriangleIndexVertexArray> triangles, std::shared_ptr<const TriangleMesh> mesh)
+      : btBvhTriangleMeshShape(triangles.get(), true), triangles_(std::move(triangles)), mesh_(std::move(mesh)) {}
+
+private:
+  std::unique_ptr<btTriangleIndexVertexArray> triangles_;
+  std::shared_ptr<const TriangleMesh> mesh_;
+};
+
+std::unique_ptr<btCollisionShape> make_triangle_mesh(const std::shared_ptr<const TriangleMesh>& mesh) {
+  btIndexedMesh part;
+  part.m_numTriangles = static_cast<int>(mesh->triangle_count());
+  part.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(mesh->indices.data());
+  part.m_triangleIndexStride = 3 * sizeof(std::uint32_t);
+  part.m_numVertices = static_cast<int>(mesh->positions.size());
+  part.m_vertexBase = reinterpret_cast<const unsigned char*>(mesh->positions.data());
+  part.m_vertexStride = sizeof(Eigen::Vector3f);
+  part.m_indexType = PHY_INTEGER;
+  part.m_vertexType = PHY_FLOAT;
+  auto triangles = std::make_unique<btTriangleIndexVertexArray>();
+  triangles->addIndexedMesh(part, PHY_INTEGER);
+  auto shape = std::make_unique<OwningTriangleMeshShape>(std::move(triangles), mesh);
+  shape->setMargin(kMeshMargin);
+  return shape;
+}
+
+std::unique_ptr<btCollisionShape> make_primitive(const Shape& s, bool static_body) {
   switch (s.type) {
     case ShapeType::Box: {
       const btVector3 half = to_bt(s.size) * btScalar(0.5);
@@ -30,6 +77,10 @@ std::unique_ptr<btCollisionShape> make_primitive(const Shape& s) {
     }
     case ShapeType::Sphere:
       return std::make_unique<btSphereShape>(static_cast<btScalar>(s.radius));
+    case ShapeType::Mesh:
+      if (static_body) return make_triangle_mesh(s.mesh.mesh);
+      if (!s.mesh.hull) throw Error("physics: mesh \"" + s.mesh.uri + "\" has no convex hull (not a <collision> element)");
+      return make_hull(*s.mesh.hull);
   }
   return nullptr;
 }
@@ -55,17 +106,17 @@ Eigen::Isometry3f from_bt(const btTransform& t) {
   return out;
 }
 
-btCollisionShape* make_collision_shape(const std::vector<PlacedShape>& shapes,
+btCollisionShape* make_collision_shape(const std::vector<PlacedShape>& shapes, bool static_body,
                                        std::vector<std::unique_ptr<btCollisionShape>>& store) {
   if (shapes.empty()) return nullptr;
   if (shapes.size() == 1 && is_identity(shapes[0].pose)) {
-    store.push_back(make_primitive(shapes[0].shape));
+    store.push_back(make_primitive(shapes[0].shape, static_body));
     return store.back().get();
   }
   // A handful of children: a flat list is cheaper than the compound's AABB tree.
   auto compound = std::make_unique<btCompoundShape>(shapes.size() > 8);
   for (const auto& p : shapes) {
-    store.push_back(make_primitive(p.shape));
+    store.push_back(make_primitive(p.shape, static_body));
     compound->addChildShape(to_bt(p.pose), store.back().get());
   }
   store.push_back(std::move(compound));

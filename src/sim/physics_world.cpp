@@ -71,7 +71,7 @@ int PhysicsWorld::add_static_body(const RobotModel& model, const Eigen::Isometry
     placed[0].pose.setIdentity();
   }
   auto object = std::make_unique<btCollisionObject>();
-  btCollisionShape* shape = make_collision_shape(placed, impl_->shapes);
+  btCollisionShape* shape = make_collision_shape(placed, true, impl_->shapes);
   const bool collides = shape != nullptr;
   if (!collides) {  // visual-only decoration: keeps its id and pose, never collides
     impl_->shapes.push_back(std::make_unique<btEmptyShape>());

@@ -29,13 +29,14 @@ btTransform to_bt(const Eigen::Isometry3f& t);
 btTransform to_bt(const Eigen::Isometry3d& t);
 Eigen::Isometry3f from_bt(const btTransform& t);
 
-// The placed shapes of one body as one Bullet shape: the primitive itself when there is a single
-// shape at the body's origin, else a compound. Shapes are owned by `store`.
+// The placed shapes of one body as one Bullet shape: the shape itself when there is a single
+// shape at the body's origin, else a compound. Shapes are owned by `store`. Meshes become
+// triangle meshes on a static body, convex hulls otherwise (src/sim/collision_shapes.cpp).
 struct PlacedShape {
   Shape shape;
   Eigen::Isometry3d pose;  // in the body's frame
 };
-btCollisionShape* make_collision_shape(const std::vector<PlacedShape>& shapes,
+btCollisionShape* make_collision_shape(const std::vector<PlacedShape>& shapes, bool static_body,
                                        std::vector<std::unique_ptr<btCollisionShape>>& store);
 
 // Bullet's multibody world minus one pass we never use: predicting where each link will be at the

@@ -236,7 +236,7 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
   for (size_t i = 0; i < n; ++i) {
     std::vector<PlacedShape> placed;
     for (const Shape& s : model.links[i].collisions) placed.push_back({s, frames[i].in_link.inverse() * s.origin});
-    btCollisionShape* shape = make_collision_shape(placed, impl.shapes);
+    btCollisionShape* shape = make_collision_shape(placed, false, impl.shapes);
     if (!shape) continue;
     auto* collider = new btMultiBodyLinkCollider(multibody_, static_cast<int>(i) - 1);
     collider->setCollisionShape(shape);

@@ -14,6 +14,8 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
+#include "rdsim/sim/mesh_file.hpp"
+#include "mesh_path.hpp"
 
 namespace rdsim {
 namespace {
@@ -173,8 +175,35 @@ void check_inertial(const Link& link, bool moving, const std::string& where) {
                     num(std::sqrt(p[2] / m)) + " m, at most " + num(kMaxGyrationRadius) + " m)");
 }
 
-Shape to_shape(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const std::string& where,
+// What to_shape needs to read a <mesh>: the URDF's name (its folder is where relative paths start),
+// the search path, and whether the element is a <collision> (which gets a convex hull).
+struct MeshContext {
+  const std::string& where;
+  const UrdfLoadOptions& options;
+  bool collision = false;
+};
+
+MeshGeometry to_mesh(const urdf::Mesh& m, const MeshContext& mc, const std::string& ctx) {
+  MeshGeometry g;
+  g.uri = m.filename;
+  g.scale = Eigen::Vector3d(m.scale.x, m.scale.y, m.scale.z);
+  const std::string prefix = ctx + "mesh \"" + one_line(g.uri, 200) + "\": ";
+  try {
+    if (!g.scale.allFinite() || !(g.scale.cwiseAbs().minCoeff() > 0.0))
+      throw Error("scale (" + num(g.scale.x()) + " " + num(g.scale.y()) + " " + num(g.scale.z()) +
+                  ") must be finite and non-zero in x, y and z");
+    g.file = resolve_mesh_path(g.uri, mc.where, mc.options.search_path);
+    g.mesh = load_mesh(g.file, g.scale);
+    if (mc.collision) g.hull = load_convex_hull(g.file, g.scale);
+  } catch (const Error& e) {
+    fail(mc.where, prefix + e.what());
+  }
+  return g;
+}
+
+Shape to_shape(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const MeshContext& mc,
                const std::string& link) {
+  const std::string& where = mc.where;
   const std::string ctx = "link \"" + link + "\": ";
   if (!g) fail(where, ctx + "a collision/visual element has no <geometry>");
   if (!finite(origin)) fail(where, ctx + "a collision/visual <origin> is not finite");
@@ -204,15 +233,16 @@ Shape to_shape(const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const
       if (!(s.radius > 0.0) || !std::isfinite(s.radius)) fail(where, ctx + "sphere radius " + num(s.radius) + " must be finite and positive");
       break;
     case urdf::Geometry::MESH:
-      fail(where, ctx + "mesh geometry (\"" + std::static_pointer_cast<urdf::Mesh>(g)->filename +
-                      "\") is not supported; rdsim uses primitive shapes only (box, cylinder, sphere)");
+      s.type = ShapeType::Mesh;
+      s.mesh = to_mesh(*std::static_pointer_cast<urdf::Mesh>(g), mc, ctx);
+      break;
     default:
       fail(where, ctx + "unknown geometry type");
   }
   return s;
 }
 
-Link to_link(const urdf::Link& in, const std::string& where) {
+Link to_link(const urdf::Link& in, const std::string& where, const UrdfLoadOptions& options) {
   Link out;
   out.name = in.name;
   if (in.inertial) {
@@ -227,10 +257,14 @@ Link to_link(const urdf::Link& in, const std::string& where) {
       fail(where, "link \"" + in.name + "\": inertia (ixx " + num(i.ixx) + ", iyy " + num(i.iyy) + ", izz " + num(i.izz) + ", ixy " +
                       num(i.ixy) + ", ixz " + num(i.ixz) + ", iyz " + num(i.iyz) + ") must be finite with ixx, iyy, izz >= 0");
   }
-  for (const auto& c : in.collision_array) out.collisions.push_back(to_shape(c->geometry, c->origin, where, in.name));
+  for (const auto& c : in.collision_array)
+    out.collisions.push_back(to_shape(c->geometry, c->origin, MeshContext{where, options, true}, in.name));
   for (const auto& v : in.visual_array) {
     VisualShape vs;
-    vs.shape = to_shape(v->geometry, v->origin, where, in.name);
+    vs.shape = to_shape(v->geometry, v->origin, MeshContext{where, options, false}, in.name);
+    // A mesh with colours of its own and no URDF material shows its own colours (drawn times rgba).
+    if (vs.shape.type == ShapeType::Mesh && !v->material && !vs.shape.mesh.mesh->colors.empty())
+      vs.rgba = Eigen::Vector4f::Ones();
     if (v->material) {
       const urdf::Color& c = v->material->color;
       vs.rgba = Eigen::Vector4f(c.r, c.g, c.b, c.a);
@@ -306,7 +340,7 @@ std::map<std::string, size_t> joint_file_positions(const std::string& xml) {
 
 }  // namespace
 
-RobotModel parse_urdf(const std::string& xml, const std::string& where) {
+RobotModel parse_urdf(const std::string& xml, const std::string& where, const UrdfLoadOptions& options) {
   const urdf::ModelInterfaceSharedPtr in = parse_with_messages(xml, where);
   const auto file_pos = joint_file_positions(xml);
 
@@ -331,7 +365,7 @@ RobotModel parse_urdf(const std::string& xml, const std::string& where) {
     auto [link, joint_index] = stack.back();
     stack.pop_back();
     const int link_index = static_cast<int>(model.links.size());
-    model.links.push_back(to_link(*link, where));
+    model.links.push_back(to_link(*link, where, options));
     model.links.back().parent_joint = joint_index;
     if (joint_index >= 0) model.joints[static_cast<size_t>(joint_index)].child_link = link_index;
 
@@ -370,8 +404,8 @@ RobotModel parse_urdf(const std::string& xml, const std::string& where) {
   return model;
 }
 
-RobotModel load_urdf(const std::string& path) {
-  return parse_urdf(read_file(path, max_urdf_bytes), path);
+RobotModel load_urdf(const std::string& path, const UrdfLoadOptions& options) {
+  return parse_urdf(read_file(path, max_urdf_bytes), path, options);
 }
 
 }  // namespace rdsim

@@ -168,7 +168,7 @@ CheckpointLayout walk(const std::string& p) {
 
 }  // namespace
 
-TEST_CASE("malformed inputs: the corpus (configs, URDFs, command lines) gets one clear error each", "[malformed]") {
+TEST_CASE("malformed inputs: the corpus (configs, URDFs, meshes, command lines) gets one clear error each", "[malformed]") {
   rltest::ScratchDir dir("malformed_corpus");
   const std::string corpus = source_root() + "/tests/malformed";
   const std::vector<Case> cases = read_manifest();
@@ -196,6 +196,21 @@ TEST_CASE("malformed inputs: the corpus (configs, URDFs, command lines) gets one
       rltest::spit(config, R"({"env": {"name": "jaka_button", "urdf_root": ")" + assets.string() +
                                R"("}, "total_timesteps": 256, "network": {"hidden_sizes": [8]}, "ppo": {"n_steps": 64, "batch_size": 64}})");
       check.expect_error(c.input, train_args(config, run + "/out"), {target, c.expected}, run + "/out");
+    } else if (c.kind == "mesh") {
+      // The mesh goes to TARGET (jaka/mesh.EXT); the Jaka URDF showing it on its base link replaces jaka_zu7.urdf.
+      const fs::path assets = fs::path(run) / "assets";
+      fs::create_directories(assets);
+      fs::copy(source_root() + "/assets", assets, fs::copy_options::recursive);
+      const std::string mesh = (assets / c.target).string();
+      fs::copy_file(corpus + "/" + c.input, mesh, fs::copy_options::overwrite_existing);
+      const std::string urdf = (assets / "jaka/jaka_zu7.urdf").string();
+      fs::copy_file(corpus + "/urdfs/jaka-mesh-" + fs::path(c.target).extension().string().substr(1) + ".urdf", urdf,
+                    fs::copy_options::overwrite_existing);
+      const std::string config = run + "/config_in.json";
+      rltest::spit(config, R"({"env": {"name": "jaka_button", "urdf_root": ")" + assets.string() +
+                               R"("}, "total_timesteps": 256, "network": {"hidden_sizes": [8]}, "ppo": {"n_steps": 64, "batch_size": 64}})");
+      const std::string uri = "mesh \"" + fs::path(c.target).filename().string() + "\": ";
+      check.expect_error(c.input, train_args(config, run + "/out"), {urdf, "link \"", uri, c.expected}, run + "/out");
     } else if (c.kind == "cli") {
       std::string line = c.target;
       for (const auto& [key, value] : std::map<std::string, std::string>{{"{tmp}", dir.path.string()}, {"{big}", big}, {"{root}", source_root()}})

@@ -130,8 +130,9 @@ TEST_CASE("Bad URDFs are rdsim::Errors naming the file", "[urdf]") {
   SECTION("missing file") { require_error((dir.path / "nope.urdf").string(), "cannot open"); }
   SECTION("malformed XML") { require_error(dir.write("bad.urdf", "<robot name=\"x\"><link name=\"a\">"), "not a valid URDF"); }
   SECTION("not a robot") { require_error(dir.write("empty.urdf", "<?xml version=\"1.0\"?><thing/>"), "not a valid URDF"); }
-  SECTION("mesh geometry") {
-    require_error(dir.write("mesh.urdf", robot(urdf_link("a", "<mesh filename=\"arm.stl\"/>"))), "mesh geometry");
+  SECTION("a mesh that is not there") {
+    require_error(dir.write("mesh.urdf", robot(urdf_link("a", "<mesh filename=\"arm.stl\"/>"))),
+                  "link \"a\": mesh \"arm.stl\": file not found (searched: ");
   }
   SECTION("floating joint") {
     require_error(dir.write("float.urdf", robot(urdf_link("a") + urdf_link("b") + urdf_joint("j", "a", "b", "floating"))), "floating");

@@ -1,12 +1,15 @@
 #pragma once
 #include <Eigen/Geometry>
+#include <memory>
 #include <vector>
+
+#include "rdsim/core/triangle_mesh.hpp"
 
 namespace rdsim {
 
 // Primitive kinds the renderer draws. Every shape is centred on its pose's origin.
 // (DrawShape, not Shape: rdsim::Shape is the URDF geometry of robot_model.hpp, and envs include both.)
-enum class DrawShape { Box, Cylinder, Sphere, Capsule, Plane };
+enum class DrawShape { Box, Cylinder, Sphere, Capsule, Plane, Mesh };
 
 // One drawable primitive. Meaning of `size` per kind (MuJoCo/Bullet conventions):
 //   Box:      size = half extents (x, y, z)
@@ -16,12 +19,15 @@ enum class DrawShape { Box, Cylinder, Sphere, Capsule, Plane };
 //             (the cylindrical part; total length is size.y + 2 * size.x)
 //   Plane:    local xy plane facing +z, size.x/size.y = half extents; 0 means "as far as the
 //             camera sees" (zfar). Seen from below (-z side) it is not drawn.
+//   Mesh:     `mesh`'s triangles as they are (size unused); its own colours, when it has any,
+//             are multiplied with rgb. Triangles seen from behind are not drawn.
 // rgba: colours in [0, 1]. Items are opaque; alpha == 0 hides the item without removing it.
 struct DrawItem {
   DrawShape kind = DrawShape::Box;
   Eigen::Vector3f size{0.05f, 0.05f, 0.05f};
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
   Eigen::Vector4f rgba{0.7f, 0.7f, 0.7f, 1.0f};
+  std::shared_ptr<const TriangleMesh> mesh;  // Mesh only; shared, never changed
 };
 
 DrawItem make_box(const Eigen::Vector3f& half_extents, const Eigen::Vector4f& rgba);
@@ -29,6 +35,7 @@ DrawItem make_cylinder(float radius, float length, const Eigen::Vector4f& rgba);
 DrawItem make_sphere(float radius, const Eigen::Vector4f& rgba);
 DrawItem make_capsule(float radius, float length, const Eigen::Vector4f& rgba);
 DrawItem make_plane(float half_x, float half_y, const Eigen::Vector4f& rgba);
+DrawItem make_mesh(std::shared_ptr<const TriangleMesh> mesh, const Eigen::Vector4f& rgba);
 
 // What to draw. The env builds the item list once (one item per visual shape) and then only
 // writes poses each frame, so an update costs one Isometry3f copy per item.

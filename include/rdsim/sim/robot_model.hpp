@@ -1,23 +1,43 @@
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "rdsim/core/triangle_mesh.hpp"
 
 // A robot (or any URDF object) as plain immutable data: what the file says, nothing simulated.
 // The simulation state lives elsewhere (PhysicsWorld, Robot), MuJoCo's model/data split.
 // Units: metres, kilograms, radians, seconds, newtons (N·m for revolute efforts).
 namespace rdsim {
 
-enum class ShapeType { Box, Cylinder, Sphere };
+enum class ShapeType { Box, Cylinder, Sphere, Mesh };
 
-// A primitive shape placed in its link's frame. Cylinders run along their local z axis.
+// The convex hull of a collision mesh: what a moving link collides with (src/sim/mesh_file.hpp).
+struct ConvexHull {
+  std::vector<Eigen::Vector3f> points;  // metres, in the mesh's frame; at most max_hull_points
+  double volume = 0.0;                  // m^3, of the hull through `points`
+};
+
+// A mesh element: the file as the URDF names it, the file it resolved to, and its triangles with
+// the scale applied. Loaded meshes are shared between models (one copy per file and scale).
+struct MeshGeometry {
+  std::string uri;   // as written in the URDF ("package://panda/meshes/link1.obj")
+  std::string file;  // the file read
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+  std::shared_ptr<const TriangleMesh> mesh;
+  std::shared_ptr<const ConvexHull> hull;  // <collision> elements only; null for <visual>
+};
+
+// A shape placed in its link's frame. Cylinders run along their local z axis.
 struct Shape {
   ShapeType type = ShapeType::Box;
   Eigen::Vector3d size = Eigen::Vector3d::Zero();  // box: full extents along x, y, z
   double radius = 0.0;                             // cylinder, sphere
   double length = 0.0;                             // cylinder
+  MeshGeometry mesh;                               // mesh
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
 };
 
