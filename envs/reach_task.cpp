@@ -70,9 +70,7 @@ void apply_env_config(const EnvConfig& env, ReachTaskSpec& spec) {
 }
 
 RobotModel load_robot_urdf(const ReachTaskSpec& spec) {
-  // MERGE (branch mesh): pass the search path once the loader takes it:
-  //   return load_urdf(spec.robot_urdf, UrdfLoadOptions{.search_path = spec.package_paths});
-  return load_urdf(spec.robot_urdf);
+  return load_urdf(spec.robot_urdf, UrdfLoadOptions{.search_path = spec.package_paths});
 }
 
 ActionSpace ReachTask::action_space() const {
