@@ -226,9 +226,10 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
   multibody_->setHasSelfCollision(false);
   multibody_->setCanSleep(false);
   // Bullet's default 0.04 damping would slow every link a little on every step; the motors
-  // already damp the arm, so the simulated motion is left undamped, as the URDF describes it.
-  multibody_->setLinearDamping(0.0f);
-  multibody_->setAngularDamping(0.0f);
+  // already damp the arm, so by default the simulated motion is left undamped, as the URDF
+  // describes it. pybullet keeps the 0.04 (RobotOptions::link_damping).
+  multibody_->setLinearDamping(options.link_damping);
+  multibody_->setAngularDamping(options.link_damping);
   multibody_->setUserIndex(body);
   impl.world.addMultiBody(multibody_, kRobotLinkGroup, kRobotLinkMask);
 
@@ -272,7 +273,7 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
       d.motor->setPositionTarget(0, position_gain_);
       d.motor->setVelocityTarget(0, velocity_gain_);
       d.motor->setErp(1);
-      d.motor->setRhsClamp(static_cast<btScalar>(j.velocity));
+      if (options.motor_speed_limits) d.motor->setRhsClamp(static_cast<btScalar>(j.velocity));
       impl.world.addMultiBodyConstraint(d.motor);
     }
     if (options.limit_constraints && j.type != JointType::Continuous) {

@@ -137,6 +137,12 @@ TEST_CASE("paper presets: their physics numbers reach the world, the robot and t
       CHECK(task.spec().robot.limit_constraints);
       CHECK(task.spec().robot.position_gain == 0.1f);
       CHECK(task.spec().robot.velocity_gain == 1.0f);
+      // pybullet's setJointMotorControlArray (no speed limit), link damping and solver defaults.
+      CHECK_FALSE(task.spec().robot.motor_speed_limits);
+      CHECK(task.spec().robot.link_damping == 0.04f);
+      CHECK(task.world().settings().contact_erp == 0.08);
+      CHECK(task.world().settings().warmstarting_factor == 0.1);
+      CHECK(task.world().settings().solver_residual_threshold == 1e-7);
       CHECK(task.spec().move_noise == 0.0f);
       CHECK(task.spec().step == (std::string(name) == "inmoov_tomato" ? 1.2f : 1.0f));
       CHECK(env->spec().max_episode_steps == (std::string(name) == "jaka_obstacle" ? 250 : 1000));
