@@ -69,6 +69,7 @@ void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
   spec.robot.limit_constraints = motors;
   spec.robot.motor_speed_limits = !motors;
   spec.robot.link_damping = motors ? kPybulletLinkDamping : 0.0f;
+  spec.robot.inertia_from_shapes = motors;  // RobotDrlSim's loadURDF ignored the URDF's inertia tensors
   if (motors) spec.world = pybullet_solver(spec.world);  // the solver settings pybullet's worlds start with
   spec.robot.position_gain = static_cast<float>(config.position_gain);
   spec.robot.velocity_gain = static_cast<float>(config.velocity_gain);

@@ -63,10 +63,10 @@ def rdsim_scene(arm: RdsimArm, target, *, free: bool = True) -> Callable[[], boo
     return moved
 
 
-def search_pair(target, *, steps: int = 1000, beam: int = 16, hold: int = 4, inertia_from_file: bool = False) -> dict:
+def search_pair(target, *, steps: int = 1000, beam: int = 16, hold: int = 4) -> dict:
     """Greedy and beam closest approaches to `target` in both simulators (metres)."""
     case = CASES["jaka"]
-    pb = PyBulletArm(case, inertia_from_file=inertia_from_file)
+    pb = PyBulletArm(case, inertia_from_file=False)  # as the original loaded it
     pb_moved = pybullet_scene(pb, target)
     rd = RdsimArm(case)
     rd_moved = rdsim_scene(rd, target)

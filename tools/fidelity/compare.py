@@ -7,6 +7,10 @@ numbers (metres and radians); the pytest file and the report script only choose 
 - :func:`inverse_kinematics` -- IK solutions for random reachable goals from the same start.
 - :func:`action_sequence` -- the original's discrete-move recipe (IK goal = effector +- step, position
   motors, two physics steps per move) in pybullet against rdsim's paper preset recipe.
+
+Options passed on to :func:`fidelity.arms.make_pair`: ``inertia`` ("shapes", the default and the
+original's, or "urdf") and rdsim's ``speed_limits``, ``link_damping``, ``pybullet_solver`` (to measure
+rdsim as it was before the fidelity changes).
 - :func:`recipe_search` -- greedy and beam searches over the six moves (closest approach to a point).
 """
 from __future__ import annotations
@@ -31,11 +35,11 @@ def _summary(ee_dev: np.ndarray, q_dev: np.ndarray) -> dict:
 
 
 def joint_targets(case, *, steps: int = 1000, hold: int = 100, seed: int = 0, spread: float = 0.5,
-                  inertia_from_file: bool = True, **options) -> dict:
+                  **options) -> dict:
     """Both arms from the reset pose towards random joint targets (reset +- spread rad, within the
     limits), a new target every `hold` physics steps: effector and joint deviations per physics step."""
     case = _case(case)
-    pb, rd = make_pair(case, inertia_from_file=inertia_from_file, **options)
+    pb, rd = make_pair(case, **options)
     rng = np.random.default_rng(seed)
     q0 = np.array(case.pose(rd.joint_names, "reset"))
     pb.reset_joints(q0)
@@ -114,12 +118,12 @@ def move(arm, case: RobotCase, action: int, rest: np.ndarray) -> None:
     arm.step(PHYSICS_STEPS_PER_MOVE)
 
 
-def action_sequence(case, *, steps: int = 1000, seed: int = 0, hold: int = 1, inertia_from_file: bool = True,
+def action_sequence(case, *, steps: int = 1000, seed: int = 0, hold: int = 1,
                     actions: Optional[np.ndarray] = None, **options) -> dict:
     """The same random sequence of discrete moves (each held `hold` env steps) through the original's
     recipe in both simulators: effector and joint deviations per env step."""
     case = _case(case)
-    pb, rd = make_pair(case, inertia_from_file=inertia_from_file, **options)
+    pb, rd = make_pair(case, **options)
     rng = np.random.default_rng(seed)
     if actions is None:
         actions = np.repeat(rng.integers(0, 6, size=(steps + hold - 1) // hold), hold)[:steps]

@@ -56,9 +56,9 @@ def main() -> int:
             print(f"| {name} | pending: rdsim does not load it yet ({why}) |")
             continue
         if "targets" in sections:
-            for inertia in (True, False):
-                r = joint_targets(case, steps=steps)if inertia else joint_targets(case, steps=steps, inertia_from_file=False)
-                print(f"| {name} | joint targets, pybullet inertia {'from URDF' if inertia else 'from shapes'} | "
+            for inertia in ("shapes", "urdf"):
+                r = joint_targets(case, steps=steps, inertia=inertia)
+                print(f"| {name} | joint targets, inertia from the {inertia} | "
                       f"ee mean {mm(r['ee_mean'])} mm | ee max {mm(r['ee_max'])} mm | q max {r['q_max']:.4f} rad |")
         if "ik" in sections:
             r = inverse_kinematics(case, goals=20 if args.quick else 100)
@@ -66,13 +66,13 @@ def main() -> int:
                   f"max {mm(r['ee_max'])} mm | q max {r['q_max']:.2e} rad | residual pybullet "
                   f"{mm(r['pb_residual_mean'])} mm, rdsim {mm(r['rd_residual_mean'])} mm |")
         if "actions" in sections:
-            for inertia in (True, False):
-                rs = [action_sequence(case, steps=steps, seed=s, inertia_from_file=inertia) for s in range(seeds)]
+            for inertia in ("shapes", "urdf"):
+                rs = [action_sequence(case, steps=steps, seed=s, inertia=inertia) for s in range(seeds)]
                 mean = np.mean([r["ee_mean"] for r in rs])
                 worst = np.max([r["ee_max"] for r in rs])
                 qmax = np.max([r["q_max"] for r in rs])
-                print(f"| {name} | {seeds} x {steps} random moves, pybullet inertia "
-                      f"{'from URDF' if inertia else 'from shapes'} | ee mean {mm(mean)} mm | ee max {mm(worst)} mm | "
+                print(f"| {name} | {seeds} x {steps} random moves, inertia from the {inertia} | "
+                      f"ee mean {mm(mean)} mm | ee max {mm(worst)} mm | "
                       f"q max {qmax:.4f} rad |")
         sys.stdout.flush()
     if "search" in sections and "jaka" in args.robots:

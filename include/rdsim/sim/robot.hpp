@@ -56,6 +56,10 @@ struct RobotOptions {
   // Bullet's link damping (btMultiBody linear and angular damping, 1/s): pybullet keeps Bullet's
   // default 0.04; 0 leaves the motion undamped, as the URDF describes it.
   float link_damping = 0.0f;
+  // Inertia tensors as pybullet's loadURDF makes them without URDF_USE_INERTIA_FROM_FILE (how
+  // RobotDrlSim loaded its robots): the URDF's mass and inertial frame, principal moments from the
+  // collision shapes (robot.cpp shape_moments); false: the URDF's tensors.
+  bool inertia_from_shapes = false;
 };
 
 // Everything a Robot simulates between steps, per dof, as Bullet holds it (floats): joint
