@@ -135,6 +135,9 @@ class PyBulletArm:
     def restore(self, state: int) -> None:
         self.p.restoreState(state, physicsClientId=self.client)
 
+    def discard(self, state: int) -> None:
+        self.p.removeState(state, physicsClientId=self.client)
+
     def close(self) -> None:
         self.p.disconnect(self.client)
 
@@ -195,6 +198,9 @@ class RdsimArm:
         self.robot.set_state(state[0])
         for b, (position, orientation) in zip(self.free_bodies, state[1]):
             self.world.set_body_pose(b, position, orientation)
+
+    def discard(self, state: tuple) -> None:
+        pass
 
     def close(self) -> None:
         pass

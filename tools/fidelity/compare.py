@@ -160,6 +160,7 @@ def recipe_search(arm, case: RobotCase, point, *, steps: int = 1000, beam: int =
 
     # Greedy: try each move for one step from the current state, keep the best.
     reset()
+    initial = arm.save()  # the whole scene (a pushed button too) comes back from here
     state = arm.save()
     greedy_best = dist()
     for _ in range(steps):
@@ -171,11 +172,17 @@ def recipe_search(arm, case: RobotCase, point, *, steps: int = 1000, beam: int =
                 options.append((dist(), arm.save()))
         if not options:
             break
-        d, state = min(options, key=lambda o: o[0])
+        best = min(options, key=lambda o: o[0])
+        for o in options:
+            if o is not best:
+                arm.discard(o[1])
+        arm.discard(state)
+        d, state = best
         greedy_best = min(greedy_best, d)
+    arm.discard(state)
     # Beam: `beam` best states by distance, every move held `hold` steps.
-    reset()
-    frontier = [(dist(), arm.save())]
+    arm.restore(initial)
+    frontier = [(dist(), initial)]
     beam_best = frontier[0][0]
     for _ in range(steps // hold):
         children = []
@@ -196,5 +203,9 @@ def recipe_search(arm, case: RobotCase, point, *, steps: int = 1000, beam: int =
         if not children:
             break
         children.sort(key=lambda c: c[0])
+        for _, s in frontier + children[beam:]:
+            arm.discard(s)
         frontier = children[:beam]
+    for _, s in frontier:
+        arm.discard(s)
     return {"greedy": greedy_best, "beam": beam_best}
