@@ -12,6 +12,7 @@ namespace rdsim {
 namespace {
 
 constexpr double kIkDamping = 0.02;  // m: keeps the step bounded near singular poses
+constexpr float kPybulletLinkDamping = 0.04f;  // 1/s: Bullet's btMultiBody default, which pybullet keeps
 
 // The robot's model with every movable joint not in spec.ik_joints made fixed at its reset angle, so
 // the IK chain moves only ik_joints. Joint indices are unchanged: chain joints still map to robot dofs.
@@ -60,11 +61,17 @@ void apply_env_config(const EnvConfig& env, ReachTaskSpec& spec) {
   spec.reset_to_rest = config.reset_pose == ResetPose::Rest;
   spec.reset_noise = static_cast<float>(config.reset_noise);
   spec.world.solver_iterations = config.solver_iterations;
-  // Position motors are pybullet's POSITION_CONTROL, and pybullet's URDF import adds joint-limit
-  // constraints; the computed-torque drive keeps the limits through its clamped targets instead.
+  // Position motors are pybullet's POSITION_CONTROL as RobotDrlSim called it
+  // (setJointMotorControlArray: no speed limit), with pybullet's joint-limit constraints and its
+  // default link damping (docs/fidelity.md); the computed-torque drive keeps the limits through its
+  // clamped targets instead.
   const bool motors = config.drive == DriveMode::PositionMotor;
   spec.robot.drive = motors ? JointDrive::ConstraintMotor : JointDrive::ComputedTorque;
   spec.robot.limit_constraints = motors;
+  spec.robot.motor_speed_limits = !motors;
+  spec.robot.link_damping = motors ? kPybulletLinkDamping : 0.0f;
+  spec.robot.inertia_from_shapes = motors;  // RobotDrlSim's loadURDF ignored the URDF's inertia tensors
+  if (motors) spec.world = pybullet_solver(spec.world);  // the solver settings pybullet's worlds start with
   spec.robot.position_gain = static_cast<float>(config.position_gain);
   spec.robot.velocity_gain = static_cast<float>(config.velocity_gain);
 }

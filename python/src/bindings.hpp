@@ -18,6 +18,7 @@ void bind_env(py::module_& m);
 void bind_vec_env(py::module_& m);
 void bind_model(py::module_& m);
 void bind_train(py::module_& m);
+void bind_sim(py::module_& m);
 
 // An EnvConfig from an env name and Python keyword options (the "env" keys of a config), read by
 // the same ConfigReader rules and messages as a config file; `where` names the caller in messages.

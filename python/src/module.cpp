@@ -32,4 +32,5 @@ PYBIND11_MODULE(_rdsim, m) {
   bind_vec_env(m);
   bind_model(m);
   bind_train(m);
+  bind_sim(m);
 }

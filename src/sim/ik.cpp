@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rdsim/core/rng.hpp"
 
@@ -132,21 +133,32 @@ IkResult solve_with_restarts(const KinematicChain& chain, const Eigen::Isometry3
 
 JointVector null_space_ik(const KinematicChain& chain, const Eigen::Vector3d& target, const JointVector& start,
                           const JointVector& rest, const NullSpaceIkOptions& o) {
-  JointVector q = chain.clamp(start);
-  for (int it = 0; it < o.iterations; ++it) {
+  JointVector q = start;
+  double error_norm = std::numeric_limits<double>::infinity();
+  // As pybullet: the loop tests the error measured at the start of the previous iteration, so the
+  // step that begins within `tolerance` is still taken.
+  for (int it = 0; it < o.iterations && error_norm > o.tolerance; ++it) {
     ChainJacobian jacobian;
     const Eigen::Vector3d error = target - chain.forward(q, jacobian).translation();
-    if (error.norm() <= o.tolerance) break;
+    error_norm = error.norm();
     const auto j = jacobian.topRows<3>();
+    // The null-space velocity: a pull towards the rest pose, and a push back from beyond a limit of
+    // limit_gain x (limit - q) / range (a joint inside its limits feels only the pull).
+    JointVector pull = o.rest_gain * (rest - q);
+    for (int i = 0; i < q.size(); ++i) {
+      const double lo = chain.lower()[i], hi = chain.upper()[i], range = hi - lo;
+      if (!std::isfinite(range) || range <= 0.0) continue;
+      if (q[i] > hi) pull[i] += o.limit_gain * (hi - q[i]) / range;
+      if (q[i] < lo) pull[i] += o.limit_gain * (lo - q[i]) / range;
+    }
     // J^T A^-1 e + (I - J^T A^-1 J) p  =  J^T A^-1 (e - J p) + p,  A = J J^T + damping^2 I: the DLS
     // step towards what the pull p leaves of the error, plus the pull.
-    const JointVector pull = o.rest_gain * (rest - q);
     const Eigen::Vector3d rest_error = error - j * pull;
     JointVector dq = damped_least_squares_step(j, rest_error, o.damping) + pull;
     double largest = 0.0;  // a plain loop, as in solve() (GCC 12 and Eigen's maxCoeff)
     for (int i = 0; i < dq.size(); ++i) largest = std::max(largest, std::abs(dq[i]));
     if (largest > o.max_joint_step) dq *= o.max_joint_step / largest;
-    q = chain.clamp(q + dq);
+    q += dq;
   }
   return q;
 }

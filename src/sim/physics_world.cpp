@@ -2,6 +2,7 @@
 
 #include <BulletCollision/CollisionShapes/btEmptyShape.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <string>
 
@@ -53,6 +54,19 @@ PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings),
   info.m_numIterations = settings.solver_iterations;
   info.m_leastSquaresResidualThreshold = static_cast<btScalar>(settings.solver_residual_threshold);
   info.m_timeStep = static_cast<btScalar>(settings.time_step);
+  info.m_erp2 = static_cast<btScalar>(settings.contact_erp);
+  info.m_frictionERP = static_cast<btScalar>(settings.friction_erp);
+  info.m_linearSlop = static_cast<btScalar>(settings.linear_slop);
+  info.m_warmstartingFactor = static_cast<btScalar>(settings.warmstarting_factor);
+}
+
+WorldSettings pybullet_solver(WorldSettings base) {
+  base.contact_erp = 0.08;
+  base.friction_erp = 0.2;
+  base.linear_slop = 1e-5;
+  base.warmstarting_factor = 0.1;
+  base.solver_residual_threshold = 1e-7;
+  return base;
 }
 
 PhysicsWorld::~PhysicsWorld() { impl_->robots.clear(); }
@@ -89,11 +103,47 @@ int PhysicsWorld::add_static_body(const RobotModel& model, const Eigen::Isometry
   return body;
 }
 
+int PhysicsWorld::add_free_body(const RobotModel& model, const Eigen::Isometry3f& pose) {
+  if (model.links.size() != 1) throw Error(model.source + ": a free body must be one link, it has " + std::to_string(model.links.size()));
+  const Inertial& inertial = model.links[0].inertial;
+  if (!(inertial.mass > 0.0)) throw Error(model.source + ": a free body needs a mass > 0");
+  // Bullet moves a rigid body about its centre of mass in its principal axes.
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertial.inertia);
+  Eigen::Matrix3d axes = eig.eigenvectors();
+  if (axes.determinant() < 0.0) axes.col(2) *= -1.0;
+  Eigen::Isometry3d com = inertial.origin;
+  com.linear() = inertial.origin.linear() * axes;
+  std::vector<PlacedShape> placed;
+  for (const Shape& shape : model.links[0].collisions) placed.push_back({shape, com.inverse() * shape.origin});
+  btCollisionShape* shape = make_collision_shape(placed, impl_->shapes);
+  if (!shape) throw Error(model.source + ": a free body needs a collision shape");
+  const Eigen::Vector3d moments = eig.eigenvalues().cwiseMax(1e-8);
+  btRigidBody::btRigidBodyConstructionInfo info(static_cast<btScalar>(inertial.mass), nullptr, shape, to_bt(moments));
+  auto object = std::make_unique<btRigidBody>(info);
+  const Eigen::Isometry3f offset = com.cast<float>();
+  object->setWorldTransform(to_bt(Eigen::Isometry3f(pose * offset)));
+  object->setActivationState(DISABLE_DEACTIVATION);
+  const int body = body_count();
+  object->setUserIndex(body);
+  object->setUserIndex2(0);
+  impl_->world.addRigidBody(object.get(), btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+  impl_->statics.push_back(std::move(object));
+  impl_->static_offsets.push_back(offset);
+  impl_->robots.push_back(nullptr);
+  return body;
+}
+
 void PhysicsWorld::set_static_pose(int body, const Eigen::Isometry3f& pose) {
   if (body < 0 || body >= body_count() || !impl_->statics[static_cast<size_t>(body)])
     throw Error("physics: body " + std::to_string(body) + " is not a static body");
   btCollisionObject* o = impl_->statics[static_cast<size_t>(body)].get();
   o->setWorldTransform(to_bt(Eigen::Isometry3f(pose * impl_->static_offsets[static_cast<size_t>(body)])));
+  if (btRigidBody* free = btRigidBody::upcast(o)) {  // teleported at rest
+    free->setInterpolationWorldTransform(o->getWorldTransform());
+    free->setLinearVelocity(btVector3(0, 0, 0));
+    free->setAngularVelocity(btVector3(0, 0, 0));
+    free->clearForces();
+  }
   if (o->getBroadphaseHandle()) {
     impl_->world.updateSingleAabb(o);
     impl_->forget_pairs(o);

@@ -29,14 +29,53 @@ struct BodyFrame {
   Eigen::Vector3d moments = Eigen::Vector3d::Zero();
 };
 
-BodyFrame body_frame(const Link& link, bool on_movable_joint) {
+// Principal moments (kg m^2, in the URDF inertial frame's axes) that pybullet's loadURDF gives a link
+// when it ignores the URDF's tensor: Bullet's calculateLocalInertia of the shapes pybullet builds
+// (collision margin 1 mm). One shape at the inertial frame: a box's or a sphere's exact moments, a
+// cylinder's (a 32-sided convex hull in pybullet) those of its bounding box grown by 3 mm a side;
+// otherwise (several shapes, an offset one, none) those of the box around them all grown by the
+// margins (Bullet's compound rule). tools/fidelity checks the result against pybullet's.
+Eigen::Vector3d shape_moments(const Link& link) {
+  constexpr double kMargin = 0.001;  // m: pybullet's URDF collision margin
+  const double m = link.inertial.mass;
+  const auto box = [m](const Eigen::Vector3d& l) -> Eigen::Vector3d {
+    const Eigen::Vector3d sq = l.cwiseProduct(l);
+    return Eigen::Vector3d(sq.y() + sq.z(), sq.x() + sq.z(), sq.x() + sq.y()) * (m / 12.0);
+  };
+  const auto outer_half = [](const Shape& s) -> Eigen::Vector3d {
+    switch (s.type) {
+      case ShapeType::Box: return s.size / 2.0;
+      case ShapeType::Cylinder: return Eigen::Vector3d(s.radius, s.radius, s.length / 2.0) + Eigen::Vector3d::Constant(2.0 * kMargin);
+      case ShapeType::Sphere: return Eigen::Vector3d::Constant(s.radius + kMargin);
+    }
+    return Eigen::Vector3d::Zero();
+  };
+  const Eigen::Isometry3d to_inertial = link.inertial.origin.inverse();
+  if (link.collisions.size() == 1 && (to_inertial * link.collisions[0].origin).matrix().isIdentity(1e-9)) {
+    const Shape& s = link.collisions[0];
+    if (s.type == ShapeType::Box) return box(s.size);
+    if (s.type == ShapeType::Sphere) return Eigen::Vector3d::Constant(0.4 * m * s.radius * s.radius);
+    return box(2.0 * outer_half(s) + Eigen::Vector3d::Constant(2.0 * kMargin));
+  }
+  Eigen::AlignedBox3d around(Eigen::Vector3d::Zero());
+  if (!link.collisions.empty()) around.setEmpty();
+  for (const Shape& s : link.collisions) {
+    const Eigen::Isometry3d pose = to_inertial * s.origin;
+    const Eigen::Vector3d extent = pose.linear().cwiseAbs() * outer_half(s);
+    around.extend(Eigen::Vector3d(pose.translation() - extent));
+    around.extend(Eigen::Vector3d(pose.translation() + extent));
+  }
+  return box(around.sizes() + Eigen::Vector3d::Constant(2.0 * kMargin));
+}
+
+BodyFrame body_frame(const Link& link, bool on_movable_joint, bool inertia_from_shapes) {
   BodyFrame f;
   f.mass = link.inertial.mass;
   const Eigen::Matrix3d& inertia = link.inertial.inertia;
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-  f.moments = inertia.diagonal();
+  f.moments = inertia_from_shapes ? shape_moments(link) : Eigen::Vector3d(inertia.diagonal());
   const double off_diagonal = std::abs(inertia(0, 1)) + std::abs(inertia(0, 2)) + std::abs(inertia(1, 2));
-  if (off_diagonal > 1e-12 * std::max(inertia.trace(), 1e-30)) {
+  if (!inertia_from_shapes && off_diagonal > 1e-12 * std::max(inertia.trace(), 1e-30)) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia);
     axes = eig.eigenvectors();
     f.moments = eig.eigenvalues();
@@ -183,7 +222,7 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
   body_to_link_.resize(n);
   std::vector<Inertial> simulated(n);  // what Bullet gets, for the drive's dynamics
   for (size_t i = 0; i < n; ++i) {
-    frames[i] = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable());
+    frames[i] = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), options.inertia_from_shapes);
     body_to_link_[i] = frames[i].in_link.inverse().cast<float>();
     simulated[i].mass = frames[i].mass;
     simulated[i].inertia = frames[i].moments.asDiagonal();
@@ -226,9 +265,10 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
   multibody_->setHasSelfCollision(false);
   multibody_->setCanSleep(false);
   // Bullet's default 0.04 damping would slow every link a little on every step; the motors
-  // already damp the arm, so the simulated motion is left undamped, as the URDF describes it.
-  multibody_->setLinearDamping(0.0f);
-  multibody_->setAngularDamping(0.0f);
+  // already damp the arm, so by default the simulated motion is left undamped, as the URDF
+  // describes it. pybullet keeps the 0.04 (RobotOptions::link_damping).
+  multibody_->setLinearDamping(options.link_damping);
+  multibody_->setAngularDamping(options.link_damping);
   multibody_->setUserIndex(body);
   impl.world.addMultiBody(multibody_, kRobotLinkGroup, kRobotLinkMask);
 
@@ -272,7 +312,7 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
       d.motor->setPositionTarget(0, position_gain_);
       d.motor->setVelocityTarget(0, velocity_gain_);
       d.motor->setErp(1);
-      d.motor->setRhsClamp(static_cast<btScalar>(j.velocity));
+      if (options.motor_speed_limits) d.motor->setRhsClamp(static_cast<btScalar>(j.velocity));
       impl.world.addMultiBodyConstraint(d.motor);
     }
     if (options.limit_constraints && j.type != JointType::Continuous) {

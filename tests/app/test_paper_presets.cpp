@@ -69,3 +69,14 @@ TEST_CASE("paper presets resolve to the original's physics, IK, drive and episod
     CHECK(gt == pixels);
   }
 }
+
+TEST_CASE("paper presets: the Jaka button is the paper's fixed button; random buttons are their own preset", "[paper]") {
+  // The paper: "We set a button at a fixed position" (RobotDrlSim's random_target defaults to False).
+  CHECK(resolved_env("jaka_button").at("random_target") == false);
+  CHECK(resolved_env("jaka_button_pixels").at("random_target") == false);
+  nlohmann::json fixed = resolved_env("jaka_button"), random = resolved_env("jaka_button_random");
+  CHECK(random.at("random_target") == true);
+  fixed.erase("random_target");
+  random.erase("random_target");
+  CHECK(fixed == random);
+}

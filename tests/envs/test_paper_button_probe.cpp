@@ -1,5 +1,5 @@
 // A measurement, not a check (hidden tag, ctest does not run it): how close scripted controllers
-// with privileged state get to the button on the paper preset configs/paper/jaka_button.json,
+// with privileged state get to the button on the paper preset configs/paper/jaka_button_random.json,
 // i.e. whether "within 2.5 cm at step 1000" is reachable with the six far-target moves at all.
 // Run: build/test_envs "[.paper_probe]"   (a few minutes; issue #17, README "Paper presets")
 #include <algorithm>
@@ -39,7 +39,7 @@ Action lookahead_action(Env& env, EnvState& state, int repeat) {
 // One controller over `episodes` preset episodes (targets by seeds 100...): successes, mean final
 // distance (m). repeat 0: move along the largest component of target - effector; else lookahead.
 void measure(const char* name, int repeat, int episodes) {
-  auto env = make_env(paper_env_config("jaka_button"));
+  auto env = make_env(paper_env_config("jaka_button_random"));
   auto* state = dynamic_cast<EnvState*>(env.get());
   REQUIRE(state);
   int successes = 0;
@@ -71,7 +71,7 @@ TEST_CASE("paper jaka_button probe: scripted controllers near the button", "[.pa
 TEST_CASE("paper jaka_button probe: opposite moves alternated do not cancel", "[.paper_probe]") {
   // There is no no-op: hovering means alternating moves. From the rest pose, 100 steps of each
   // opposite pair; the net displacement (m) is how far such a "hold" drifts.
-  auto env = make_env(paper_env_config("jaka_button"));
+  auto env = make_env(paper_env_config("jaka_button_random"));
   Observation o = env->reset(100);
   for (int pair = 0; pair < 3; ++pair) {
     const Eigen::Vector3f start = o.values.head<3>();
@@ -86,7 +86,7 @@ TEST_CASE("paper jaka_button probe: how far one move carries the effector", "[.p
   // From states along random-action episodes (every 25th step of 1000, targets by seeds 100-109),
   // each of the six moves is tried (state saved and restored): how far the effector goes in one
   // env step, the shortest of the six, and how close to the button the best move ends.
-  auto env = make_env(paper_env_config("jaka_button"));
+  auto env = make_env(paper_env_config("jaka_button_random"));
   auto* state = dynamic_cast<EnvState*>(env.get());
   REQUIRE(state);
   std::vector<float> shortest, longest, best_after, now;
@@ -134,7 +134,7 @@ TEST_CASE("paper jaka_button probe: beam search over move sequences on the simul
   // Defaults as reported in the README; RDSIM_BEAM="keep hold first_target targets" for others.
   int keep = 24, hold = 4, first = 100, episodes = 8;
   if (const char* v = std::getenv("RDSIM_BEAM")) std::sscanf(v, "%d %d %d %d", &keep, &hold, &first, &episodes);
-  EnvConfig config = paper_env_config("jaka_button");
+  EnvConfig config = paper_env_config("jaka_button_random");
   config.get<ReachOptions>().end_on_success = true;
   auto env = make_env(config);
   auto* state = dynamic_cast<EnvState*>(env.get());

@@ -138,6 +138,12 @@ TEST_CASE("paper presets: their physics numbers reach the world, the robot and t
       CHECK(task.spec().robot.limit_constraints);
       CHECK(task.spec().robot.position_gain == 0.1f);
       CHECK(task.spec().robot.velocity_gain == 1.0f);
+      // pybullet's setJointMotorControlArray (no speed limit), link damping and solver defaults.
+      CHECK_FALSE(task.spec().robot.motor_speed_limits);
+      CHECK(task.spec().robot.link_damping == 0.04f);
+      CHECK(task.world().settings().contact_erp == 0.08);
+      CHECK(task.world().settings().warmstarting_factor == 0.1);
+      CHECK(task.world().settings().solver_residual_threshold == 1e-7);
       CHECK(task.spec().move_noise == 0.0f);
       CHECK(task.spec().step == (std::string(name) == "inmoov_tomato" ? 1.2f : 1.0f));
       CHECK(env->spec().max_episode_steps == (std::string(name) == "jaka_obstacle" ? 250 : 1000));
@@ -168,8 +174,15 @@ TEST_CASE("paper presets: a far-target move carries the end effector along its a
       }
       const Eigen::Vector3f moved = task.ee_position() - before;
       INFO(name << " action " << action << " moved " << moved.transpose());
-      CHECK(sign * moved[axis] > 0.04f);  // 4 cm or more its way in 30 steps (1/4 s)
-      CHECK(largest_step < 0.1f);          // the motors' URDF effort and speed limits bound one step (2/240 s)
+      // The InMoov's arm hangs straight down at its rest pose: -z is blocked, and the IK swings the
+      // hand up and sideways instead (pybullet's own IK and motors do the same, within 0.1 mm:
+      // tools/fidelity).
+      const bool blocked = std::string(name) == "inmoov_tomato" && action == 4;
+      if (blocked)
+        CHECK(moved.norm() > 0.04f);
+      else
+        CHECK(sign * moved[axis] > 0.04f);  // 4 cm or more its way in 30 steps (1/4 s)
+      CHECK(largest_step < 0.1f);          // the motors' URDF efforts bound one step (2/240 s)
     }
   }
 }

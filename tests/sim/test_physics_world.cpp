@@ -120,6 +120,34 @@ TEST_CASE("Static bodies can be moved", "[physics]") {
   CHECK_THROWS_AS(world.robot(button), Error);
 }
 
+TEST_CASE("A free body rests on the floor, is pushed by the arm, and comes back at rest when moved", "[physics]") {
+  PhysicsWorld world;
+  world.add_static_body(load_urdf(test_asset("objects/floor.urdf")), at(0.0f, 0.0f, 0.0f));
+  const int button = world.add_free_body(load_urdf(test_asset("objects/paper_button.urdf")), at(0.5f, 0.0f, 0.0f));
+  for (int k = 0; k < 240; ++k) world.step();
+  CHECK((world.static_pose(button).translation() - Eigen::Vector3f(0.5f, 0.0f, 0.0f)).norm() < 2e-3f);
+
+  // A 5 kg block in the flange's way: the arm sweeping through it shoves it.
+  RobotOptions options;
+  options.link_damping = 0.04f;
+  Robot& arm = world.add_robot(load_urdf(test_asset("jaka/jaka_zu7.urdf")), at(0.0f, 0.0f, 0.0f), options);
+  Eigen::VectorXf q(6);
+  q << -0.809f, 0.889f, -1.754f, 2.077f, 1.667f, 0.0f;  // the flange 3 cm high, 0.5 m out, beside the block
+  arm.reset_joints(q);
+  q[0] = 0.391f;  // sweep across it
+  arm.set_position_targets(q);
+  for (int k = 0; k < 480; ++k) world.step();
+  const float moved = (world.static_pose(button).translation() - Eigen::Vector3f(0.5f, 0.0f, 0.0f)).norm();
+  INFO("moved " << moved);
+  CHECK(moved > 0.01f);
+
+  world.set_static_pose(button, at(1.0f, 1.0f, 0.0f));
+  world.step();
+  CHECK((world.static_pose(button).translation() - Eigen::Vector3f(1.0f, 1.0f, 0.0f)).norm() < 1e-3f);
+  CHECK_THROWS_WITH(world.add_free_body(load_urdf(test_asset("jaka/jaka_zu7.urdf")), at(0.0f, 0.0f, 0.0f)),
+                    Catch::Contains("a free body must be one link"));
+}
+
 TEST_CASE("Same inputs give bit-identical simulations, also after a reset", "[physics]") {
   auto run = [](Scene& s) {
     Eigen::VectorXf target = home();

@@ -47,18 +47,22 @@ JointVector damped_least_squares_step(const Eigen::MatrixBase<Jacobian>& j, cons
   return j.transpose() * a.llt().solve(e);
 }
 
-// pybullet's calculateInverseKinematics with rest poses, as Bullet's source describes it (BussIK's
-// damped least squares with a null-space term): each iteration takes the DLS step with damping
-// 0.6 m plus a pull of rest_gain x (rest - q) projected into the Jacobian's null space, caps the
-// largest joint change at max_joint_step, and stops once the tip is within `tolerance`. Used by
-// the reaching envs' ik_method "null_space" (envs/reach_task.cpp). Differences from pybullet's: the
-// chain holds only the joints between the root and the tip (pybullet's Jacobian has zero columns
-// for the others, so they only feel the pull), and every iterate is clamped to the joint limits
-// (pybullet pushes joints back from beyond their limits through the null-space term instead).
+// pybullet's calculateInverseKinematics with rest poses (lower/upper limits, joint ranges and rest
+// poses given), as Bullet's source describes it (BussIK's damped least squares with a null-space
+// term): each iteration takes the DLS step with damping 0.6 m plus the null-space velocity -- a pull
+// of rest_gain x (rest - q), and for a joint beyond a limit a push of limit_gain x (limit - q) /
+// (upper - lower) -- projected through (I - J^T (J J^T + damping^2 I)^-1 J), caps the largest joint
+// change at max_joint_step, and stops once the error measured at the start of the previous
+// iteration is within `tolerance`. Iterates are not clamped to the limits (pybullet's are not: the
+// push brings a joint back), so the result may lie slightly outside them; the robot's targets are
+// clamped. Used by the reaching envs' ik_method "null_space" (envs/reach_task.cpp). The chain holds
+// only the joints between the root and the tip (pybullet's Jacobian has zero columns for the
+// others, which then only feel the pull). tools/fidelity compares the two (docs/fidelity.md).
 struct NullSpaceIkOptions {
   int iterations = 20;                 // pybullet's maxNumIterations default
   double damping = 0.6;                // m: BussIK's DefaultDampingLambda
   double rest_gain = 0.001;            // Bullet's stayCloseToZeroGain, per iteration
+  double limit_gain = 10.0;            // Bullet's stayAwayFromLimitsGain, per iteration
   double max_joint_step = M_PI / 4.0;  // rad per iteration: BussIK's MaxAngleDLS (45 deg)
   double tolerance = 1e-4;             // m: pybullet's residualThreshold default
 };

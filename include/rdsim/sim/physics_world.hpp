@@ -25,7 +25,16 @@ struct WorldSettings {
   int solver_iterations = 50;      // Bullet's sequential-impulse iterations per step
   // Stop iterating earlier once the solver's squared residual falls below this (0 = never).
   double solver_residual_threshold = 0.0;
+  // Bullet's btContactSolverInfo defaults; pybullet_solver() gives pybullet's.
+  double contact_erp = 0.2;           // share of a contact's penetration corrected per step (erp2)
+  double friction_erp = 0.2;          // the same for friction anchors
+  double linear_slop = 0.0;           // m of penetration left uncorrected
+  double warmstarting_factor = 0.85;  // share of last step's impulses each solve starts from
 };
+
+// The solver settings pybullet's physics server applies to every new world (contact ERP 0.08, linear
+// slop 1e-5 m, warm starting 0.1, residual threshold 1e-7; Bullet's for the rest), on top of `base`.
+WorldSettings pybullet_solver(WorldSettings base);
 
 // One link of one body: `link` indexes the body's RobotModel links (0 for a static body).
 struct BodyLink {
@@ -50,7 +59,12 @@ public:
   // A body that never moves by itself (floor, table, button): every link's collision shapes at
   // the model's zero pose, placed at `pose`. Returns its body id.
   int add_static_body(const RobotModel& model, const Eigen::Isometry3f& pose);
-  // Moves a static body (e.g. a randomised target) and forgets its cached contacts.
+  // A free rigid body (a button the arm can push away, as pybullet's): a one-link model's collision
+  // shapes with its mass (> 0) and inertia, placed at `pose`; it collides with everything. Bullet's
+  // rigid-body defaults (friction 0.5, no restitution, no damping). set_static_pose teleports it at
+  // rest, static_pose says where it is now. Returns its body id.
+  int add_free_body(const RobotModel& model, const Eigen::Isometry3f& pose);
+  // Moves a static (or free) body (e.g. a randomised target) and forgets its cached contacts.
   void set_static_pose(int body, const Eigen::Isometry3f& pose);
   Eigen::Isometry3f static_pose(int body) const;
 

@@ -34,7 +34,7 @@ class btMultiBodyConstraint;
 //  - a movable joint's child with no mass gets 1 g and a tiny inertia (Bullet cannot move a
 //    massless body); principal moments below 1e-8 kg m^2 are raised to it;
 //  - URDF joint damping/friction are not simulated (the drives dominate them); Bullet's default
-//    link damping is switched off.
+//    link damping is switched off unless RobotOptions::link_damping asks for it (pybullet keeps it).
 namespace rdsim {
 
 class PhysicsWorld;
@@ -49,6 +49,17 @@ struct RobotOptions {
   // costly as a motor row). Without them the limits hold through the targets, which
   // set_position_targets clamps, and the drive's effort.
   bool limit_constraints = true;
+  // ConstraintMotor: clamp the motors' speed target to the URDF velocity limit (pybullet does only
+  // when setJointMotorControl2 gets maxVelocity; setJointMotorControlArray cannot give one). The
+  // ComputedTorque drive always clamps.
+  bool motor_speed_limits = true;
+  // Bullet's link damping (btMultiBody linear and angular damping, 1/s): pybullet keeps Bullet's
+  // default 0.04; 0 leaves the motion undamped, as the URDF describes it.
+  float link_damping = 0.0f;
+  // Inertia tensors as pybullet's loadURDF makes them without URDF_USE_INERTIA_FROM_FILE (how
+  // RobotDrlSim loaded its robots): the URDF's mass and inertial frame, principal moments from the
+  // collision shapes (robot.cpp shape_moments); false: the URDF's tensors.
+  bool inertia_from_shapes = false;
 };
 
 // Everything a Robot simulates between steps, per dof, as Bullet holds it (floats): joint

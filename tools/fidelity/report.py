@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""Prints rdsim-versus-pybullet tables (docs/fidelity.md shows them and says how they were made).
+
+    .venv/bin/python tools/fidelity/report.py                # the full benchmark (minutes)
+    .venv/bin/python tools/fidelity/report.py --quick        # one seed, 200 steps
+    .venv/bin/python tools/fidelity/report.py --robots jaka --only actions
+
+Sections: targets (the same joint targets), ik (100 random reachable goals), actions (10 seeds of
+1,000 random discrete moves under the original's recipe), search (closest approach to the paper
+button, greedy and beam search). Robots whose URDFs use meshes run only where rdsim loads meshes.
+"""
+from __future__ import annotations
+
+import argparse
+import pathlib
+import sys
+
+import numpy as np
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+
+from fidelity import CASES, action_sequence, inverse_kinematics, joint_targets  # noqa: E402
+from fidelity.button import button_search  # noqa: E402
+
+
+def loads_in_rdsim(case) -> tuple[bool, str]:
+    import rdsim
+    import rdsim.sim
+
+    try:
+        rdsim.sim.World().add_robot(str(case.urdf()))
+    except rdsim.Error as e:
+        return False, str(e).splitlines()[0]
+    return True, ""
+
+
+def mm(x: float) -> str:
+    return f"{1000 * x:.2f}"
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--robots", default="jaka,inmoov,kuka,panda")
+    ap.add_argument("--only", default="targets,ik,actions,search")
+    ap.add_argument("--quick", action="store_true", help="one seed, 200 steps, 20 IK goals")
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--steps", type=int, default=1000)
+    args = ap.parse_args()
+    seeds = 1 if args.quick else args.seeds
+    steps = 200 if args.quick else args.steps
+    sections = args.only.split(",")
+    for name in args.robots.split(","):
+        case = CASES[name]
+        ok, why = loads_in_rdsim(case)
+        if not ok:
+            print(f"| {name} | pending: rdsim does not load it yet ({why}) |")
+            continue
+        if "targets" in sections:
+            for inertia in ("shapes", "urdf"):
+                r = joint_targets(case, steps=steps, inertia=inertia)
+                print(f"| {name} | joint targets, inertia from the {inertia} | "
+                      f"ee mean {mm(r['ee_mean'])} mm | ee max {mm(r['ee_max'])} mm | q max {r['q_max']:.4f} rad |")
+        if "ik" in sections:
+            r = inverse_kinematics(case, goals=20 if args.quick else 100)
+            print(f"| {name} | IK, {20 if args.quick else 100} goals | solution ee mean {mm(r['ee_mean'])} mm | "
+                  f"max {mm(r['ee_max'])} mm | q max {r['q_max']:.2e} rad | residual pybullet "
+                  f"{mm(r['pb_residual_mean'])} mm, rdsim {mm(r['rd_residual_mean'])} mm |")
+        if "actions" in sections:
+            for inertia in ("shapes", "urdf"):
+                rs = [action_sequence(case, steps=steps, seed=s, inertia=inertia) for s in range(seeds)]
+                mean = np.mean([r["ee_mean"] for r in rs])
+                worst = np.max([r["ee_max"] for r in rs])
+                qmax = np.max([r["q_max"] for r in rs])
+                print(f"| {name} | {seeds} x {steps} random moves, inertia from the {inertia} | "
+                      f"ee mean {mm(mean)} mm | ee max {mm(worst)} mm | "
+                      f"q max {qmax:.4f} rad |")
+        sys.stdout.flush()
+    if "search" in sections and "jaka" in args.robots:
+        for row in button_search(steps=steps):
+            print(row)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
