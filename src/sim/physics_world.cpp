@@ -53,6 +53,7 @@ PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings),
   info.m_numIterations = settings.solver_iterations;
   info.m_leastSquaresResidualThreshold = static_cast<btScalar>(settings.solver_residual_threshold);
   info.m_timeStep = static_cast<btScalar>(settings.time_step);
+  impl_->solver.set_sparse(settings.sparse_joint_rows);
 }
 
 PhysicsWorld::~PhysicsWorld() { impl_->robots.clear(); }
