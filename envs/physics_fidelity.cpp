@@ -14,6 +14,7 @@ namespace rdsim {
 void original_solver_work(ReachTaskSpec& spec) {
   spec.world.solver_residual_threshold = 0.0;
   spec.world.sparse_joint_rows = false;
+  spec.robot.weld_held_joints = false;
 }
 
 std::unique_ptr<ReachEnv> make_reach_env(const EnvConfig& config, const SpecEdit& edit) {
@@ -78,8 +79,10 @@ TrajectoryDeviation trajectory_deviation(const EnvConfig& config, const SpecEdit
     d.seconds_a += timed_step(*a, action, seed_a);
     d.seconds_b += timed_step(*b, action, seed_b);
     const double effector = (a->task().ee_position() - b->task().ee_position()).norm();
+    int dof = 0;
     const double joint =
-        (a->task().robot().joint_positions() - b->task().robot().joint_positions()).cwiseAbs().maxCoeff();
+        (a->task().robot().joint_positions() - b->task().robot().joint_positions()).cwiseAbs().maxCoeff(&dof);
+    if (joint > d.max_joint) d.max_joint_name = a->task().robot_model().joints[static_cast<size_t>(a->task().robot().dof_joint(dof))].name;
     d.mean_effector += effector;
     d.max_effector = std::max(d.max_effector, effector);
     d.mean_joint += joint;

@@ -12,6 +12,7 @@ namespace rdsim {
 namespace {
 
 constexpr double kIkDamping = 0.02;  // m: keeps the step bounded near singular poses
+constexpr double kResidualThreshold = 1e-7;
 
 // The robot's model with every movable joint not in spec.ik_joints made fixed at its reset angle, so
 // the IK chain moves only ik_joints. Joint indices are unchanged: chain joints still map to robot dofs.
@@ -59,11 +60,13 @@ void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec) {
   spec.reset_to_rest = config.reset_pose == ResetPose::Rest;
   spec.reset_noise = static_cast<float>(config.reset_noise);
   spec.world.solver_iterations = config.solver_iterations;
+  spec.world.solver_residual_threshold = kResidualThreshold;
   // Position motors are pybullet's POSITION_CONTROL, and pybullet's URDF import adds joint-limit
   // constraints; the computed-torque drive keeps the limits through its clamped targets instead.
   const bool motors = config.drive == DriveMode::PositionMotor;
   spec.robot.drive = motors ? JointDrive::ConstraintMotor : JointDrive::ComputedTorque;
   spec.robot.limit_constraints = motors;
+  spec.robot.weld_held_joints = motors;
   spec.robot.position_gain = static_cast<float>(config.position_gain);
   spec.robot.velocity_gain = static_cast<float>(config.velocity_gain);
 }
@@ -131,6 +134,11 @@ ReachTask::ReachTask(ReachTaskSpec spec) : spec_(std::move(spec)) {
   base_inverse_ = spec_.base_pose.inverse();
   scratch_q_ = reset_pose();
   robot_->reset_joints(reset_pose());
+  // The joints off the IK chain only ever hold their reset pose (RobotOptions::weld_held_joints).
+  std::vector<int> held;
+  for (int i = 0; i < robot_->dof(); ++i)
+    if (std::find(chain_dofs_.begin(), chain_dofs_.end(), i) == chain_dofs_.end()) held.push_back(i);
+  robot_->hold(held);
   ee_ = robot_->link_pose(ee_link_).translation();
   set_target(spec_.nominal_target);
 }

@@ -22,8 +22,8 @@ int bench_physics_command(const BenchPhysicsOptions& o) {
   const std::vector<std::string> envs = o.envs.empty() ? std::vector<std::string>{"jaka_button", "inmoov_tomato"} : o.envs;
   std::printf("rdsim bench-physics: paper preset, original solver work (a) vs the speed-ups (b), %d-step sequences\n",
               o.steps);
-  std::printf("%-14s %-7s %4s %11s %11s %11s %11s %9s %8s\n", "env", "script", "seed", "mean ee mm", "max ee mm",
-              "mean q rad", "max q rad", "speed b/a", "within");
+  std::printf("%-14s %-7s %4s %11s %11s %11s %11s %9s %8s  %s\n", "env", "script", "seed", "mean ee mm", "max ee mm",
+              "mean q rad", "max q rad", "speed b/a", "within", "max q joint");
   bool all_within = true;
   for (const std::string& env : envs) {
     const EnvConfig config = read_train_config(repo_root() + "/configs/paper/" + env + ".json").env;
@@ -38,9 +38,9 @@ int bench_physics_command(const BenchPhysicsOptions& o) {
         worst_mean = std::max(worst_mean, d.mean_effector);
         seconds_a += d.seconds_a;
         seconds_b += d.seconds_b;
-        std::printf("%-14s %-7s %4d %11.4f %11.4f %11.2e %11.2e %8.2fx %8s\n", env.c_str(), to_string(script), seed,
+        std::printf("%-14s %-7s %4d %11.4f %11.4f %11.2e %11.2e %8.2fx %8s  %s\n", env.c_str(), to_string(script), seed,
                     1e3 * d.mean_effector, 1e3 * d.max_effector, d.mean_joint, d.max_joint, d.seconds_a / d.seconds_b,
-                    within ? "yes" : "NO");
+                    within ? "yes" : "NO", d.max_joint_name.empty() ? "-" : d.max_joint_name.c_str());
         std::fflush(stdout);
       }
     }

@@ -38,6 +38,7 @@ struct TrajectoryDeviation {
   int steps = 0;
   double mean_effector = 0, max_effector = 0;  // m, |effector a - effector b| over the steps
   double mean_joint = 0, max_joint = 0;        // rad (m for prismatic), largest joint difference per step
+  std::string max_joint_name;                  // the joint of max_joint
   double seconds_a = 0, seconds_b = 0;         // wall-clock time of each run (env steps only)
 };
 
