@@ -48,12 +48,15 @@ void PhysicsWorld::Impl::forget_pairs(btCollisionObject* object) {
 PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings), impl_(std::make_unique<Impl>()) {
   if (!(settings.time_step > 0.0)) throw Error("physics: time_step must be > 0");
   if (settings.solver_iterations < 1) throw Error("physics: solver_iterations must be >= 1");
+  if (!(settings.joint_row_warm_start >= 0.0 && settings.joint_row_warm_start <= 1.0))
+    throw Error("physics: joint_row_warm_start must be in [0, 1]");
   impl_->world.setGravity(to_bt(settings.gravity));
   btContactSolverInfo& info = impl_->world.getSolverInfo();
   info.m_numIterations = settings.solver_iterations;
   info.m_leastSquaresResidualThreshold = static_cast<btScalar>(settings.solver_residual_threshold);
   info.m_timeStep = static_cast<btScalar>(settings.time_step);
   impl_->solver.set_sparse(settings.sparse_joint_rows);
+  impl_->solver.set_warm_start(settings.joint_row_warm_start);
 }
 
 PhysicsWorld::~PhysicsWorld() { impl_->robots.clear(); }

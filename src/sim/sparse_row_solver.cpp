@@ -12,8 +12,46 @@ btScalar SparseRowSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodie
                                                         const btContactSolverInfo& info, btIDebugDraw* debugDrawer) {
   const btScalar r = btMultiBodyConstraintSolver::solveGroupCacheFriendlySetup(
       bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
-  if (sparse_) list_rows();
+  list_rows();
+  if (warm_start_ != 0) warm_start_rows();
   return r;
+}
+
+void SparseRowSolver::apply_impulse(const Side& side, btScalar impulse) {
+  if (!side.responds) return;  // adding zeros
+  const btScalar* response = &m_data.m_deltaVelocitiesUnitImpulse[side.jacobian];
+  btScalar* v = &m_data.m_deltaVelocities[side.velocity];
+  for (int i = 0; i < side.size; ++i) v[i] += response[i] * impulse;
+  side.body->applyDeltaVeeMultiDof2(response, impulse);
+}
+
+void SparseRowSolver::warm_start_rows() {
+  for (int k = 0; k < m_multiBodyNonContactConstraints.size(); ++k) {
+    btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[k];
+    const Row& row = rows_[static_cast<size_t>(k)];
+    if (!c.m_orgConstraint || !row.a.body || !row.b.body) continue;
+    const Impulse key{c.m_orgConstraint, c.m_orgDofIndex, 0};
+    const auto it = std::lower_bound(last_.begin(), last_.end(), key);
+    if (it == last_.end() || it->constraint != key.constraint || it->row != key.row) continue;
+    const btScalar impulse = std::clamp(warm_start_ * it->impulse, c.m_lowerLimit, c.m_upperLimit);
+    if (impulse == 0) continue;
+    c.m_appliedImpulse = impulse;
+    apply_impulse(row.a, impulse);
+    apply_impulse(row.b, impulse);
+  }
+}
+
+btScalar SparseRowSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
+                                                         const btContactSolverInfo& info) {
+  last_.clear();
+  if (warm_start_ != 0) {
+    for (int k = 0; k < m_multiBodyNonContactConstraints.size(); ++k) {
+      const btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[k];
+      if (c.m_orgConstraint) last_.push_back({c.m_orgConstraint, c.m_orgDofIndex, c.m_appliedImpulse});
+    }
+    std::sort(last_.begin(), last_.end());
+  }
+  return btMultiBodyConstraintSolver::solveGroupCacheFriendlyFinish(bodies, numBodies, info);
 }
 
 SparseRowSolver::Side SparseRowSolver::list_side(btMultiBody* body, int jacobian, int velocity) {
@@ -57,13 +95,6 @@ btScalar SparseRowSolver::solve_row(btMultiBodySolverConstraint& c, const Row& r
     for (int e = s.begin; e < s.end; ++e) sum += jacobians[s.jacobian + entries[e]] * velocities[s.velocity + entries[e]];
     return sum;
   };
-  auto apply = [&](const Side& s, btScalar impulse) {
-    if (!s.responds) return;  // adding zeros
-    const btScalar* response = &m_data.m_deltaVelocitiesUnitImpulse[s.jacobian];
-    btScalar* v = velocities + s.velocity;
-    for (int i = 0; i < s.size; ++i) v[i] += response[i] * impulse;
-    s.body->applyDeltaVeeMultiDof2(response, impulse);
-  };
   btScalar delta = c.m_rhs - btScalar(c.m_appliedImpulse) * c.m_cfm;
   const btScalar dot_a = dot(row.a);
   const btScalar dot_b = dot(row.b);
@@ -79,8 +110,8 @@ btScalar SparseRowSolver::solve_row(btMultiBodySolverConstraint& c, const Row& r
   } else {
     c.m_appliedImpulse = sum;
   }
-  apply(row.a, delta);
-  apply(row.b, delta);
+  apply_impulse(row.a, delta);
+  apply_impulse(row.b, delta);
   return delta / c.m_jacDiagABInv;  // the row's velocity residual, as Bullet reports it
 }
 

@@ -28,6 +28,12 @@ class SparseRowSolver : public btMultiBodyConstraintSolver {
 public:
   // false: Bullet's dense rows (the reference the tests compare with).
   void set_sparse(bool sparse) { sparse_ = sparse; }
+  // Each joint row starts from `factor` times the impulse it ended the last step with (0: from
+  // zero, as Bullet does). See WorldSettings::joint_row_warm_start.
+  void set_warm_start(double factor) { warm_start_ = static_cast<btScalar>(factor); }
+
+  btScalar solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
+                                         const btContactSolverInfo& info) override;
 
 protected:
   btScalar solveGroupCacheFriendlySetup(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifolds,
@@ -51,10 +57,23 @@ private:
     Side a, b;
   };
   void list_rows();
+  void warm_start_rows();
+  // Adds `impulse` times a side's unit-impulse response to the solver's and the multibody's
+  // velocity changes, as a row's iteration does.
+  void apply_impulse(const Side& side, btScalar impulse);
   Side list_side(btMultiBody* body, int jacobian, int velocity);
   btScalar solve_row(btMultiBodySolverConstraint& c, const Row& row);
 
   bool sparse_ = true;
+  btScalar warm_start_ = 0;
+  // The joint rows' impulses at the end of the last solve, by (constraint, row), sorted.
+  struct Impulse {
+    const btMultiBodyConstraint* constraint;
+    int row;
+    btScalar impulse;
+    bool operator<(const Impulse& o) const { return constraint != o.constraint ? constraint < o.constraint : row < o.row; }
+  };
+  std::vector<Impulse> last_;
   std::vector<Row> rows_;     // per m_multiBodyNonContactConstraints entry
   std::vector<int> entries_;  // offsets, see Side
 };

@@ -31,6 +31,11 @@ struct WorldSettings {
   // impulses, bit for bit, as Bullet's dense rows, in a fraction of the time (src/sim/sparse_row_solver.hpp).
   // false = Bullet's own code, kept for the tests that show the two agree.
   bool sparse_joint_rows = true;
+  // Each joint row (motor, joint limit) starts the solve from this fraction of the impulse it
+  // ended the last step with, instead of from zero (0: Bullet's and pybullet's behaviour). A
+  // motor holding an arm needs about the same impulse step after step, so with a residual
+  // threshold the solver then stops after a few iterations instead of rebuilding it.
+  double joint_row_warm_start = 0.0;
 };
 
 // One link of one body: `link` indexes the body's RobotModel links (0 for a static body).
