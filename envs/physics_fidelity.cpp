@@ -37,6 +37,11 @@ std::unique_ptr<ReachEnv> make_reach_env(const EnvConfig& config, const SpecEdit
   return std::make_unique<ReachEnv>(std::move(spec), std::move(terms), config);
 }
 
+void perturbed_original(ReachTaskSpec& spec) {
+  original_solver_work(spec);
+  spec.world.solver_iterations += 1;
+}
+
 const char* to_string(ActionScript script) { return script == ActionScript::Random ? "random" : "sweeps"; }
 
 std::vector<int> action_sequence(ActionScript script, std::uint64_t seed, int steps) {
@@ -67,34 +72,51 @@ double timed_step(ReachEnv& env, int action, std::uint64_t& reset_seed) {
 
 }  // namespace
 
+std::vector<TrajectoryDeviation> trajectory_deviations(const EnvConfig& config, const SpecEdit& reference,
+                                                       const std::vector<SpecEdit>& others,
+                                                       const std::vector<int>& actions, std::uint64_t seed) {
+  const std::unique_ptr<ReachEnv> a = make_reach_env(config, reference);
+  if (!a->spec().action.discrete) throw Error("physics fidelity: " + config.name + ": expected Discrete actions");
+  std::vector<std::unique_ptr<ReachEnv>> envs;
+  for (const SpecEdit& edit : others) envs.push_back(make_reach_env(config, edit));
+  std::uint64_t seed_a = seed;
+  std::vector<std::uint64_t> seeds(envs.size(), seed);
+  a->reset(seed);
+  for (auto& e : envs) e->reset(seed);
+  std::vector<TrajectoryDeviation> out(envs.size());
+  double seconds_a = 0;
+  for (int action : actions) {
+    seconds_a += timed_step(*a, action, seed_a);
+    const Eigen::VectorXf q_a = a->task().robot().joint_positions();
+    for (size_t k = 0; k < envs.size(); ++k) {
+      ReachEnv& b = *envs[k];
+      TrajectoryDeviation& d = out[k];
+      d.seconds_b += timed_step(b, action, seeds[k]);
+      const double effector = (a->task().ee_position() - b.task().ee_position()).norm();
+      int dof = 0;
+      const double joint = (q_a - b.task().robot().joint_positions()).cwiseAbs().maxCoeff(&dof);
+      if (joint > d.max_joint)
+        d.max_joint_name = a->task().robot_model().joints[static_cast<size_t>(a->task().robot().dof_joint(dof))].name;
+      d.mean_effector += effector;
+      d.max_effector = std::max(d.max_effector, effector);
+      d.mean_joint += joint;
+      d.max_joint = std::max(d.max_joint, joint);
+      ++d.steps;
+    }
+  }
+  for (TrajectoryDeviation& d : out) {
+    d.seconds_a = seconds_a;
+    if (d.steps > 0) {
+      d.mean_effector /= d.steps;
+      d.mean_joint /= d.steps;
+    }
+  }
+  return out;
+}
+
 TrajectoryDeviation trajectory_deviation(const EnvConfig& config, const SpecEdit& edit_a, const SpecEdit& edit_b,
                                          const std::vector<int>& actions, std::uint64_t seed) {
-  const std::unique_ptr<ReachEnv> a = make_reach_env(config, edit_a);
-  const std::unique_ptr<ReachEnv> b = make_reach_env(config, edit_b);
-  if (!a->spec().action.discrete) throw Error("physics fidelity: " + config.name + ": expected Discrete actions");
-  std::uint64_t seed_a = seed, seed_b = seed;
-  a->reset(seed);
-  b->reset(seed);
-  TrajectoryDeviation d;
-  for (int action : actions) {
-    d.seconds_a += timed_step(*a, action, seed_a);
-    d.seconds_b += timed_step(*b, action, seed_b);
-    const double effector = (a->task().ee_position() - b->task().ee_position()).norm();
-    int dof = 0;
-    const double joint =
-        (a->task().robot().joint_positions() - b->task().robot().joint_positions()).cwiseAbs().maxCoeff(&dof);
-    if (joint > d.max_joint) d.max_joint_name = a->task().robot_model().joints[static_cast<size_t>(a->task().robot().dof_joint(dof))].name;
-    d.mean_effector += effector;
-    d.max_effector = std::max(d.max_effector, effector);
-    d.mean_joint += joint;
-    d.max_joint = std::max(d.max_joint, joint);
-    ++d.steps;
-  }
-  if (d.steps > 0) {
-    d.mean_effector /= d.steps;
-    d.mean_joint /= d.steps;
-  }
-  return d;
+  return trajectory_deviations(config, edit_a, {edit_b}, actions, seed)[0];
 }
 
 }  // namespace rdsim

@@ -19,8 +19,14 @@ namespace rdsim {
 using SpecEdit = std::function<void(ReachTaskSpec&)>;
 
 // Every speed-up off: the work the solver did before they existed (all iterations, Bullet's dense
-// joint rows, no early exit). Leaves the physics the config asks for (iterations, drive, gains).
+// joint rows, no early exit, no warm start, no welds). Leaves the physics the config asks for
+// (iterations, drive, gains).
 void original_solver_work(ReachTaskSpec& spec);
+// The original work with one more solver iteration: a change far below any tolerance, whose
+// deviation from the original shows how much a sequence amplifies tiny differences (a sweep that
+// drives the arm through a singular pose or into the tree can turn a 1e-6 difference into another
+// path). A sequence the original does not reproduce under it cannot judge a speed-up.
+void perturbed_original(ReachTaskSpec& spec);
 
 // jaka_button, jaka_obstacle or inmoov_tomato built from `config` with `edit` applied to its task
 // (rdsim::Error for another env).
@@ -42,10 +48,14 @@ struct TrajectoryDeviation {
   double seconds_a = 0, seconds_b = 0;         // wall-clock time of each run (env steps only)
 };
 
-// Runs env a (config + edit_a) and env b (config + edit_b) from reset(seed) over `actions`
-// (resetting both with seed + episode when an episode ends) and compares their end effectors and
-// joints after every step. The two runs are interleaved step by step, so their timings share the
-// machine's load.
+// Runs the reference env (config + `reference`) and one env per edit in `others` from reset(seed)
+// over `actions` (resetting each with seed + episode when an episode ends) and compares each
+// other's end effector and joints with the reference's after every step. The runs are interleaved
+// step by step, so their timings share the machine's load. One result per edit in `others`
+// (seconds_a: the reference's time).
+std::vector<TrajectoryDeviation> trajectory_deviations(const EnvConfig& config, const SpecEdit& reference,
+                                                       const std::vector<SpecEdit>& others,
+                                                       const std::vector<int>& actions, std::uint64_t seed);
 TrajectoryDeviation trajectory_deviation(const EnvConfig& config, const SpecEdit& edit_a, const SpecEdit& edit_b,
                                          const std::vector<int>& actions, std::uint64_t seed);
 
