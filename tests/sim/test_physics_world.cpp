@@ -231,3 +231,11 @@ TEST_CASE("Without weld_held_joints, or with the computed-torque drive, hold() w
     CHECK(robot.welded_dofs() == 0);
   }
 }
+
+TEST_CASE("A joint-row warm start outside [0, 1] is refused", "[physics]") {
+  WorldSettings settings;
+  settings.joint_row_warm_start = 1.5;
+  CHECK_THROWS_AS(PhysicsWorld(settings), Error);
+  settings.joint_row_warm_start = -0.1;
+  CHECK_THROWS_AS(PhysicsWorld(settings), Error);
+}
