@@ -49,6 +49,8 @@ void PhysicsWorld::Impl::forget_pairs(btCollisionObject* object) {
 PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings), impl_(std::make_unique<Impl>()) {
   if (!(settings.time_step > 0.0)) throw Error("physics: time_step must be > 0");
   if (settings.solver_iterations < 1) throw Error("physics: solver_iterations must be >= 1");
+  if (!(settings.joint_row_warm_start >= 0.0 && settings.joint_row_warm_start <= 1.0))
+    throw Error("physics: joint_row_warm_start must be in [0, 1]");
   impl_->world.setGravity(to_bt(settings.gravity));
   btContactSolverInfo& info = impl_->world.getSolverInfo();
   info.m_numIterations = settings.solver_iterations;
@@ -58,6 +60,8 @@ PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings),
   info.m_frictionERP = static_cast<btScalar>(settings.friction_erp);
   info.m_linearSlop = static_cast<btScalar>(settings.linear_slop);
   info.m_warmstartingFactor = static_cast<btScalar>(settings.warmstarting_factor);
+  impl_->solver.set_sparse(settings.sparse_joint_rows);
+  impl_->solver.set_warm_start(settings.joint_row_warm_start);
 }
 
 WorldSettings pybullet_solver(WorldSettings base) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rdsim/sim/physics_world.hpp"
+#include "sparse_row_solver.hpp"
 
 namespace rdsim {
 
@@ -53,7 +54,7 @@ struct PhysicsWorld::Impl {
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher{&config};
   btSimpleBroadphase broadphase;
-  btMultiBodyConstraintSolver solver;
+  SparseRowSolver solver;
   MultiBodyWorld world{&dispatcher, &broadphase, &solver, &config};
 
   std::vector<std::unique_ptr<btCollisionShape>> shapes;

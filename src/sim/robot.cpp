@@ -33,8 +33,10 @@ struct BodyFrame {
 // when it ignores the URDF's tensor: Bullet's calculateLocalInertia of the shapes pybullet builds
 // (collision margin 1 mm). One shape at the inertial frame: a box's or a sphere's exact moments, a
 // cylinder's (a 32-sided convex hull in pybullet) those of its bounding box grown by 3 mm a side;
-// otherwise (several shapes, an offset one, none) those of the box around them all grown by the
-// margins (Bullet's compound rule). tools/fidelity checks the result against pybullet's.
+// otherwise (several shapes, an offset one, a mesh, none) those of the box around them all grown by
+// the margins (Bullet's compound rule; a mesh's box is its convex hull's, as Bullet's
+// btConvexHullShape computes its inertia from its bounding box). tools/fidelity checks the result
+// against pybullet's.
 Eigen::Vector3d shape_moments(const Link& link) {
   constexpr double kMargin = 0.001;  // m: pybullet's URDF collision margin
   const double m = link.inertial.mass;
@@ -42,28 +44,40 @@ Eigen::Vector3d shape_moments(const Link& link) {
     const Eigen::Vector3d sq = l.cwiseProduct(l);
     return Eigen::Vector3d(sq.y() + sq.z(), sq.x() + sq.z(), sq.x() + sq.y()) * (m / 12.0);
   };
-  const auto outer_half = [](const Shape& s) -> Eigen::Vector3d {
+  // The box around a shape in its own frame (m).
+  const auto bounds = [](const Shape& s) -> Eigen::AlignedBox3d {
+    Eigen::Vector3d half = Eigen::Vector3d::Zero();
     switch (s.type) {
-      case ShapeType::Box: return s.size / 2.0;
-      case ShapeType::Cylinder: return Eigen::Vector3d(s.radius, s.radius, s.length / 2.0) + Eigen::Vector3d::Constant(2.0 * kMargin);
-      case ShapeType::Sphere: return Eigen::Vector3d::Constant(s.radius + kMargin);
+      case ShapeType::Box: half = s.size / 2.0; break;
+      case ShapeType::Cylinder: half = Eigen::Vector3d(s.radius, s.radius, s.length / 2.0) + Eigen::Vector3d::Constant(2.0 * kMargin); break;
+      case ShapeType::Sphere: half = Eigen::Vector3d::Constant(s.radius + kMargin); break;
+      case ShapeType::Mesh: {
+        Eigen::AlignedBox3d hull;
+        if (s.mesh.hull)
+          for (const Eigen::Vector3f& p : s.mesh.hull->points) hull.extend(Eigen::Vector3d(p.cast<double>()));
+        if (hull.isEmpty()) hull.extend(Eigen::Vector3d::Zero());
+        return Eigen::AlignedBox3d(hull.min().array() - kMargin, hull.max().array() + kMargin);
+      }
     }
-    return Eigen::Vector3d::Zero();
+    return Eigen::AlignedBox3d(-half, half);
   };
   const Eigen::Isometry3d to_inertial = link.inertial.origin.inverse();
-  if (link.collisions.size() == 1 && (to_inertial * link.collisions[0].origin).matrix().isIdentity(1e-9)) {
+  if (link.collisions.size() == 1 && link.collisions[0].type != ShapeType::Mesh &&
+      (to_inertial * link.collisions[0].origin).matrix().isIdentity(1e-9)) {
     const Shape& s = link.collisions[0];
     if (s.type == ShapeType::Box) return box(s.size);
     if (s.type == ShapeType::Sphere) return Eigen::Vector3d::Constant(0.4 * m * s.radius * s.radius);
-    return box(2.0 * outer_half(s) + Eigen::Vector3d::Constant(2.0 * kMargin));
+    return box(bounds(s).sizes() + Eigen::Vector3d::Constant(2.0 * kMargin));
   }
   Eigen::AlignedBox3d around(Eigen::Vector3d::Zero());
   if (!link.collisions.empty()) around.setEmpty();
   for (const Shape& s : link.collisions) {
     const Eigen::Isometry3d pose = to_inertial * s.origin;
-    const Eigen::Vector3d extent = pose.linear().cwiseAbs() * outer_half(s);
-    around.extend(Eigen::Vector3d(pose.translation() - extent));
-    around.extend(Eigen::Vector3d(pose.translation() + extent));
+    const Eigen::AlignedBox3d b = bounds(s);
+    const Eigen::Vector3d centre = pose * b.center();
+    const Eigen::Vector3d extent = pose.linear().cwiseAbs() * (b.sizes() / 2.0);
+    around.extend(Eigen::Vector3d(centre - extent));
+    around.extend(Eigen::Vector3d(centre + extent));
   }
   return box(around.sizes() + Eigen::Vector3d::Constant(2.0 * kMargin));
 }
@@ -213,33 +227,69 @@ struct Robot::TorqueDrive {
 
 Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen::Isometry3f& base_pose,
              const RobotOptions& options)
-    : world_(world), body_(body), model_(model), position_gain_(options.position_gain),
-      velocity_gain_(options.velocity_gain) {
+    : world_(world), body_(body), model_(model), base_pose_(base_pose), options_(options),
+      position_gain_(options.position_gain), velocity_gain_(options.velocity_gain) {
   if (model.links.empty()) throw Error(model.source + ": a robot needs at least one link");
-  PhysicsWorld::Impl& impl = world.impl();
+  for (size_t i = 1; i < model.links.size(); ++i) {
+    const Joint& j = model.joints[i - 1];
+    if (!j.movable()) continue;
+    Dof d;
+    d.joint = static_cast<int>(i) - 1;
+    d.bullet_link = static_cast<int>(i) - 1;
+    d.lower = static_cast<float>(j.lower);
+    d.upper = static_cast<float>(j.upper);
+    d.velocity = static_cast<float>(j.velocity);
+    d.effort = static_cast<float>(j.effort);
+    dofs_.push_back(d);
+  }
+  build();
+  if (options.drive == JointDrive::ComputedTorque) {
+    std::vector<Inertial> simulated(model.links.size());  // what Bullet gets, for the drive's dynamics
+    for (size_t i = 0; i < model.links.size(); ++i) {
+      const BodyFrame f = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable());
+      simulated[i].mass = f.mass;
+      simulated[i].inertia = f.moments.asDiagonal();
+      simulated[i].origin = f.in_link;
+    }
+    const auto dt = static_cast<btScalar>(world.settings().time_step);  // as Bullet's motors get it
+    drive_ = std::make_unique<TorqueDrive>(model, simulated, dof());
+    drive_->gravity = base_pose.linear().cast<double>().transpose() * world.settings().gravity.cast<double>();
+    for (int i = 0; i < dof(); ++i) drive_->limit[i] = static_cast<double>(dofs_[static_cast<size_t>(i)].effort) * dt;
+  }
+  // Start at q = 0, or the nearest in-limit position.
+  Eigen::VectorXf q0 = Eigen::VectorXf::Zero(dof());
+  reset_joints(q0);
+}
+
+void Robot::build() {
+  PhysicsWorld::Impl& impl = world_.impl();
+  const RobotModel& model = model_;
   const size_t n = model.links.size();
   std::vector<BodyFrame> frames(n);
   body_to_link_.resize(n);
-  std::vector<Inertial> simulated(n);  // what Bullet gets, for the drive's dynamics
   for (size_t i = 0; i < n; ++i) {
-    frames[i] = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), options.inertia_from_shapes);
+    frames[i] = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), options_.inertia_from_shapes);
     body_to_link_[i] = frames[i].in_link.inverse().cast<float>();
-    simulated[i].mass = frames[i].mass;
-    simulated[i].inertia = frames[i].moments.asDiagonal();
-    simulated[i].origin = frames[i].in_link;
   }
+  std::vector<const Dof*> link_dof(n, nullptr);
+  for (const Dof& d : dofs_) link_dof[static_cast<size_t>(d.joint) + 1] = &d;
 
   multibody_ = new btMultiBody(static_cast<int>(n) - 1, static_cast<btScalar>(frames[0].mass), to_bt(frames[0].moments),
                                /*fixedBase=*/true, /*canSleep=*/false);
-  multibody_->setBaseWorldTransform(to_bt(Eigen::Isometry3f(base_pose * frames[0].in_link.cast<float>())));
+  multibody_->setBaseWorldTransform(to_bt(Eigen::Isometry3f(base_pose_ * frames[0].in_link.cast<float>())));
   for (size_t i = 1; i < n; ++i) {
     const Joint& j = model.joints[i - 1];
     const BodyFrame& parent = frames[static_cast<size_t>(j.parent_link)];
     const BodyFrame& child = frames[i];
+    // A welded joint: its child placed at the joint's target, as the joint itself would place it.
+    const Dof* welded = link_dof[i] && link_dof[i]->welded ? link_dof[i] : nullptr;
+    Eigen::Isometry3d origin = j.origin;
+    if (welded && j.type == JointType::Prismatic) origin = origin * Eigen::Translation3d(welded->target * j.axis);
+    if (welded && j.type != JointType::Prismatic) origin = origin * Eigen::AngleAxisd(welded->target, j.axis);
     // Bullet wants, at q = 0: the rotation taking parent-body vectors into child-body vectors,
     // the pivot (joint origin) from the parent's centre of mass in parent-body axes, and the
     // child's centre of mass from the pivot in child-body axes.
-    const Eigen::Isometry3d joint_in_parent = parent.in_link.inverse() * j.origin;
+    const Eigen::Isometry3d joint_in_parent = parent.in_link.inverse() * origin;
     const Eigen::Isometry3d child_in_parent = joint_in_parent * child.in_link;
     const btQuaternion parent_to_this = to_bt(Eigen::Quaterniond(child_in_parent.linear().transpose()));
     const btVector3 pivot = to_bt(Eigen::Vector3d(joint_in_parent.translation()));
@@ -248,7 +298,8 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     const int link = static_cast<int>(i) - 1, parent_link = j.parent_link - 1;
     const auto mass = static_cast<btScalar>(child.mass);
     const btVector3 moments = to_bt(child.moments);
-    switch (j.type) {
+    const JointType type = welded ? JointType::Fixed : j.type;
+    switch (type) {
       case JointType::Revolute:
       case JointType::Continuous:
         multibody_->setupRevolute(link, mass, moments, parent_link, parent_to_this, axis, pivot, pivot_to_com, true);
@@ -267,12 +318,13 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
   // Bullet's default 0.04 damping would slow every link a little on every step; the motors
   // already damp the arm, so by default the simulated motion is left undamped, as the URDF
   // describes it. pybullet keeps the 0.04 (RobotOptions::link_damping).
-  multibody_->setLinearDamping(options.link_damping);
-  multibody_->setAngularDamping(options.link_damping);
-  multibody_->setUserIndex(body);
+  multibody_->setLinearDamping(options_.link_damping);
+  multibody_->setAngularDamping(options_.link_damping);
+  multibody_->setUserIndex(body_);
   impl.world.addMultiBody(multibody_, kRobotLinkGroup, kRobotLinkMask);
 
-  std::vector<std::pair<btMultiBodyLinkCollider*, bool>> new_colliders;  // collider, welded
+  // Collision groups follow the model, not the welds: a welded link still touches the objects.
+  std::vector<std::pair<btMultiBodyLinkCollider*, bool>> new_colliders;  // collider, welded to the base
   for (size_t i = 0; i < n; ++i) {
     std::vector<PlacedShape> placed;
     for (const Shape& s : model.links[i].collisions) placed.push_back({s, frames[i].in_link.inverse() * s.origin});
@@ -280,77 +332,134 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     if (!shape) continue;
     auto* collider = new btMultiBodyLinkCollider(multibody_, static_cast<int>(i) - 1);
     collider->setCollisionShape(shape);
-    collider->setUserIndex(body);
+    collider->setUserIndex(body_);
     collider->setUserIndex2(static_cast<int>(i));
-    const bool welded = welded_to_base(model, static_cast<int>(i));
-    if (welded) collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
+    const bool on_base = welded_to_base(model, static_cast<int>(i));
+    if (on_base) collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
     if (i == 0)
       multibody_->setBaseCollider(collider);
     else
       multibody_->getLink(static_cast<int>(i) - 1).m_collider = collider;
     colliders_.push_back(collider);
-    new_colliders.emplace_back(collider, welded);
+    new_colliders.emplace_back(collider, on_base);
   }
+  for (Dof& d : dofs_)  // joint positions before the colliders' first AABBs
+    if (!d.welded) multibody_->setJointPos(d.bullet_link, d.target);
   update_transforms();
-  for (auto [collider, welded] : new_colliders)
-    impl.world.addCollisionObject(collider, welded ? kRobotBaseGroup : kRobotLinkGroup,
-                                  welded ? kRobotBaseMask : kRobotLinkMask);
+  for (auto [collider, on_base] : new_colliders)
+    impl.world.addCollisionObject(collider, on_base ? kRobotBaseGroup : kRobotLinkGroup,
+                                  on_base ? kRobotBaseMask : kRobotLinkMask);
 
-  const auto dt = static_cast<btScalar>(world.settings().time_step);
-  for (size_t i = 1; i < n; ++i) {
-    const Joint& j = model.joints[i - 1];
-    if (!j.movable()) continue;
-    Dof d;
-    d.joint = static_cast<int>(i) - 1;
-    d.bullet_link = static_cast<int>(i) - 1;
-    d.lower = static_cast<float>(j.lower);
-    d.upper = static_cast<float>(j.upper);
-    d.velocity = static_cast<float>(j.velocity);
-    d.effort = static_cast<float>(j.effort);
-    if (options.drive == JointDrive::ConstraintMotor) {
+  const auto dt = static_cast<btScalar>(world_.settings().time_step);
+  for (Dof& d : dofs_) {
+    d.motor = nullptr;
+    if (d.welded) continue;
+    const Joint& j = model.joints[static_cast<size_t>(d.joint)];
+    if (options_.drive == JointDrive::ConstraintMotor) {
       d.motor = new btMultiBodyJointMotor(multibody_, d.bullet_link, 0, 0, static_cast<btScalar>(j.effort) * dt);
-      d.motor->setPositionTarget(0, position_gain_);
+      d.motor->setPositionTarget(d.target, position_gain_);
       d.motor->setVelocityTarget(0, velocity_gain_);
       d.motor->setErp(1);
-      if (options.motor_speed_limits) d.motor->setRhsClamp(static_cast<btScalar>(j.velocity));
+      if (options_.motor_speed_limits) d.motor->setRhsClamp(static_cast<btScalar>(j.velocity));
       impl.world.addMultiBodyConstraint(d.motor);
     }
-    if (options.limit_constraints && j.type != JointType::Continuous) {
+    if (options_.limit_constraints && j.type != JointType::Continuous) {
       auto* limit = new btMultiBodyJointLimitConstraint(multibody_, d.bullet_link, static_cast<btScalar>(j.lower),
                                                         static_cast<btScalar>(j.upper));
       impl.world.addMultiBodyConstraint(limit);
       limits_.push_back(limit);
     }
-    dofs_.push_back(d);
   }
-  if (options.drive == JointDrive::ComputedTorque) {
-    drive_ = std::make_unique<TorqueDrive>(model, simulated, dof());
-    drive_->gravity = base_pose.linear().cast<double>().transpose() * world.settings().gravity.cast<double>();
-    for (int i = 0; i < dof(); ++i) drive_->limit[i] = static_cast<double>(dofs_[static_cast<size_t>(i)].effort) * dt;
-  }
-  // Start at q = 0, or the nearest in-limit position.
-  Eigen::VectorXf q0 = Eigen::VectorXf::Zero(dof());
-  reset_joints(q0);
 }
 
-Robot::~Robot() {
+void Robot::tear_down() {
   btMultiBodyDynamicsWorld& w = world_.impl().world;
   for (auto& d : dofs_) {
     if (!d.motor) continue;
     w.removeMultiBodyConstraint(d.motor);
     delete d.motor;
+    d.motor = nullptr;
   }
   for (auto* l : limits_) {
     w.removeMultiBodyConstraint(l);
     delete l;
   }
+  limits_.clear();
   for (auto* c : colliders_) {
+    world_.impl().forget_pairs(c);
     w.removeCollisionObject(c);
     delete c;
   }
+  colliders_.clear();
   w.removeMultiBody(multibody_);
   delete multibody_;
+  multibody_ = nullptr;
 }
+
+void Robot::set_welds(const std::vector<bool>& welded) {
+  bool change = false;
+  for (size_t i = 0; i < dofs_.size(); ++i) change |= dofs_[i].welded != welded[i];
+  if (!change) return;
+  const RobotState s = state();
+  tear_down();
+  for (size_t i = 0; i < dofs_.size(); ++i) dofs_[i].welded = welded[i];
+  build();
+  for (size_t i = 0; i < dofs_.size(); ++i) {
+    const Dof& d = dofs_[i];
+    if (d.welded) continue;
+    multibody_->setJointPos(d.bullet_link, s.positions[i]);
+    multibody_->setJointVel(d.bullet_link, s.velocities[i]);
+  }
+  update_transforms();
+}
+
+void Robot::hold(const std::vector<int>& dofs) {
+  if (!options_.weld_held_joints || options_.drive != JointDrive::ConstraintMotor) return;
+  std::vector<bool> welded = welds();
+  for (int i : dofs) {
+    if (i < 0 || i >= dof()) throw Error(model_.source + ": hold: no dof " + std::to_string(i));
+    const auto k = static_cast<size_t>(i);
+    dofs_[k].held = true;
+    welded[k] = welded[k] || (joint_position(i) == dofs_[k].target && joint_velocity(i) == 0.0f);
+  }
+  set_welds(welded);
+}
+
+void Robot::free_welds_near_contacts() {
+  // Bounding boxes as the broadphase holds them (refreshed by every step and every reset), not its
+  // pair cache: that is dropped with the contact caches, and a restored world must free the same
+  // joints at the same step as the world it was saved from.
+  std::vector<bool> welded;
+  for (const btMultiBodyLinkCollider* c : colliders_) {
+    const btBroadphaseProxy* proxy = c->getBroadphaseHandle();
+    if (!proxy || c->m_link < 0) continue;
+    bool near = false;
+    for (const auto& s : world_.impl().statics) {
+      const btBroadphaseProxy* other = s ? s->getBroadphaseHandle() : nullptr;
+      near = near || (other && TestAabbAgainstAabb2(proxy->m_aabbMin, proxy->m_aabbMax, other->m_aabbMin, other->m_aabbMax));
+    }
+    if (!near) continue;
+    for (int l = c->m_link + 1; l > 0; l = model_.joints[static_cast<size_t>(l - 1)].parent_link) {
+      const int d = dof_of_joint(l - 1);
+      if (d < 0 || !dofs_[static_cast<size_t>(d)].welded) continue;
+      if (welded.empty()) welded = welds();
+      welded[static_cast<size_t>(d)] = false;
+    }
+  }
+  if (!welded.empty()) set_welds(welded);
+}
+
+std::vector<bool> Robot::welds() const {
+  std::vector<bool> w;
+  for (const Dof& d : dofs_) w.push_back(d.welded);
+  return w;
+}
+
+int Robot::welded_dofs() const {
+  return static_cast<int>(std::count_if(dofs_.begin(), dofs_.end(), [](const Dof& d) { return d.welded; }));
+}
+
+Robot::~Robot() { tear_down(); }
 
 int Robot::dof_of_joint(int model_joint) const {
   for (size_t i = 0; i < dofs_.size(); ++i)
@@ -359,8 +468,14 @@ int Robot::dof_of_joint(int model_joint) const {
 }
 
 void Robot::set_position_target(int dof, float q) {
+  const float target = std::clamp(q, dofs_[static_cast<size_t>(dof)].lower, dofs_[static_cast<size_t>(dof)].upper);
+  if (dofs_[static_cast<size_t>(dof)].welded && target != dofs_[static_cast<size_t>(dof)].target) {
+    std::vector<bool> welded = welds();
+    welded[static_cast<size_t>(dof)] = false;
+    set_welds(welded);
+  }
   Dof& d = dofs_[static_cast<size_t>(dof)];
-  d.target = std::clamp(q, d.lower, d.upper);
+  d.target = target;
   if (d.motor) d.motor->setPositionTarget(d.target, position_gain_);
 }
 
@@ -380,8 +495,15 @@ void Robot::set_gains(float position_gain, float velocity_gain) {
   }
 }
 
-float Robot::joint_position(int dof) const { return multibody_->getJointPos(dofs_[static_cast<size_t>(dof)].bullet_link); }
-float Robot::joint_velocity(int dof) const { return multibody_->getJointVel(dofs_[static_cast<size_t>(dof)].bullet_link); }
+float Robot::joint_position(int dof) const {
+  const Dof& d = dofs_[static_cast<size_t>(dof)];
+  return d.welded ? d.target : multibody_->getJointPos(d.bullet_link);
+}
+
+float Robot::joint_velocity(int dof) const {
+  const Dof& d = dofs_[static_cast<size_t>(dof)];
+  return d.welded ? 0.0f : multibody_->getJointVel(d.bullet_link);
+}
 
 void Robot::joint_positions(Eigen::Ref<Eigen::VectorXf> out) const {
   for (int i = 0; i < dof(); ++i) out[i] = joint_position(i);
@@ -408,8 +530,18 @@ Eigen::VectorXf Robot::position_targets() const {
 void Robot::reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q) {
   if (q.size() != dof())
     throw Error(model_.source + ": expected " + std::to_string(dof()) + " joint positions, got " + std::to_string(q.size()));
+  // Held joints are welded where they are reset to; any other welded joint sent elsewhere is freed.
+  std::vector<bool> welded = welds();
   for (int i = 0; i < dof(); ++i) {
     Dof& d = dofs_[static_cast<size_t>(i)];
+    const float qi = std::clamp(q[i], d.lower, d.upper);
+    if (d.held) d.target = qi;  // a welded joint's target is where it is welded
+    welded[static_cast<size_t>(i)] = d.held || (d.welded && qi == d.target);
+  }
+  set_welds(welded);
+  for (int i = 0; i < dof(); ++i) {
+    Dof& d = dofs_[static_cast<size_t>(i)];
+    if (d.welded) continue;
     const float qi = std::clamp(q[i], d.lower, d.upper);
     multibody_->setJointPos(d.bullet_link, qi);
     multibody_->setJointVel(d.bullet_link, 0);
@@ -425,10 +557,10 @@ void Robot::reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q) {
 
 RobotState Robot::state() const {
   RobotState s;
-  for (const Dof& d : dofs_) {
-    s.positions.push_back(multibody_->getJointPos(d.bullet_link));
-    s.velocities.push_back(multibody_->getJointVel(d.bullet_link));
-    s.targets.push_back(d.target);
+  for (int i = 0; i < dof(); ++i) {
+    s.positions.push_back(joint_position(i));
+    s.velocities.push_back(joint_velocity(i));
+    s.targets.push_back(dofs_[static_cast<size_t>(i)].target);
   }
   return s;
 }
@@ -442,8 +574,14 @@ void Robot::set_state(const RobotState& s, const std::string& source) {
     if (!std::isfinite(s.positions[i]) || !std::isfinite(s.velocities[i]) || !std::isfinite(s.targets[i]))
       throw Error(source + ": robot state of joint " + model_.joints[static_cast<size_t>(dofs_[i].joint)].name +
                   " is not finite");
+  std::vector<bool> welded = welds();  // a welded joint given another state is freed
+  for (size_t i = 0; i < n; ++i)
+    welded[i] = welded[i] && s.positions[i] == dofs_[i].target && s.targets[i] == dofs_[i].target &&
+                s.velocities[i] == 0.0f;
+  set_welds(welded);
   for (size_t i = 0; i < n; ++i) {
     Dof& d = dofs_[i];
+    if (d.welded) continue;
     multibody_->setJointPos(d.bullet_link, s.positions[i]);
     multibody_->setJointVel(d.bullet_link, s.velocities[i]);
     d.target = s.targets[i];
@@ -465,6 +603,7 @@ void Robot::update_transforms() {
 }
 
 void Robot::before_step() {
+  if (std::any_of(dofs_.begin(), dofs_.end(), [](const Dof& d) { return d.welded; })) free_welds_near_contacts();
   if (!drive_) return;
   TorqueDrive& t = *drive_;
   const double dt = world_.settings().time_step;
@@ -491,7 +630,7 @@ Eigen::Isometry3f Robot::link_pose(int link) const {
   const Joint& j = model_.joints[static_cast<size_t>(link - 1)];
   Eigen::Isometry3f pose = link_pose(j.parent_link) * j.origin.cast<float>();
   if (j.movable()) {
-    const float q = multibody_->getJointPos(link - 1);
+    const float q = joint_position(dof_of_joint(link - 1));
     const Eigen::Vector3f axis = j.axis.cast<float>();
     if (j.type == JointType::Prismatic)
       pose.translation() += pose.linear() * (axis * q);

@@ -169,3 +169,101 @@ TEST_CASE("Same inputs give bit-identical simulations, also after a reset", "[ph
   a.robot->reset_joints(home());
   CHECK(first == run(a));  // after a different history
 }
+
+TEST_CASE("Sparse joint rows give Bullet's dense rows' simulation bit for bit", "[physics]") {
+  // Position motors and joint-limit rows on every joint, the paper presets' 150 iterations, the
+  // arm pushed down onto the table (contact rows) and past a joint limit (limit rows).
+  auto run = [](bool sparse, double residual_threshold) {
+    WorldSettings settings;
+    settings.solver_iterations = 150;
+    settings.sparse_joint_rows = sparse;
+    settings.solver_residual_threshold = residual_threshold;
+    Scene s(JointDrive::ConstraintMotor, settings);
+    s.robot->set_gains(0.1f, 1.0f);
+    Eigen::VectorXf target = home();
+    std::vector<float> trace;
+    for (int k = 0; k < 400; ++k) {
+      if (k % 50 == 0) {
+        target[1] -= 0.2f;
+        target[3] += 0.15f;
+        target[0] += 1.0f;  // past the base joint's limit after a few rounds
+        s.robot->set_position_targets(target);
+      }
+      s.world.step();
+      for (int i = 0; i < 6; ++i) trace.push_back(s.robot->joint_position(i));
+      for (int i = 0; i < 6; ++i) trace.push_back(s.robot->joint_velocity(i));
+    }
+    CHECK(s.world.touching({s.robot->body(), -1}, {s.table, -1}));
+    return trace;
+  };
+  for (double threshold : {0.0, 1e-7}) {
+    INFO("residual threshold " << threshold);
+    CHECK(run(true, threshold) == run(false, threshold));
+  }
+}
+
+TEST_CASE("Welded held joints stay at their targets and are freed by anything that moves them", "[physics]") {
+  WorldSettings settings;
+  settings.solver_iterations = 150;
+  PhysicsWorld world(settings);
+  world.add_static_body(load_urdf(test_asset("objects/table.urdf")), at(0.35f, 0.0f, 0.75f));
+  RobotOptions options;
+  options.drive = JointDrive::ConstraintMotor;
+  options.weld_held_joints = true;
+  Robot& robot = world.add_robot(load_urdf(test_asset("jaka/jaka_zu7.urdf")), at(0, 0, 0.75f), options);
+  robot.reset_joints(home());
+  robot.hold({3, 4, 5});  // the wrist
+  CHECK(robot.welded_dofs() == 3);
+  const Eigen::Isometry3f flange = robot.link_pose(robot.model().require_link("flange_link"));
+  for (int k = 0; k < 100; ++k) world.step();
+  CHECK(robot.joint_positions() == home());  // nothing moves: the motors hold the rest
+  CHECK(robot.joint_velocities().isZero());
+  CHECK(robot.link_pose(robot.model().require_link("flange_link")).isApprox(flange, 1e-4f));
+
+  // A state round trip keeps the welds; a target elsewhere frees that joint, which then moves.
+  const RobotState s = robot.state();
+  robot.set_state(s, "test");
+  CHECK(robot.welded_dofs() == 3);
+  robot.set_position_target(5, 0.5f);
+  CHECK(robot.welded_dofs() == 2);
+  for (int k = 0; k < 240; ++k) world.step();
+  CHECK(robot.joint_position(5) == Approx(0.5f).margin(0.01f));
+  CHECK(robot.joint_positions().head<5>().isApprox(home().head<5>(), 1e-3f));
+
+  // A reset welds the held joints again; driving the arm down to the table frees those that carry
+  // the links coming near it, before the contact.
+  robot.reset_joints(home());
+  CHECK(robot.welded_dofs() == 3);
+  Eigen::VectorXf down = home();
+  down[1] -= 0.8f;
+  robot.set_position_targets(down);
+  CHECK(robot.welded_dofs() == 3);
+  bool freed_before_touching = false;
+  for (int k = 0; k < 480 && !world.touching({robot.body(), -1}, {0, -1}); ++k) {
+    world.step();
+    freed_before_touching |= robot.welded_dofs() < 3 && !world.touching({robot.body(), -1}, {0, -1});
+  }
+  CHECK(freed_before_touching);
+  CHECK(world.touching({robot.body(), -1}, {0, -1}));
+}
+
+TEST_CASE("Without weld_held_joints, or with the computed-torque drive, hold() welds nothing", "[physics]") {
+  for (bool weld : {false, true}) {
+    PhysicsWorld world;
+    RobotOptions options;
+    options.drive = weld ? JointDrive::ComputedTorque : JointDrive::ConstraintMotor;
+    options.weld_held_joints = weld;
+    Robot& robot = world.add_robot(load_urdf(test_asset("jaka/jaka_zu7.urdf")), at(0, 0, 0), options);
+    robot.reset_joints(home());
+    robot.hold({0, 1, 2, 3, 4, 5});
+    CHECK(robot.welded_dofs() == 0);
+  }
+}
+
+TEST_CASE("A joint-row warm start outside [0, 1] is refused", "[physics]") {
+  WorldSettings settings;
+  settings.joint_row_warm_start = 1.5;
+  CHECK_THROWS_AS(PhysicsWorld(settings), Error);
+  settings.joint_row_warm_start = -0.1;
+  CHECK_THROWS_AS(PhysicsWorld(settings), Error);
+}

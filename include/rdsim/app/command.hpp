@@ -41,6 +41,7 @@ std::uint64_t seed_from_option(const std::string& text, const std::string& optio
 Command train_command_entry();
 Command replay_command_entry();
 Command bench_fps_command_entry();
+Command bench_physics_command_entry();
 Command render_command_entry();
 Command envs_command_entry();
 Command demos_command_entry();

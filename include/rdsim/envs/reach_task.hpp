@@ -85,7 +85,10 @@ struct ReachTaskSpec {
 // Copies the task numbers and physics options of `config` (checked by read_env_config / make_env;
 // its ReachOptions group) into `spec`: everything above from is_discrete, action_step, move_noise, success_threshold,
 // max_distance, workspace_bounds, max_steps, action_repeat, ik_method, ik_iterations, ik_joints,
-// reset_pose, reset_noise, solver_iterations, drive, position_gain and velocity_gain.
+// reset_pose, reset_noise, solver_iterations, drive, position_gain and velocity_gain. The
+// position_motor drive also turns on the solver savings checked by `rdsim bench-physics`
+// (WorldSettings::solver_residual_threshold 1e-9 and joint_row_warm_start 1, RobotOptions::
+// weld_held_joints for the joints off the IK chain).
 void apply_env_config(const EnvConfig& config, ReachTaskSpec& spec);
 
 // The robot of `spec`: its URDF, with spec.package_paths as the mesh search path.

@@ -60,6 +60,15 @@ struct RobotOptions {
   // RobotDrlSim loaded its robots): the URDF's mass and inertial frame, principal moments from the
   // collision shapes (robot.cpp shape_moments); false: the URDF's tensors.
   bool inertia_from_shapes = false;
+  // Joints named by hold() are simulated as welded (Bullet fixed joints at their target) while
+  // nothing can move them: no motor row and no degree of freedom for the solver. Why: a position
+  // motor resting at its target holds its joint still to within the solver's tolerance, and the
+  // InMoov's 46 joints off the reaching path were most of its step's work. A welded joint is freed
+  // (the multibody rebuilt, keeping every joint's state) before a step when a link it carries is
+  // near a static body (their bounding boxes, grown by Bullet's 2 cm contact margin, overlap:
+  // the contact could push it), and by any target, reset or state that moves it; reset_joints
+  // welds the held joints again. ConstraintMotor drive only.
+  bool weld_held_joints = false;
 };
 
 // Everything a Robot simulates between steps, per dof, as Bullet holds it (floats): joint
@@ -105,6 +114,12 @@ public:
   // Teleports the joints to `q` at rest (targets = q) and forgets cached contacts.
   void reset_joints(const Eigen::Ref<const Eigen::VectorXf>& q);
 
+  // With RobotOptions::weld_held_joints (and the ConstraintMotor drive): these dofs only ever hold
+  // their target; those at rest on it are welded now (and again by each reset_joints).
+  // Otherwise does nothing.
+  void hold(const std::vector<int>& dofs);
+  int welded_dofs() const;
+
   // A link's URDF frame in the world, as of the last step or reset. Cheap (one transform product).
   Eigen::Isometry3f link_pose(int link) const;
 
@@ -118,12 +133,16 @@ private:
     float lower = 0, upper = 0;
     float target = 0;
     float velocity = 0, effort = 0;  // URDF limits
+    bool held = false;               // named by hold()
+    bool welded = false;             // a Bullet fixed joint at `target` (RobotOptions::weld_held_joints)
     btMultiBodyJointMotor* motor = nullptr;
   };
 
   PhysicsWorld& world_;
   int body_;
   RobotModel model_;
+  Eigen::Isometry3f base_pose_;
+  RobotOptions options_;
   btMultiBody* multibody_ = nullptr;
   std::vector<Dof> dofs_;
   std::vector<btMultiBodyLinkCollider*> colliders_;
@@ -135,6 +154,15 @@ private:
   std::unique_ptr<TorqueDrive> drive_;
 
   void update_transforms();
+  // The Bullet objects for the current dofs_ (welded ones as fixed joints), and their removal.
+  void build();
+  void tear_down();
+  // Welds exactly the dofs marked here (at their targets); when that changes anything, the
+  // multibody is rebuilt keeping every joint's state.
+  void set_welds(const std::vector<bool>& welded);
+  std::vector<bool> welds() const;
+  // Frees the welded joints that carry a link whose bounding box overlaps a static body's.
+  void free_welds_near_contacts();
 };
 
 }  // namespace rdsim
