@@ -17,6 +17,10 @@ Command bench_learner_command_entry() {
             cmd.add_option("--runs", o->runs, "Runs per row; the median is reported")->check(CLI::Range(1, 1000))->capture_default_str();
             cmd.add_option("--min-seconds", o->min_seconds, "Length of a run: updates until this many seconds (at least 3)")
                 ->check(CLI::Range(0.0, 600.0))->capture_default_str();
+            cmd.add_option("--gemm", o->gemm, "Matrix products: eigen or onednn (default: onednn where built in)")
+                ->check(CLI::IsMember({"eigen", "onednn"}));
+            cmd.add_option("--threads", o->threads, "Threads of the onednn matrix products")
+                ->check(CLI::Range(1, 4096))->capture_default_str();
             cmd.add_option("--json", o->json_path,
                            "Also write the results as JSON to FILE; --json alone or '-': to stdout (the table then goes to stderr)")
                 ->expected(0, 1)

@@ -14,6 +14,7 @@
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/nn/gemm.hpp"
 #include "rdsim/nn/nn.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 
@@ -207,9 +208,12 @@ Result measure(const Workload& w, const BenchLearnerOptions& o) {
 std::string shape_text(const nlohmann::json& d) {
   const std::string kind = d["kind"];
   auto hidden = [](const nlohmann::json& mlp) {
-    std::string s;
-    for (const auto& h : mlp["hidden"]) s += (s.empty() ? "" : ",") + std::to_string(h.get<int>());
-    return "[" + s + "]";
+    std::string s = "[";
+    for (const auto& h : mlp["hidden"]) {
+      if (s.size() > 1) s += ',';
+      s += std::to_string(h.get<int>());
+    }
+    return s + "]";
   };
   if (kind == "ppo_mlp") return "actor+critic " + hidden(d["actor"]) + " tanh";
   if (kind == "sac_critics") return "2 x Q " + hidden(d["critic"]) + " relu";
@@ -220,8 +224,9 @@ std::string shape_text(const nlohmann::json& d) {
 
 void print_table(std::FILE* out, const std::vector<Result>& rows, const BenchLearnerOptions& o) {
   std::fprintf(out, "\nrdsim bench-learner: one update = zero_grad + forward + backward + Adam step, float32;\n"
-                    "median of %d runs of >= %.2f s each; rdsim's learner runs on one thread\n\n",
-               o.runs, o.min_seconds);
+                    "median of %d runs of >= %.2f s each; matrix products: %s on %d thread%s\n\n",
+               o.runs, o.min_seconds, nn::to_string(nn::gemm_backend()), nn::gemm_threads(),
+               nn::gemm_threads() == 1 ? "" : "s");
   std::fprintf(out, "%-20s %-34s %6s %12s %12s %14s\n", "row", "networks", "batch", "ms/update", "updates/s",
                "samples/s");
   for (const Result& r : rows) {
@@ -233,7 +238,8 @@ void print_table(std::FILE* out, const std::vector<Result>& rows, const BenchLea
 }
 
 nlohmann::json to_json(const std::vector<Result>& rows, const BenchLearnerOptions& o) {
-  nlohmann::json j = {{"runs", o.runs}, {"min_seconds", o.min_seconds}, {"threads", 1},
+  nlohmann::json j = {{"runs", o.runs}, {"min_seconds", o.min_seconds}, {"threads", nn::gemm_threads()},
+                      {"gemm", nn::to_string(nn::gemm_backend())},
                       {"cores", std::thread::hardware_concurrency()}, {"optimizer", "adam"},
                       {"learning_rate", kLearningRate}, {"rows", nlohmann::json::array()}};
   for (const Result& r : rows)
@@ -249,6 +255,11 @@ int bench_learner_command(const BenchLearnerOptions& o) {
     for (const auto& [name, make] : row_makers()) std::printf("%s\n", name.c_str());
     return 0;
   }
+  if (!o.gemm.empty()) nn::set_gemm_backend(nn::gemm_backend_from_string(o.gemm, "bench-learner: --gemm"));
+  if (o.threads > 1 && nn::gemm_backend() != nn::GemmBackend::OneDnn)
+    throw Error("bench-learner: --threads " + std::to_string(o.threads) +
+                ": only the onednn GEMM runs on several threads (--gemm onednn)");
+  nn::set_gemm_threads(o.threads);
   for (const std::string& w : o.rows) {
     bool any = false;
     for (const auto& [name, make] : row_makers()) any = any || selected(name, {w});

@@ -13,7 +13,8 @@
 //   sac_critics:     SAC's critic pair on jaka_button (continuous actions): two Q MLPs [256, 256],
 //                    ReLU, on observation + action; batch 256; loss = both critics' MSE.
 // Per row: warm-up updates, then updates until `min_seconds` have passed (at least 3); the time
-// per update of each run, median of `runs` runs. tools/bench/learner.py runs the same rows in
+// per update of each run, median of `runs` runs. The matrix products run on the chosen GEMM backend
+// (nn/gemm.hpp) with `threads` threads (oneDNN only; everything else runs on one thread). tools/bench/learner.py runs the same rows in
 // PyTorch from the JSON (which describes every layer) and prints the ratios.
 namespace rdsim {
 
@@ -23,6 +24,8 @@ struct BenchLearnerOptions {
   double min_seconds = 0.5;       // per run
   std::string json_path;          // "-" for stdout; empty: no JSON
   bool list = false;              // print the row names and exit
+  std::string gemm;               // "eigen" | "onednn"; empty: the build's default (nn/gemm.hpp)
+  int threads = 1;                // threads of the oneDNN products (Eigen's: always one)
 };
 
 int bench_learner_command(const BenchLearnerOptions& options);
