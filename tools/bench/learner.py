@@ -133,12 +133,15 @@ def torch_ms(update, min_seconds):
     return 1e3 * (time.perf_counter() - t0) / n
 
 
-def rdsim_row(rdsim, row, min_seconds):
-    """One run of `rdsim bench-learner --row ROW`: (ms per update, the row's JSON)."""
+def rdsim_row(rdsim, row, min_seconds, threads, gemm):
+    """One run of `rdsim bench-learner --row ROW`: (ms per update, the row's JSON, the whole JSON)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "row.json")
-        subprocess.run([rdsim, "bench-learner", "--row", row, "--runs", "1", "--min-seconds", str(min_seconds),
-                        "--json", path], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        command = [rdsim, "bench-learner", "--row", row, "--runs", "1", "--min-seconds", str(min_seconds),
+                   "--threads", str(threads), "--json", path]
+        if gemm:
+            command += ["--gemm", gemm]
+        subprocess.run(command, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
         with open(path) as f:
             result = json.load(f)
     (r,) = [r for r in result["rows"] if r["name"] == row]
@@ -149,7 +152,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rdsim", default="build/rdsim", help="the rdsim binary (default: build/rdsim)")
     ap.add_argument("--row", action="append", default=[], help="row name or prefix (repeatable; default: all)")
-    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2], help="PyTorch thread counts (default: 1 2)")
+    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2],
+                    help="thread counts (default: 1 2): PyTorch's, and rdsim's oneDNN matrix products'")
+    ap.add_argument("--gemm", choices=["eigen", "onednn"],
+                    help="rdsim's matrix products (default: the build's; eigen runs on one thread at every count)")
     ap.add_argument("--reps", type=int, default=3, help="repeats per row and side; the median is reported")
     ap.add_argument("--min-seconds", type=float, default=0.5, help="length of one run (default: 0.5)")
     ap.add_argument("--json", help="also write the results as JSON to this file")
@@ -162,41 +168,45 @@ def main():
         raise SystemExit(f"learner.py: no row matches {args.row}; rows: {' '.join(names)}")
 
     torch.manual_seed(1)
-    print(f"PyTorch {torch.__version__}, oneDNN (mkldnn) {'on' if torch.backends.mkldnn.is_available() else 'off'}, "
-          f"threads {args.threads}; rdsim: {args.rdsim} (its learner: one thread); "
+    _, _, meta = rdsim_row(args.rdsim, rows[0], 0.0, 1, args.gemm)
+    gemm = meta["gemm"]
+    threads = {t: t if gemm == "onednn" else 1 for t in args.threads}  # rdsim's threads at each count
+    print(f"PyTorch {torch.__version__}, oneDNN (mkldnn) {'on' if torch.backends.mkldnn.is_available() else 'off'}; "
+          f"rdsim {args.rdsim}, matrix products on {gemm}; threads {args.threads}; "
           f"median of {args.reps} x >= {args.min_seconds} s, alternating row by row", file=sys.stderr)
     results = []
     for row in rows:
-        rd, th = [], {t: [] for t in args.threads}
+        rd, th = {t: [] for t in args.threads}, {t: [] for t in args.threads}
         updates = {}
         for rep in range(args.reps):
-            ms, desc, meta = rdsim_row(args.rdsim, row, args.min_seconds)
-            rd.append(ms)
             for t in args.threads:
+                ms, desc, meta = rdsim_row(args.rdsim, row, args.min_seconds, threads[t], args.gemm)
+                rd[t].append(ms)
                 torch.set_num_threads(t)
                 update = updates.get(t) or updates.setdefault(t, make_update(desc["network"], meta["learning_rate"]))
                 th[t].append(torch_ms(update, args.min_seconds))
-            print(f"  {row} rep {rep + 1}: rdsim {ms:.3f} ms, PyTorch " +
-                  ", ".join(f"{t} thr {th[t][-1]:.3f} ms" for t in args.threads), file=sys.stderr)
-        r = {"row": row, "batch": desc["network"]["batch"], "rdsim_ms": statistics.median(rd), "rdsim_runs": rd,
-             "torch": {str(t): {"ms": statistics.median(th[t]), "runs": th[t]} for t in args.threads}}
-        results.append(r)
+            print(f"  {row} rep {rep + 1}: " + ", ".join(
+                f"{t} thr rdsim {rd[t][-1]:.3f} ms PyTorch {th[t][-1]:.3f} ms" for t in args.threads), file=sys.stderr)
+        results.append({"row": row, "batch": desc["network"]["batch"], "threads": {
+            str(t): {"rdsim_ms": statistics.median(rd[t]), "rdsim_runs": rd[t], "rdsim_threads": threads[t],
+                     "torch_ms": statistics.median(th[t]), "torch_runs": th[t]} for t in args.threads}})
 
-    head = f"{'row':<20} {'batch':>5} {'rdsim ms':>10}"
+    head = f"{'row':<20} {'batch':>5}"
     for t in args.threads:
-        head += f" {f'torch {t}thr ms':>15} {f'ratio {t}thr':>10}"
-    print("\nms per update (zero_grad + forward + backward + Adam), median; ratio = PyTorch ms / rdsim ms "
-          "(> 1: rdsim faster); rdsim on one thread in every column\n")
+        head += f" {f'rdsim {t}thr ms':>15} {f'torch {t}thr ms':>15} {f'ratio {t}thr':>10}"
+    print(f"\nms per update (zero_grad + forward + backward + Adam), median of {args.reps}; ratio = PyTorch ms / "
+          f"rdsim ms (> 1: rdsim faster); rdsim's matrix products on {gemm}" +
+          (", one thread at every count" if gemm != "onednn" else "") + "\n")
     print(head)
     for r in results:
-        line = f"{r['row']:<20} {r['batch']:>5} {r['rdsim_ms']:>10.3f}"
+        line = f"{r['row']:<20} {r['batch']:>5}"
         for t in args.threads:
-            ms = r["torch"][str(t)]["ms"]
-            line += f" {ms:>15.3f} {ms / r['rdsim_ms']:>10.2f}"
+            x = r["threads"][str(t)]
+            line += f" {x['rdsim_ms']:>15.3f} {x['torch_ms']:>15.3f} {x['torch_ms'] / x['rdsim_ms']:>10.2f}"
         print(line)
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"torch": torch.__version__, "threads": args.threads, "reps": args.reps,
+            json.dump({"torch": torch.__version__, "rdsim_gemm": gemm, "threads": args.threads, "reps": args.reps,
                        "min_seconds": args.min_seconds, "rows": results}, f, indent=1)
 
 
