@@ -8,6 +8,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <thread>
+#include <time.h>
+#include <utility>
 
 #include "rdsim/algorithms/actor_critic.hpp"
 #include "rdsim/bench/bench_run.hpp"
@@ -177,13 +179,23 @@ bool selected(const std::string& name, const std::vector<std::string>& wanted) {
 struct Result {
   std::string name;
   nlohmann::json description;
-  double ms = 0;  // median time per update
+  double ms = 0;      // median wall-clock time per update
+  double cpu_ms = 0;  // median CPU time per update, all threads of the process
   long long updates = 0;  // timed updates, all runs
 };
 
-// Seconds per update of one run: updates until min_seconds have passed, at least 3.
-double timed_run(const Workload& w, double min_seconds, long long& updates) {
+// CPU seconds of this process so far, all threads. Unlike wall-clock time it hardly depends on
+// other programs sharing the cores (they delay us but do not bill their time to us).
+double process_cpu_seconds() {
+  timespec t{};
+  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Wall-clock and CPU seconds per update of one run: updates until min_seconds have passed, at least 3.
+std::pair<double, double> timed_run(const Workload& w, double min_seconds, long long& updates) {
   const auto t0 = Clock::now();
+  const double cpu0 = process_cpu_seconds();
   long long n = 0;
   double elapsed = 0;
   while (n < 3 || elapsed < min_seconds) {
@@ -192,16 +204,21 @@ double timed_run(const Workload& w, double min_seconds, long long& updates) {
     elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
   }
   updates += n;
-  return elapsed / static_cast<double>(n);
+  return {elapsed / static_cast<double>(n), (process_cpu_seconds() - cpu0) / static_cast<double>(n)};
 }
 
 Result measure(const Workload& w, const BenchLearnerOptions& o) {
   std::fprintf(stderr, "bench-learner: %s ...\n", w.name.c_str());
   for (int i = 0; i < 2; ++i) w.update();  // warm-up: buffers grow, pages fault in
   Result r{w.name, w.description};
-  std::vector<double> runs;
-  for (int i = 0; i < o.runs; ++i) runs.push_back(timed_run(w, o.min_seconds, r.updates));
+  std::vector<double> runs, cpu;
+  for (int i = 0; i < o.runs; ++i) {
+    const auto [wall, cpu_s] = timed_run(w, o.min_seconds, r.updates);
+    runs.push_back(wall);
+    cpu.push_back(cpu_s);
+  }
   r.ms = 1e3 * median(runs);
+  r.cpu_ms = 1e3 * median(cpu);
   return r;
 }
 
@@ -227,14 +244,15 @@ void print_table(std::FILE* out, const std::vector<Result>& rows, const BenchLea
                     "median of %d runs of >= %.2f s each; matrix products: %s on %d thread%s\n\n",
                o.runs, o.min_seconds, nn::to_string(nn::gemm_backend()), nn::gemm_threads(),
                nn::gemm_threads() == 1 ? "" : "s");
-  std::fprintf(out, "%-20s %-34s %6s %12s %12s %14s\n", "row", "networks", "batch", "ms/update", "updates/s",
-               "samples/s");
+  std::fprintf(out, "%-20s %-34s %6s %12s %12s %14s %12s\n", "row", "networks", "batch", "ms/update", "updates/s",
+               "samples/s", "cpu ms/upd");
   for (const Result& r : rows) {
     const int batch = r.description["batch"];
-    std::fprintf(out, "%-20s %-34s %6d %12.3f %12.1f %14.0f\n", r.name.c_str(), shape_text(r.description).c_str(),
-                 batch, r.ms, 1e3 / r.ms, 1e3 * batch / r.ms);
+    std::fprintf(out, "%-20s %-34s %6d %12.3f %12.1f %14.0f %12.3f\n", r.name.c_str(),
+                 shape_text(r.description).c_str(), batch, r.ms, 1e3 / r.ms, 1e3 * batch / r.ms, r.cpu_ms);
   }
-  std::fprintf(out, "\nPyTorch on the same rows, and the ratios: tools/bench/learner.py\n");
+  std::fprintf(out, "\ncpu ms/upd = CPU time of the process per update, all threads: on a busy machine a steadier\n"
+                    "figure than the wall-clock ms/update. PyTorch on the same rows, and the ratios: tools/bench/learner.py\n");
 }
 
 nlohmann::json to_json(const std::vector<Result>& rows, const BenchLearnerOptions& o) {
@@ -244,6 +262,7 @@ nlohmann::json to_json(const std::vector<Result>& rows, const BenchLearnerOption
                       {"learning_rate", kLearningRate}, {"rows", nlohmann::json::array()}};
   for (const Result& r : rows)
     j["rows"].push_back({{"name", r.name}, {"network", r.description}, {"ms_per_update", r.ms},
+                         {"cpu_ms_per_update", r.cpu_ms},
                          {"updates", r.updates}});
   return j;
 }

@@ -123,18 +123,19 @@ def make_update(d, lr):
 
 
 def torch_ms(update, min_seconds):
-    """Milliseconds per update of one run (after 2 warm-up updates): >= min_seconds, >= 3 updates."""
+    """(wall-clock ms, process CPU ms) per update of one run, after 2 warm-up updates: >= min_seconds,
+    >= 3 updates."""
     for _ in range(2):
         update()
-    n, t0 = 0, time.perf_counter()
+    n, t0, cpu0 = 0, time.perf_counter(), time.process_time()
     while n < 3 or time.perf_counter() - t0 < min_seconds:
         update()
         n += 1
-    return 1e3 * (time.perf_counter() - t0) / n
+    return 1e3 * (time.perf_counter() - t0) / n, 1e3 * (time.process_time() - cpu0) / n
 
 
 def rdsim_row(rdsim, row, min_seconds, threads, gemm):
-    """One run of `rdsim bench-learner --row ROW`: (ms per update, the row's JSON, the whole JSON)."""
+    """One run of `rdsim bench-learner --row ROW`: ((wall ms, CPU ms) per update, the row's JSON, the whole JSON)."""
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "row.json")
         command = [rdsim, "bench-learner", "--row", row, "--runs", "1", "--min-seconds", str(min_seconds),
@@ -145,7 +146,7 @@ def rdsim_row(rdsim, row, min_seconds, threads, gemm):
         with open(path) as f:
             result = json.load(f)
     (r,) = [r for r in result["rows"] if r["name"] == row]
-    return r["ms_per_update"], r, result
+    return (r["ms_per_update"], r["cpu_ms_per_update"]), r, result
 
 
 def main():
@@ -176,7 +177,7 @@ def main():
           f"median of {args.reps} x >= {args.min_seconds} s, alternating row by row", file=sys.stderr)
     results = []
     for row in rows:
-        rd, th = {t: [] for t in args.threads}, {t: [] for t in args.threads}
+        rd, th = {t: [] for t in args.threads}, {t: [] for t in args.threads}  # (wall, cpu) per rep
         updates = {}
         for rep in range(args.reps):
             for t in args.threads:
@@ -186,10 +187,15 @@ def main():
                 update = updates.get(t) or updates.setdefault(t, make_update(desc["network"], meta["learning_rate"]))
                 th[t].append(torch_ms(update, args.min_seconds))
             print(f"  {row} rep {rep + 1}: " + ", ".join(
-                f"{t} thr rdsim {rd[t][-1]:.3f} ms PyTorch {th[t][-1]:.3f} ms" for t in args.threads), file=sys.stderr)
+                f"{t} thr rdsim {rd[t][-1][0]:.3f} ms (cpu {rd[t][-1][1]:.3f}) PyTorch {th[t][-1][0]:.3f} ms "
+                f"(cpu {th[t][-1][1]:.3f})" for t in args.threads), file=sys.stderr)
+
+        def med(runs, i):
+            return statistics.median(r[i] for r in runs)
         results.append({"row": row, "batch": desc["network"]["batch"], "threads": {
-            str(t): {"rdsim_ms": statistics.median(rd[t]), "rdsim_runs": rd[t], "rdsim_threads": threads[t],
-                     "torch_ms": statistics.median(th[t]), "torch_runs": th[t]} for t in args.threads}})
+            str(t): {"rdsim_ms": med(rd[t], 0), "rdsim_cpu_ms": med(rd[t], 1), "rdsim_runs": rd[t],
+                     "rdsim_threads": threads[t], "torch_ms": med(th[t], 0), "torch_cpu_ms": med(th[t], 1),
+                     "torch_runs": th[t]} for t in args.threads}})
 
     head = f"{'row':<20} {'batch':>5}"
     for t in args.threads:
@@ -197,13 +203,21 @@ def main():
     print(f"\nms per update (zero_grad + forward + backward + Adam), median of {args.reps}; ratio = PyTorch ms / "
           f"rdsim ms (> 1: rdsim faster); rdsim's matrix products on {gemm}" +
           (", one thread at every count" if gemm != "onednn" else "") + "\n")
+    if 1 in args.threads:
+        head += f" {'cpu ratio 1thr':>15}"
     print(head)
     for r in results:
         line = f"{r['row']:<20} {r['batch']:>5}"
         for t in args.threads:
             x = r["threads"][str(t)]
             line += f" {x['rdsim_ms']:>15.3f} {x['torch_ms']:>15.3f} {x['torch_ms'] / x['rdsim_ms']:>10.2f}"
+        if 1 in args.threads:
+            x = r["threads"]["1"]
+            line += f" {x['torch_cpu_ms'] / x['rdsim_cpu_ms']:>15.2f}"
         print(line)
+    if 1 in args.threads:
+        print("\ncpu ratio 1thr: the same on CPU time per update (process CPU time, one thread each): on a busy "
+              "machine steadier than the wall-clock ratio")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"torch": torch.__version__, "rdsim_gemm": gemm, "threads": args.threads, "reps": args.reps,
