@@ -54,12 +54,17 @@ void eigen_matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eig
 }
 
 #ifdef RDSIM_HAVE_ONEDNN
+constexpr double kMinParallelMacs = 1 << 23;  // multiply-adds; e.g. 256 x 256 x 128
+
 void onednn_matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b,
                    Op op_b, Eigen::Ref<Eigen::MatrixXf> c, bool accumulate, Eigen::Index k) {
   // dnnl_sgemm is row-major; a column-major C (m x n) is the row-major C^T, and
   // C^T = op(B)^T op(A)^T: the same call with the operands swapped and their flags kept.
   const auto m = static_cast<dnnl_dim_t>(c.rows()), n = static_cast<dnnl_dim_t>(c.cols());
-  const int threads = thread_count().load(std::memory_order_relaxed);
+  // Small products stay on one thread: their work is shorter than what waking and joining a
+  // second thread costs (the conv layers' per-chunk products, the small MLPs' layers).
+  const bool large = static_cast<double>(m) * static_cast<double>(n) * static_cast<double>(k) >= kMinParallelMacs;
+  const int threads = large ? thread_count().load(std::memory_order_relaxed) : 1;
   if (omp_get_max_threads() != threads) omp_set_num_threads(threads);
   const dnnl_status_t status =
       dnnl_sgemm(op_b == Op::Transpose ? 'T' : 'N', op_a == Op::Transpose ? 'T' : 'N', n, m,
