@@ -16,7 +16,7 @@ std::vector<Command> commands() {
           bench_physics_command_entry(),
           render_command_entry(),    envs_command_entry(),   demos_command_entry(),
           config_reference_command_entry(), serve_command_entry(), keygen_command_entry(),
-          bench_remote_command_entry(), teleop_command_entry(), dashboard_command_entry(),
+          bench_remote_command_entry(), bench_learner_command_entry(), teleop_command_entry(), dashboard_command_entry(),
           plot_command_entry()};
 }
 

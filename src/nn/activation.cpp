@@ -28,6 +28,19 @@ void activate(Eigen::MatrixXf& z, Activation activation) {
   }
 }
 
+void bias_activate(Eigen::MatrixXf& z, const Eigen::Ref<const Eigen::VectorXf>& bias, Activation activation) {
+  // Column by column while the column is in cache; the same operations, in the same order per
+  // element, as adding the bias to the whole matrix and then activating it.
+  for (Eigen::Index j = 0; j < z.cols(); ++j) {
+    auto col = z.col(j);
+    switch (activation) {
+      case Activation::Tanh: col = (col + bias).array().tanh().matrix(); break;
+      case Activation::ReLU: col = (col + bias).cwiseMax(0.0f); break;
+      case Activation::Identity: col += bias; break;
+    }
+  }
+}
+
 void activation_backward(Eigen::MatrixXf& grad, const Eigen::MatrixXf& y, Activation activation) {
   switch (activation) {
     case Activation::Tanh: grad.array() *= 1.0f - y.array().square(); break;

@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/nn/gemm.hpp"
 #include "rdsim/nn/init.hpp"
 
 // Convolution as a matrix product: every output pixel's receptive field is copied into one
@@ -142,7 +143,7 @@ void Conv2d::forward(const Eigen::MatrixXf& x, Eigen::MatrixXf& y, ConvWorkspace
     transfer_patches<Direction::Gather>(*this, x.col(s0).data(), count, buffer);
     const Eigen::Map<const Eigen::MatrixXf> patches(buffer, patch_size(), static_cast<Eigen::Index>(count) * pixels);
     Eigen::Map<Eigen::MatrixXf> out(y.col(s0).data(), spec.out_channels, static_cast<Eigen::Index>(count) * pixels);
-    out.noalias() = weight.value * patches;
+    matmul(weight.value, Op::None, patches, Op::None, out);
     out.colwise() += bias.value.col(0);
   }
 }
@@ -164,10 +165,10 @@ void Conv2d::backward(const Eigen::MatrixXf& x, const Eigen::MatrixXf& grad_y, E
     transfer_patches<Direction::Gather>(*this, x.col(s0).data(), count, buffer);
     Eigen::Map<Eigen::MatrixXf> patches(buffer, patch_size(), columns);
     const Eigen::Map<const Eigen::MatrixXf> g(grad_y.col(s0).data(), spec.out_channels, columns);
-    weight.grad.noalias() += g * patches.transpose();
+    matmul(g, Op::None, patches, Op::Transpose, weight.grad, true);
     bias.grad.col(0) += g.rowwise().sum();
     if (grad_x) {
-      patches.noalias() = weight.value.transpose() * g;
+      matmul(weight.value, Op::Transpose, g, Op::None, patches);
       transfer_patches<Direction::Scatter>(*this, grad_x->col(s0).data(), count, buffer);
     }
   }

@@ -1,6 +1,7 @@
 #include "rdsim/nn/mlp.hpp"
 
 #include "rdsim/core/error.hpp"
+#include "rdsim/nn/gemm.hpp"
 #include "rdsim/nn/init.hpp"
 
 namespace rdsim::nn {
@@ -39,9 +40,8 @@ void Mlp::run(const Eigen::MatrixXf& x, std::vector<Eigen::MatrixXf>& acts) cons
     const Dense& layer = layers_[i];
     Eigen::MatrixXf& out = acts[i + 1];
     out.resize(layer.out_size(), x.cols());
-    out.noalias() = layer.weight.value * acts[i];
-    out.colwise() += layer.bias.value.col(0);
-    if (i + 1 < layers_.size()) activate(out, shape_.activation);
+    matmul(layer.weight.value, Op::None, acts[i], Op::None, out);
+    bias_activate(out, layer.bias.value.col(0), i + 1 < layers_.size() ? shape_.activation : Activation::Identity);
   }
 }
 
@@ -70,10 +70,11 @@ Eigen::MatrixXf Mlp::backward(const Eigen::MatrixXf& grad_output, bool need_inpu
   for (size_t k = layers_.size(); k-- > 0;) {
     Dense& layer = layers_[k];
     if (k + 1 < layers_.size()) activation_backward(grad, train_acts_[k + 1], shape_.activation);
-    layer.weight.grad.noalias() += grad * train_acts_[k].transpose();
+    matmul(grad, Op::None, train_acts_[k], Op::Transpose, layer.weight.grad, true);
     layer.bias.grad += grad.rowwise().sum();
     if (k == 0 && !need_input_grad) return {};
-    next.noalias() = layer.weight.value.transpose() * grad;
+    next.resize(layer.in_size(), grad.cols());
+    matmul(layer.weight.value, Op::Transpose, grad, Op::None, next);
     grad.swap(next);
   }
   return grad;

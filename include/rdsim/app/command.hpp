@@ -49,6 +49,7 @@ Command config_reference_command_entry();
 Command serve_command_entry();
 Command keygen_command_entry();
 Command bench_remote_command_entry();
+Command bench_learner_command_entry();
 Command teleop_command_entry();
 Command dashboard_command_entry();
 Command plot_command_entry();

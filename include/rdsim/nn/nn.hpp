@@ -3,6 +3,7 @@
 // trainable tensors and gradient clipping, orthogonal init, networks (nn::Network: MLPs here, CNNs
 // in cnn.hpp), Adam/RMSprop, parameter serialisation and action distributions.
 #include "rdsim/nn/distributions.hpp"
+#include "rdsim/nn/gemm.hpp"
 #include "rdsim/nn/init.hpp"
 #include "rdsim/nn/mlp.hpp"
 #include "rdsim/nn/network.hpp"

@@ -1,0 +1,39 @@
+#pragma once
+#include <Eigen/Core>
+#include <string>
+
+// The one matrix product of the networks (dense layers, convolutions): C = op(A) op(B) or
+// C += op(A) op(B), float32, column-major. Two backends compute it:
+//   Eigen:  Eigen's own GEMM, the arithmetic rdsim always had.
+//   oneDNN: dnnl_sgemm of oneDNN (Debian libdnnl-dev), JIT kernels for the CPU it runs on; about
+//           1.3-3x Eigen's speed on the networks' shapes, and it can use several threads. Its
+//           summation order differs from Eigen's, so results differ in the last bits (and so do
+//           training CSVs against an Eigen build; the same build, backend and thread count still
+//           give the same CSV).
+// The default is oneDNN where the build has it (CMake RDSIM_ONEDNN), Eigen otherwise; the
+// environment variable RDSIM_GEMM=eigen|onednn chooses at start, set_gemm_backend() at run time.
+namespace rdsim::nn {
+
+enum class GemmBackend { Eigen, OneDnn };
+
+// True when this build links oneDNN.
+bool onednn_available();
+GemmBackend gemm_backend();
+// rdsim::Error when asking for oneDNN in a build without it.
+void set_gemm_backend(GemmBackend backend);
+// "eigen" | "onednn" -> GemmBackend; rdsim::Error naming `where` otherwise (or oneDNN not built in).
+GemmBackend gemm_backend_from_string(const std::string& name, const std::string& where);
+const char* to_string(GemmBackend backend);
+
+// Threads of the oneDNN products (OpenMP; 1 by default so that the learner does not compete with
+// the env workers). Eigen's products always run on the calling thread.
+void set_gemm_threads(int threads);
+int gemm_threads();
+
+enum class Op { None, Transpose };
+
+// c = op(a) op(b) (accumulate false; c must already have its shape) or c += op(a) op(b).
+void matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b, Op op_b,
+            Eigen::Ref<Eigen::MatrixXf> c, bool accumulate = false);
+
+}  // namespace rdsim::nn
