@@ -3,6 +3,7 @@
 #include "rdsim/bench/bench_learner.hpp"
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -275,6 +276,7 @@ int bench_learner_command(const BenchLearnerOptions& o) {
     return 0;
   }
   if (!o.gemm.empty()) nn::set_gemm_backend(nn::gemm_backend_from_string(o.gemm, "bench-learner: --gemm"));
+  else if (nn::onednn_available() && std::getenv("RDSIM_GEMM") == nullptr) nn::set_gemm_backend(nn::GemmBackend::OneDnn);
   if (o.threads > 1 && nn::gemm_backend() != nn::GemmBackend::OneDnn)
     throw Error("bench-learner: --threads " + std::to_string(o.threads) +
                 ": only the onednn GEMM runs on several threads (--gemm onednn)");

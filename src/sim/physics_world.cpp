@@ -119,7 +119,7 @@ int PhysicsWorld::add_free_body(const RobotModel& model, const Eigen::Isometry3f
   com.linear() = inertial.origin.linear() * axes;
   std::vector<PlacedShape> placed;
   for (const Shape& shape : model.links[0].collisions) placed.push_back({shape, com.inverse() * shape.origin});
-  btCollisionShape* shape = make_collision_shape(placed, impl_->shapes);
+  btCollisionShape* shape = make_collision_shape(placed, false, impl_->shapes);
   if (!shape) throw Error(model.source + ": a free body needs a collision shape");
   const Eigen::Vector3d moments = eig.eigenvalues().cwiseMax(1e-8);
   btRigidBody::btRigidBodyConstructionInfo info(static_cast<btScalar>(inertial.mass), nullptr, shape, to_bt(moments));

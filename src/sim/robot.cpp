@@ -38,7 +38,7 @@ struct BodyFrame {
 // btConvexHullShape computes its inertia from its bounding box). tools/fidelity checks the result
 // against pybullet's.
 Eigen::Vector3d shape_moments(const Link& link) {
-  constexpr double kMargin = 0.001;  // m: pybullet's URDF collision margin
+  static constexpr double kMargin = 0.001;  // m: pybullet's URDF collision margin
   const double m = link.inertial.mass;
   const auto box = [m](const Eigen::Vector3d& l) -> Eigen::Vector3d {
     const Eigen::Vector3d sq = l.cwiseProduct(l);
@@ -246,7 +246,7 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
   if (options.drive == JointDrive::ComputedTorque) {
     std::vector<Inertial> simulated(model.links.size());  // what Bullet gets, for the drive's dynamics
     for (size_t i = 0; i < model.links.size(); ++i) {
-      const BodyFrame f = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable());
+      const BodyFrame f = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), options.inertia_from_shapes);
       simulated[i].mass = f.mass;
       simulated[i].inertia = f.moments.asDiagonal();
       simulated[i].origin = f.in_link;

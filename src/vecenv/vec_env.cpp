@@ -62,7 +62,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
       start_(std::chrono::steady_clock::now()) {
   batch_.resize(spec().observation, size());
   results_.resize(envs_.size());
-  begun_.assign(envs_.size(), 0);
+  begun_.assign(envs_.size(), Begun{});
   all_active_.assign(envs_.size(), true);
   const int blocks = worker_count(num_threads, envs_.size());
   if (workers == EnvWorkers::processes && blocks > 1) {
@@ -160,10 +160,10 @@ void VecEnv::step_block(int first, int end, const std::vector<Action>& actions, 
   std::exception_ptr error;
   for (int i = first; i < end; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    begun_[k] = 0;
+    begun_[k].value = false;
     if (!active[k] || error) continue;
     try {
-      begun_[k] = envs_[k]->begin_step(actions[k]) ? 1 : 0;
+      begun_[k].value = envs_[k]->begin_step(actions[k]);
     } catch (...) {
       error = std::current_exception();
     }
@@ -174,10 +174,10 @@ void VecEnv::step_block(int first, int end, const std::vector<Action>& actions, 
       results_[k] = EnvStep{};
       continue;
     }
-    if (error && !begun_[k]) continue;
+    if (error && !begun_[k].value) continue;
     try {
       Env& env = *envs_[k];
-      finish_env(i, begun_[k] ? env.finish_step(batch_.column(i)) : env.step_into(actions[k], batch_.column(i)));
+      finish_env(i, begun_[k].value ? env.finish_step(batch_.column(i)) : env.step_into(actions[k], batch_.column(i)));
     } catch (...) {
       if (!error) error = std::current_exception();
     }

@@ -42,7 +42,9 @@ EnvWorkers auto_env_workers(const EnvConfig& env);
 // has already been reset: VecEnv::observations() holds the new episode's first observation and
 // `final_observation` the observation that ended the old one (bootstrap from its value when
 // truncated && !terminated; never when terminated).
-struct EnvStep {
+// One cache line (or more) each: workers write the results of neighbouring envs side by side, and
+// sharing a line would make two cores trade it on every step.
+struct alignas(64) EnvStep {
   float reward = 0.0f;
   bool terminated = false;
   bool truncated = false;
@@ -140,7 +142,11 @@ private:
   std::vector<int> process_first_;                      // first env of each
   ObservationBatch batch_;
   std::vector<EnvStep> results_;
-  std::vector<char> begun_;  // per env: its step was begun (Env::begin_step); bytes, as workers write side by side
+  // Per env: its step was begun (Env::begin_step). One cache line each, as workers write them side by side.
+  struct alignas(64) Begun {
+    bool value = false;
+  };
+  std::vector<Begun> begun_;
   std::vector<bool> all_active_;
   EpisodeTracker tracker_;
   std::uint64_t seed_;
