@@ -70,7 +70,7 @@ TEST_CASE("paper presets resolve to the original's physics, IK, drive and episod
   }
 }
 
-TEST_CASE("paper presets: the Jaka button is the paper's fixed button; random buttons are their own preset", "[paper]") {
+TEST_CASE("paper presets: the Jaka button is the paper's fixed button, and random buttons are their own preset", "[paper]") {
   // The paper: "We set a button at a fixed position" (RobotDrlSim's random_target defaults to False).
   CHECK(resolved_env("jaka_button").at("random_target") == false);
   CHECK(resolved_env("jaka_button_pixels").at("random_target") == false);

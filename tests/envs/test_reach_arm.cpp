@@ -100,7 +100,7 @@ TEST_CASE("reach: the scripted expert's moves bring the user's arm to every targ
   }
 }
 
-TEST_CASE("reach: the same seed gives the same episode; the defaults run the repo's Jaka", "[envs][reach_arm]") {
+TEST_CASE("reach: the same seed gives the same episode, and the defaults run the repo's Jaka", "[envs][reach_arm]") {
   auto run = [](const EnvConfig& config) {
     auto env = make_env(config);
     std::vector<float> trace;
@@ -122,7 +122,7 @@ TEST_CASE("reach: the same seed gives the same episode; the defaults run the rep
   CHECK(run(defaults) == run(defaults));
 }
 
-TEST_CASE("reach: joints picks the joints the IK moves; the others hold their home values", "[envs][reach_arm]") {
+TEST_CASE("reach: joints picks the joints the IK moves, the others hold their home values", "[envs][reach_arm]") {
   auto env = make(user_arm({{"joints", {"joint_1", "joint_2", "joint_3"}}, {"home_pose", {-0.26, 1.44, -1.85}}}));
   auto& arm = dynamic_cast<ReachArm&>(*env);
   CHECK(arm.task().chain().dof() == 3);
