@@ -29,12 +29,9 @@ Command bench_fps_command_entry() {
             cmd.add_flag("--paper", o->paper,
                          "Like-for-like Table 3: each robot env's paper preset (configs/paper/, the original's per-step "
                          "work) next to its defaults, ground truth and 224x224 pixels");
-            cmd.add_option("--json", o->json_path,
-                           "Also write the results as JSON to FILE; --json alone or '-': to stdout (the table then goes to stderr)")
-                ->expected(0, 1)
-                ->type_name("[FILE]");
+            add_json_option(cmd, o->json_path);
             return [o, &cmd] {
-              if (cmd.count("--json") && o->json_path.empty()) o->json_path = "-";
+              resolve_json_option(cmd, o->json_path);
               return bench_fps_command(*o);
             };
           }};

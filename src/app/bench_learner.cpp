@@ -21,12 +21,9 @@ Command bench_learner_command_entry() {
                 ->check(CLI::IsMember({"eigen", "onednn"}));
             cmd.add_option("--threads", o->threads, "Threads of the onednn matrix products")
                 ->check(CLI::Range(1, 4096))->capture_default_str();
-            cmd.add_option("--json", o->json_path,
-                           "Also write the results as JSON to FILE; --json alone or '-': to stdout (the table then goes to stderr)")
-                ->expected(0, 1)
-                ->type_name("[FILE]");
+            add_json_option(cmd, o->json_path);
             return [o, &cmd] {
-              if (cmd.count("--json") && o->json_path.empty()) o->json_path = "-";
+              resolve_json_option(cmd, o->json_path);
               return bench_learner_command(*o);
             };
           }};

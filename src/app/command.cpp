@@ -1,5 +1,6 @@
 #include "rdsim/app/command.hpp"
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -61,6 +62,17 @@ std::uint64_t seed_from_option(const std::string& text, const std::string& optio
   std::uint64_t seed = 0;
   r.read("seed", seed);
   return seed;
+}
+
+void add_json_option(CLI::App& cmd, std::string& path) {
+  cmd.add_option("--json", path,
+                 "Also write the results as JSON to FILE; --json alone or '-': to stdout (the table then goes to stderr)")
+      ->expected(0, 1)
+      ->type_name("[FILE]");
+}
+
+void resolve_json_option(const CLI::App& cmd, std::string& path) {
+  if (cmd.count("--json") && path.empty()) path = "-";
 }
 
 }  // namespace rdsim

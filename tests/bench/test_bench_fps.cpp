@@ -1,24 +1,19 @@
 // `rdsim bench-fps`: raw-pixel rows per image size, in the table and the JSON.
 #include <catch2/catch.hpp>
-#include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "bench_json.hpp"
 #include "rdsim/bench/bench_fps.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/files.hpp"
 
-namespace fs = std::filesystem;
 using namespace rdsim;
 
 namespace {
 
 nlohmann::json run_bench(BenchFpsOptions o) {
-  const fs::path json = fs::temp_directory_path() / "rdsim_test_bench_fps.json";
   o.runs = 1;
   o.steps = 20;
-  o.json_path = json.string();
-  REQUIRE(bench_fps_command(o) == 0);
-  return nlohmann::json::parse(read_file(json.string()));
+  return test::bench_json(o, bench_fps_command, "bench_fps");
 }
 
 }  // namespace

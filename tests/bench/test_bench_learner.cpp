@@ -1,28 +1,24 @@
 // `rdsim bench-learner`: the rows asked for, each with a description of its networks in the JSON.
 #include <catch2/catch.hpp>
-#include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "bench_json.hpp"
 #include "rdsim/bench/bench_learner.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/files.hpp"
 #include "rdsim/nn/gemm.hpp"
 
-namespace fs = std::filesystem;
 using namespace rdsim;
 
 namespace {
 
 nlohmann::json run_bench(BenchLearnerOptions o) {
-  const fs::path json = fs::temp_directory_path() / "rdsim_test_bench_learner.json";
   o.runs = 1;
   o.min_seconds = 0.0;  // the minimum of 3 updates per run
-  o.json_path = json.string();
   const nn::GemmBackend backend = nn::gemm_backend();  // the command sets --gemm process-wide
-  REQUIRE(bench_learner_command(o) == 0);
+  nlohmann::json j = test::bench_json(o, bench_learner_command, "bench_learner");
   nn::set_gemm_backend(backend);
   nn::set_gemm_threads(1);
-  return nlohmann::json::parse(read_file(json.string()));
+  return j;
 }
 
 }  // namespace

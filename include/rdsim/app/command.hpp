@@ -37,6 +37,11 @@ int report_current_exception();
 // "--seed -1" is an error naming `option`, never 2^64 - 1.
 std::uint64_t seed_from_option(const std::string& text, const std::string& option);
 
+// The benchmarks' `--json [FILE]`: also write the results as JSON to FILE, or to stdout ('-') when
+// --json comes alone. Call resolve_json_option once the command line is parsed.
+void add_json_option(CLI::App& cmd, std::string& path);
+void resolve_json_option(const CLI::App& cmd, std::string& path);
+
 // The entries, one per command file.
 Command train_command_entry();
 Command replay_command_entry();
