@@ -2,13 +2,20 @@
 // the speed-up over one thread, and the pool's cost per env step against a plain loop, all
 // measured in one run with the runs of every thread count interleaved (so that a machine
 // whose load drifts slows them all alike).
+#include <sys/mman.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <new>
 
 #include "bench_util.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
+#include "rdsim/core/assert.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/vecenv/worker_pool.hpp"
 
@@ -46,6 +53,7 @@ public:
     for (std::size_t i = 0; i < envs_.size(); ++i)
       envs_[i]->reset_into(batch_.column(static_cast<int>(i)), kSeed + i);
   }
+  int size() const { return static_cast<int>(envs_.size()); }
   void step(const std::vector<Action>& actions) {
     for (std::size_t i = 0; i < envs_.size(); ++i) {
       const StepOutcome o = envs_[i]->step_into(actions[i], batch_.column(static_cast<int>(i)));
@@ -73,6 +81,49 @@ double timed(Stepper& s, const std::vector<std::vector<Action>>& actions, long l
   return static_cast<double>(batch_steps * envs) / seconds_since(t0);
 }
 
+// The machine's own limit: `count` independent processes, each stepping its share of the envs in
+// a plain loop, all at the same time (forked here, released together); their summed env steps/s.
+// Nothing is shared between them but the machine, so count x the plain loop alone is what no pool
+// can beat. 0 when a process could not be started or failed.
+double independent_processes(std::vector<PlainLoop>& loops, const std::vector<std::vector<Action>>& actions,
+                             long long batch_steps) {
+  const int count = static_cast<int>(loops.size());
+  struct Shared {
+    std::atomic<int> go{0};
+    double steps_per_s[64] = {};
+  };
+  RDSIM_ASSERT(count <= 64, "at most 64 processes");
+  void* map = mmap(nullptr, sizeof(Shared), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+  if (map == MAP_FAILED) return 0;
+  Shared* shared = new (map) Shared;
+  std::vector<pid_t> children;
+  std::fflush(nullptr);  // nothing buffered twice
+  for (int k = 0; k < count; ++k) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+      while (shared->go.load(std::memory_order_acquire) == 0) {}
+      double rate = 0;
+      try {
+        rate = timed(loops[static_cast<std::size_t>(k)], actions, batch_steps, loops[static_cast<std::size_t>(k)].size());
+      } catch (...) {
+      }
+      shared->steps_per_s[k] = rate;
+      _exit(0);
+    }
+    if (pid > 0) children.push_back(pid);
+  }
+  shared->go.store(1, std::memory_order_release);
+  for (pid_t pid : children) waitpid(pid, nullptr, 0);
+  double total = 0;
+  bool complete = static_cast<int>(children.size()) == count;
+  for (int k = 0; k < count; ++k) {
+    complete = complete && shared->steps_per_s[k] > 0;
+    total += shared->steps_per_s[k];
+  }
+  munmap(map, sizeof(Shared));
+  return complete ? total : 0;
+}
+
 struct ThreadRow {
   int threads = 1;
   bool processes = false;  // workers 2.. are processes
@@ -86,14 +137,29 @@ struct CaseResult {
   std::vector<double> plain_runs;
   double plain_per_s = 0;
   std::vector<ThreadRow> rows;
+  // Per thread count above 1: independent processes, each with its share of the envs.
+  struct Processes {
+    int count = 0;
+    std::vector<double> runs;
+    double steps_per_s = 0;
+  };
+  std::vector<Processes> limits;
 
   // What VecEnv on one thread adds to each env step over the plain loop, in nanoseconds.
   double overhead_ns() const { return 1e9 / rows.front().steps_per_s - 1e9 / plain_per_s; }
 };
 
 CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, const BenchFpsOptions& o) {
-  CaseResult result{c, envs, {}, 0, {}};
+  CaseResult result{c, envs, {}, 0, {}, {}};
   PlainLoop plain(make_envs(c, envs));
+  // Built before any pool thread exists: t loops of envs / t envs each (the first ones take the rest).
+  std::vector<std::vector<PlainLoop>> shares;
+  for (int t : counts) {
+    if (t == 1 || t > 64 || t > envs) continue;
+    shares.emplace_back();
+    for (int k = 0; k < t; ++k) shares.back().emplace_back(make_envs(c, envs / t + (k < envs % t ? 1 : 0)));
+    result.limits.push_back({t, {}, 0});
+  }
   std::vector<std::unique_ptr<VecEnv>> vecs;
   // Where training's env_workers "auto" picks processes, the same counts on threads too: the
   // comparison in one run.
@@ -120,7 +186,11 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
   for (int r = 0; r < o.runs; ++r) {
     result.plain_runs.push_back(timed(plain, actions, batch_steps, envs));
     for (std::size_t k = 0; k < vecs.size(); ++k) result.rows[k].runs.push_back(timed(*vecs[k], actions, batch_steps, envs));
+    // Each process steps every one of its envs batch_steps times, as the pool does.
+    for (std::size_t k = 0; k < shares.size(); ++k)
+      result.limits[k].runs.push_back(independent_processes(shares[k], actions, batch_steps));
   }
+  for (auto& l : result.limits) l.steps_per_s = median(l.runs);
   result.plain_per_s = median(result.plain_runs);
   for (auto& row : result.rows) row.steps_per_s = median(row.runs);
   return result;
@@ -142,9 +212,17 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
       std::fprintf(out, "%-16s %-13s %9s %6d %11d %12.0f %8.2fx%s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
                    image.c_str(), r.envs, t.threads, t.steps_per_s, t.steps_per_s / r.rows.front().steps_per_s, as);
     }
+    for (const auto& l : r.limits) {
+      const std::string label = std::to_string(l.count) + " alone";
+      std::fprintf(out, "%-16s %-13s %9s %6d %11s %12.0f %8.2fx  independent processes (the machine's limit)\n",
+                   r.c.entry->name.c_str(), r.c.mode.c_str(), image.c_str(), r.envs, label.c_str(), l.steps_per_s,
+                   l.steps_per_s / r.plain_per_s);
+    }
   }
   std::fprintf(out, "\nspeed-up: steps/s over those of 1 thread in the same run. plain loop: the same envs stepped "
-               "one after another\non one thread, no pool, no episode bookkeeping. workers: the training config's "
+               "one after another\non one thread, no pool, no episode bookkeeping. N alone: N processes stepping "
+               "their share of the envs\nin plain loops at the same time, nothing shared but the machine; their "
+               "speed-up is over the plain loop. workers: the training config's "
                "num_threads; pixel envs drawn by osmesa\nare measured on threads and on worker processes (what "
                "env_workers \"auto\" picks for them: Mesa's llvmpipe\ndraws one frame at a time per process). "
                "Pool overhead per env step, "
@@ -165,7 +243,11 @@ nlohmann::json to_json(const std::vector<CaseResult>& results, const BenchFpsOpt
       threads.push_back({{"threads", t.threads}, {"env_workers", t.processes ? "processes" : "threads"},
                          {"steps_per_s", t.steps_per_s}, {"runs_steps_per_s", t.runs},
                          {"speedup", t.steps_per_s / r.rows.front().steps_per_s}});
-    j["rows"].push_back({{"env", r.c.entry->name}, {"observation", r.c.mode},
+    nlohmann::json limits = nlohmann::json::array();
+    for (const auto& l : r.limits)
+      limits.push_back({{"processes", l.count}, {"steps_per_s", l.steps_per_s}, {"runs_steps_per_s", l.runs},
+                        {"speedup_over_plain_loop", l.steps_per_s / r.plain_per_s}});
+    j["rows"].push_back({{"env", r.c.entry->name}, {"observation", r.c.mode}, {"independent_processes", limits},
                          {"image_size", r.c.image_size > 0 ? nlohmann::json(r.c.image_size) : nlohmann::json(nullptr)},
                          {"envs", r.envs}, {"plain_loop_steps_per_s", r.plain_per_s},
                          {"plain_loop_runs_steps_per_s", r.plain_runs}, {"threads", threads},
