@@ -42,7 +42,7 @@ WorkerPool::~WorkerPool() {
   stop_.store(true);
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    generation_.fetch_add(1);
+    start_.generation.fetch_add(1);
   }
   job_ready_.notify_all();
   for (auto& t : threads_) t.join();
@@ -53,12 +53,12 @@ void WorkerPool::run_erased(void (*call)(void*, int), void* job) {
     call(job, 0);
     return;
   }
-  call_ = call;
-  job_ = job;
+  start_.call = call;
+  start_.job = job;
   pending_.store(static_cast<int>(threads_.size()));
-  // seq_cst store then load; a worker stores sleepers_ then loads generation_: one of the two
+  // seq_cst store then load; a worker stores sleepers_ then loads start_.generation: one of the two
   // sides sees the other's write, so a worker that went to sleep is always woken.
-  generation_.fetch_add(1);
+  start_.generation.fetch_add(1);
   if (sleepers_.load() > 0) {
     { std::lock_guard<std::mutex> lock(mutex_); }
     job_ready_.notify_all();
@@ -86,16 +86,16 @@ void WorkerPool::run_erased(void (*call)(void*, int), void* job) {
 void WorkerPool::worker_main(int w) {
   std::uint64_t seen = 0;
   for (;;) {
-    if (!spin_until([&] { return generation_.load(std::memory_order_acquire) != seen; })) {
+    if (!spin_until([&] { return start_.generation.load(std::memory_order_acquire) != seen; })) {
       std::unique_lock<std::mutex> lock(mutex_);
       sleepers_.fetch_add(1);
-      job_ready_.wait(lock, [&] { return generation_.load() != seen; });
+      job_ready_.wait(lock, [&] { return start_.generation.load() != seen; });
       sleepers_.fetch_sub(1);
     }
-    seen = generation_.load(std::memory_order_acquire);
+    seen = start_.generation.load(std::memory_order_acquire);
     if (stop_.load()) return;
     try {
-      call_(job_, w);
+      start_.call(start_.job, w);
     } catch (...) {
       errors_[static_cast<std::size_t>(w)] = std::current_exception();
     }

@@ -48,13 +48,18 @@ private:
   void worker_main(int w);
 
   std::vector<std::thread> threads_;
-  void (*call_)(void*, int) = nullptr;
-  void* job_ = nullptr;
   std::vector<std::exception_ptr> errors_;  // one slot per worker
 
-  std::atomic<std::uint64_t> generation_{0};  // bumped once per job
-  std::atomic<int> pending_{0};               // workers (threads) still busy with the job
-  std::atomic<int> sleepers_{0};              // workers blocked on job_ready_
+  // What the caller writes to start a job, on a cache line of its own that the workers poll; the
+  // count the workers write when done on another, that the caller polls: one line crosses from
+  // core to core each way per job, and neither side's polling slows the other's writes.
+  struct alignas(64) Job {
+    void (*call)(void*, int) = nullptr;
+    void* job = nullptr;
+    std::atomic<std::uint64_t> generation{0};  // bumped once per job, after call and job
+  } start_;
+  alignas(64) std::atomic<int> pending_{0};    // workers (threads) still busy with the job
+  alignas(64) std::atomic<int> sleepers_{0};   // workers blocked on job_ready_
   std::atomic<bool> caller_sleeping_{false};
   std::atomic<bool> stop_{false};             // set before the destructor's generation bump
   std::mutex mutex_;
