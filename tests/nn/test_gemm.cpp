@@ -155,6 +155,50 @@ TEST_CASE("An Mlp and a Cnn give the same outputs and gradients on the eigen and
   }
 }
 
+TEST_CASE("Conv2d splits a large batch over oneDNN's threads with the same results, padded or not", "[nn][conv]") {
+  if (!nn::onednn_available()) return;  // this build has only the eigen backend
+  BackendScope scope;
+  nn::set_gemm_backend(nn::GemmBackend::OneDnn);
+  Rng rng(9);
+  for (int padding : {0, 1}) {
+    INFO("padding " << padding);
+    nn::Conv2d conv({20, 20, 3}, {16, 4, 2, padding}, 1.0f, rng);
+    const Eigen::Index batch = 257;  // parts of 128 and 129 samples on 2 threads
+    // What the split is for: at least 2^23 multiply-adds in the batch.
+    REQUIRE(double(conv.spec.out_channels) * conv.patch_size() * conv.output.height * conv.output.width * batch >= (1 << 23));
+    const MatrixXf x = random_matrix(conv.in_size(), batch, rng);
+    const MatrixXf c = random_matrix(conv.out_size(), batch, rng);
+    std::vector<MatrixXf> y(2), gx(2), gw(2), gb(2);
+    for (int threads : {1, 2}) {
+      nn::set_gemm_threads(threads);
+      REQUIRE(nn::batch_parts(1e12) == threads);
+      nn::ConvWorkspace ws;
+      const auto k = static_cast<std::size_t>(threads - 1);
+      conv.forward(x, y[k], ws);
+      conv.weight.zero_grad();
+      conv.bias.zero_grad();
+      conv.backward(x, c, &gx[k], ws);
+      gw[k] = conv.weight.grad;
+      gb[k] = conv.bias.grad;
+      CHECK(ws.patches.size() == static_cast<std::size_t>(threads));
+    }
+    CHECK(relative_difference(y[1].cast<double>(), y[0].cast<double>()) < 1e-6);
+    CHECK(relative_difference(gx[1].cast<double>(), gx[0].cast<double>()) < 1e-6);
+    CHECK(relative_difference(gw[1].cast<double>(), gw[0].cast<double>()) < 1e-5);
+    CHECK(relative_difference(gb[1].cast<double>(), gb[0].cast<double>()) < 1e-5);
+  }
+  // Eigen's products, and a part already running beside others, never split.
+  nn::set_gemm_threads(2);
+  {
+    nn::OneThreadedGemm one_thread;
+    CHECK(nn::batch_parts(1e12) == 1);
+  }
+  CHECK(nn::batch_parts(1e12) == 2);
+  CHECK(nn::batch_parts(1e3) == 1);
+  nn::set_gemm_backend(nn::GemmBackend::Eigen);
+  CHECK(nn::batch_parts(1e12) == 1);
+}
+
 TEST_CASE("GEMM backend names and thread counts are checked", "[nn]") {
   CHECK(nn::gemm_backend_from_string("eigen", "x") == nn::GemmBackend::Eigen);
   CHECK_THROWS_WITH(nn::gemm_backend_from_string("mkl", "cfg: gemm"), Catch::Contains("cfg: gemm: expected one of"));

@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "rdsim/core/rng.hpp"
 #include "rdsim/nn/param.hpp"
@@ -39,7 +40,11 @@ ImageShape conv_output_shape(const ImageShape& input, const ConvSpec& spec, cons
 // of a network. It only grows, so nothing allocates after the first batch of a given size.
 // Keep one per use (training, inference, const evaluation each get their own).
 struct ConvWorkspace {
-  Eigen::VectorXf patches;
+  // One patch buffer per part of the batch (nn::batch_parts: one unless oneDNN runs on several
+  // threads), and per part beyond the first the weight and bias gradients of its samples, added
+  // to the layer's in part order (the same sums for a given thread count).
+  std::vector<Eigen::VectorXf> patches;
+  std::vector<Eigen::MatrixXf> weight_grads, bias_grads;
   // Samples are processed in chunks whose patch matrix holds at most this many floats
   // (always at least one sample per chunk): bounds memory for big images and keeps the patch
   // matrix in cache. See src/nn/conv.cpp for the measurement behind the default.

@@ -10,8 +10,9 @@
 //           summation order differs from Eigen's, so results differ in the last bits (and so do
 //           training CSVs against an Eigen build; the same build, backend and thread count still
 //           give the same CSV).
-// The default is oneDNN where the build has it (CMake RDSIM_ONEDNN), Eigen otherwise; the
-// environment variable RDSIM_GEMM=eigen|onednn chooses at start, set_gemm_backend() at run time.
+// The default is Eigen (the arithmetic of every published learning result); oneDNN where the build
+// has it (CMake RDSIM_ONEDNN) on request: the environment variable RDSIM_GEMM=eigen|onednn chooses
+// at start, set_gemm_backend() at run time.
 namespace rdsim::nn {
 
 enum class GemmBackend { Eigen, OneDnn };
@@ -29,6 +30,24 @@ const char* to_string(GemmBackend backend);
 // the env workers). Eigen's products always run on the calling thread.
 void set_gemm_threads(int threads);
 int gemm_threads();
+
+// How many parts a layer splits a batch of `macs` multiply-adds into, each on a thread of its
+// own with one-threaded products: gemm_threads() on oneDNN when the work is large enough to pay
+// for starting the threads, else 1 (so Eigen's products, and training, always run on one thread).
+int batch_parts(double macs);
+
+// Within its scope this thread's oneDNN products run on one thread: for a part of a batch that
+// a layer already runs beside the others (batch_parts).
+class OneThreadedGemm {
+public:
+  OneThreadedGemm();
+  ~OneThreadedGemm();
+  OneThreadedGemm(const OneThreadedGemm&) = delete;
+  OneThreadedGemm& operator=(const OneThreadedGemm&) = delete;
+
+private:
+  bool saved_;
+};
 
 enum class Op { None, Transpose };
 
