@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <exception>
-#include <thread>
 #include <vector>
 #include <type_traits>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/nn/gemm.hpp"
 #include "rdsim/nn/init.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 // Convolution as a matrix product: every output pixel's receptive field is copied into one
 // column of a patch matrix ("im2col"), then one GEMM per chunk of samples computes all output
@@ -165,8 +168,9 @@ int prepare_parts(const Conv2d& conv, ConvWorkspace& ws, Eigen::Index batch) {
 }
 
 // Runs fn(part, first, end) on the samples [first, end) of each of `parts` contiguous parts of
-// the batch: part 0 on this thread, the others on threads of their own, all with one-threaded
-// products. The first error (lowest part) is rethrown once every part has ended.
+// the batch, each part on a thread of OpenMP's (the threads oneDNN's products use, so no other
+// thread spins beside them) with one-threaded products. The first error (lowest part) is rethrown
+// once every part has ended. Without OpenMP (a build without oneDNN) parts is always 1.
 template <class Fn>
 void run_parts(Eigen::Index batch, int parts, Fn fn) {
   if (parts <= 1) {
@@ -182,15 +186,13 @@ void run_parts(Eigen::Index batch, int parts, Fn fn) {
       errors[static_cast<std::size_t>(p)] = std::current_exception();
     }
   };
-  std::vector<std::thread> threads;
-  try {
-    for (int p = 1; p < parts; ++p) threads.emplace_back(part, p);
-  } catch (...) {
-    for (auto& t : threads) t.join();
-    throw;
-  }
-  part(0);
-  for (auto& t : threads) t.join();
+#ifdef _OPENMP
+  // A team smaller than asked for (the runtime's limits) takes the parts in turn.
+#pragma omp parallel num_threads(parts)
+  for (int p = omp_get_thread_num(); p < parts; p += omp_get_num_threads()) part(p);
+#else
+  for (int p = 0; p < parts; ++p) part(p);
+#endif
   for (auto& e : errors)
     if (e) std::rethrow_exception(e);
 }
