@@ -76,6 +76,7 @@ void apply_env_config(const EnvConfig& env, ReachTaskSpec& spec) {
   spec.robot.motor_speed_limits = !motors;
   spec.robot.link_damping = motors ? kPybulletLinkDamping : 0.0f;
   spec.robot.inertia_from_shapes = motors;  // RobotDrlSim's loadURDF ignored the URDF's inertia tensors
+  spec.robot.joint_damping = motors;        // and applied the URDF's joint damping (none in rdsim's Jaka and InMoov)
   if (motors) spec.world = pybullet_solver(spec.world);  // the solver settings pybullet's worlds start with
   // The speed-ups of the original's per-step work (rdsim bench-physics checks them against it):
   // an early exit, joint rows warm-started, and the joints off the IK chain welded while nothing

@@ -219,7 +219,7 @@ public:
 
   PyRobot add_robot(const std::string& urdf, const py::handle& position, const py::handle& orientation,
                     const std::string& drive, double kp, double kd, bool limit_constraints, bool speed_limits,
-                    double link_damping, bool inertia_from_shapes) {
+                    double link_damping, bool inertia_from_shapes, bool joint_damping) {
     RobotOptions o;
     o.drive = read_drive(drive);
     if (!std::isfinite(kp) || !std::isfinite(kd) || kp < 0.0 || kd < 0.0)
@@ -232,6 +232,7 @@ public:
       throw Error("rdsim.sim.World.add_robot: link_damping: expected a number in [0, 1]");
     o.link_damping = static_cast<float>(link_damping);
     o.inertia_from_shapes = inertia_from_shapes;
+    o.joint_damping = joint_damping;
     const Eigen::Isometry3f pose = read_pose(position, orientation, "rdsim.sim.World.add_robot");
     const RobotModel model = load_urdf(urdf);
     return PyRobot(data_, data_->world->add_robot(model, pose, o).body());
@@ -303,7 +304,8 @@ void bind_sim(py::module_& parent) {
       .def("add_robot", &PyWorld::add_robot, py::arg("urdf"), py::arg("position") = py::make_tuple(0.0, 0.0, 0.0),
            py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0), py::arg("drive") = "position_motor",
            py::arg("position_gain") = 1.0, py::arg("velocity_gain") = 1.0, py::arg("limit_constraints") = true,
-           py::arg("speed_limits") = true, py::arg("link_damping") = 0.0, py::arg("inertia_from_shapes") = false)
+           py::arg("speed_limits") = true, py::arg("link_damping") = 0.0, py::arg("inertia_from_shapes") = false,
+           py::arg("joint_damping") = false)
       .def("add_static_body", &PyWorld::add_static_body, py::arg("urdf"),
            py::arg("position") = py::make_tuple(0.0, 0.0, 0.0), py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0))
       .def("add_free_body", &PyWorld::add_free_body, py::arg("urdf"),

@@ -34,8 +34,8 @@ struct BodyFrame {
 // (collision margin 1 mm). One shape at the inertial frame: a box's or a sphere's exact moments, a
 // cylinder's (a 32-sided convex hull in pybullet) those of its bounding box grown by 3 mm a side;
 // otherwise (several shapes, an offset one, a mesh, none) those of the box around them all grown by
-// the margins (Bullet's compound rule; a mesh's box is its convex hull's, as Bullet's
-// btConvexHullShape computes its inertia from its bounding box). tools/fidelity checks the result
+// the margins (Bullet's compound rule; a mesh's box is its convex hull's grown by two margins, as
+// Bullet's btConvexHullShape computes its inertia from its margin-grown bounding box). tools/fidelity checks the result
 // against pybullet's.
 Eigen::Vector3d shape_moments(const Link& link) {
   static constexpr double kMargin = 0.001;  // m: pybullet's URDF collision margin
@@ -56,7 +56,9 @@ Eigen::Vector3d shape_moments(const Link& link) {
         if (s.mesh.hull)
           for (const Eigen::Vector3f& p : s.mesh.hull->points) hull.extend(Eigen::Vector3d(p.cast<double>()));
         if (hull.isEmpty()) hull.extend(Eigen::Vector3d::Zero());
-        return Eigen::AlignedBox3d(hull.min().array() - kMargin, hull.max().array() + kMargin);
+        // A hull's box, like the cylinder's: its points grown by two margins a side (pybullet's
+        // KUKA iiwa links: the vertices' box + 6 mm with the compound's margin, measured).
+        return Eigen::AlignedBox3d(hull.min().array() - 2.0 * kMargin, hull.max().array() + 2.0 * kMargin);
       }
     }
     return Eigen::AlignedBox3d(-half, half);
@@ -240,6 +242,7 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     d.upper = static_cast<float>(j.upper);
     d.velocity = static_cast<float>(j.velocity);
     d.effort = static_cast<float>(j.effort);
+    d.damping = static_cast<float>(j.damping);
     dofs_.push_back(d);
   }
   build();
@@ -604,6 +607,11 @@ void Robot::update_transforms() {
 
 void Robot::before_step() {
   if (std::any_of(dofs_.begin(), dofs_.end(), [](const Dof& d) { return d.welded; })) free_welds_near_contacts();
+  if (options_.joint_damping) {
+    for (const Dof& d : dofs_)
+      if (d.damping > 0.0f && !d.welded)
+        multibody_->addJointTorque(d.bullet_link, -d.damping * multibody_->getJointVel(d.bullet_link));
+  }
   if (!drive_) return;
   TorqueDrive& t = *drive_;
   const double dt = world_.settings().time_step;

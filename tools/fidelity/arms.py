@@ -145,12 +145,13 @@ class PyBulletArm:
 class RdsimArm:
     """The robot in an rdsim.sim.World, driven by position motors as the env option drive
     position_motor sets them up (no speed limit, pybullet's link damping 0.04 and solver settings,
-    inertia from the collision shapes as pybullet's loadURDF computes it by default; ``speed_limits=True,
-    link_damping=0, pybullet_solver=False, inertia_from_shapes=False`` give rdsim's plain defaults)."""
+    inertia from the collision shapes as pybullet's loadURDF computes it by default, the URDF's joint
+    damping applied as pybullet applies it; ``speed_limits=True, link_damping=0, pybullet_solver=False,
+    inertia_from_shapes=False, joint_damping=False`` give rdsim's plain defaults)."""
 
     def __init__(self, case: RobotCase, *, solver_iterations: int = 150, position_gain: float = 0.1,
                  velocity_gain: float = 1.0, speed_limits: bool = False, link_damping: float = 0.04,
-                 pybullet_solver: bool = True, inertia_from_shapes: bool = True) -> None:
+                 pybullet_solver: bool = True, inertia_from_shapes: bool = True, joint_damping: bool = True) -> None:
         import rdsim.sim
 
         self.case = case
@@ -159,7 +160,7 @@ class RdsimArm:
         self.robot = self.world.add_robot(str(case.urdf()), case.base_position, drive="position_motor",
                                           position_gain=position_gain, velocity_gain=velocity_gain,
                                           speed_limits=speed_limits, link_damping=link_damping,
-                                          inertia_from_shapes=inertia_from_shapes)
+                                          inertia_from_shapes=inertia_from_shapes, joint_damping=joint_damping)
         self.joint_names = list(self.robot.joint_names)
         self.lower, self.upper = np.asarray(self.robot.lower), np.asarray(self.robot.upper)
         self.free_bodies: list[int] = []  # World.add_free_body ids that save()/restore() carry
@@ -212,7 +213,8 @@ def make_pair(case: RobotCase, *, inertia: str = "shapes", **options) -> tuple[P
     original used, and the paper presets') or "urdf" (both use the URDF's tensors)."""
     if inertia not in ("shapes", "urdf"):
         raise ValueError(f'inertia: expected "shapes" or "urdf", got {inertia!r}')
-    rdsim_only = {k: options.pop(k) for k in ("speed_limits", "link_damping", "pybullet_solver") if k in options}
+    rdsim_only = {k: options.pop(k) for k in ("speed_limits", "link_damping", "pybullet_solver", "joint_damping")
+                  if k in options}
     rd = RdsimArm(case, inertia_from_shapes=inertia == "shapes", **options, **rdsim_only)
     pb = PyBulletArm(case, inertia_from_file=inertia == "urdf", **options)
     pb.use_order(rd.joint_names)

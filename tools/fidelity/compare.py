@@ -141,6 +141,31 @@ def action_sequence(case, *, steps: int = 1000, seed: int = 0, hold: int = 1,
     return _summary(np.array(ee_dev), np.array(q_dev))
 
 
+def pybullet_sensitivity(case, *, steps: int = 1000, seed: int = 0, nudge: float = 1e-7,
+                         inertia: str = "shapes") -> dict:
+    """pybullet against itself: the same move sequence as action_sequence twice, the second run's
+    reset pose nudged by `nudge` rad per joint. How far the recipe itself amplifies a difference far
+    below float rounding: a sequence pybullet does not reproduce under it cannot judge rdsim."""
+    case = _case(case)
+    a = PyBulletArm(case, inertia_from_file=inertia == "urdf")
+    b = PyBulletArm(case, inertia_from_file=inertia == "urdf")
+    rng = np.random.default_rng(seed)
+    actions = rng.integers(0, 6, size=steps)
+    q0 = np.array(case.pose(a.joint_names, "reset"))
+    rest = np.array(case.pose(a.joint_names, "rest"))
+    a.reset_joints(q0)
+    b.reset_joints(q0 + nudge)
+    ee_dev, q_dev = [], []
+    for act in actions:
+        move(a, case, int(act), rest)
+        move(b, case, int(act), rest)
+        ee_dev.append(np.linalg.norm(a.link_position(case.effector) - b.link_position(case.effector)))
+        q_dev.append(np.abs(a.joint_positions() - b.joint_positions()).max())
+    a.close()
+    b.close()
+    return _summary(np.array(ee_dev), np.array(q_dev))
+
+
 def recipe_search(arm, case: RobotCase, point, *, steps: int = 1000, beam: int = 16, hold: int = 4,
                   disturbed: Optional[Callable[[], bool]] = None) -> dict:
     """Closest approach of the effector to `point` over `steps` env steps under the original's recipe:

@@ -19,7 +19,7 @@ import numpy as np
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
-from fidelity import CASES, action_sequence, inverse_kinematics, joint_targets  # noqa: E402
+from fidelity import CASES, action_sequence, inverse_kinematics, joint_targets, pybullet_sensitivity  # noqa: E402
 from fidelity.button import button_search  # noqa: E402
 
 
@@ -73,7 +73,13 @@ def main() -> int:
                 qmax = np.max([r["q_max"] for r in rs])
                 print(f"| {name} | {seeds} x {steps} random moves, inertia from the {inertia} | "
                       f"ee mean {mm(mean)} mm | ee max {mm(worst)} mm | "
-                      f"q max {qmax:.4f} rad |")
+                      f"q max {qmax:.4f} rad | per seed mean "
+                      + ", ".join(mm(r["ee_mean"]) for r in rs) + " mm |")
+                ss = [pybullet_sensitivity(case, steps=steps, seed=s, inertia=inertia) for s in range(seeds)]
+                print(f"| {name} | pybullet against itself, reset nudged by 1e-7 rad, inertia from the {inertia} | "
+                      f"ee mean {mm(np.mean([r['ee_mean'] for r in ss]))} mm | "
+                      f"ee max {mm(np.max([r['ee_max'] for r in ss]))} mm | per seed mean "
+                      + ", ".join(mm(r["ee_mean"]) for r in ss) + " mm |")
         sys.stdout.flush()
     if "search" in sections and "jaka" in args.robots:
         for row in button_search(steps=steps):

@@ -36,12 +36,17 @@ class RobotCase:
 
     def pose(self, names: list[str], which: str) -> list[float]:
         values = self.reset if which == "reset" else self.rest
+        unknown = sorted(set(values) - set(names))
+        if unknown:  # a misspelt joint would silently start the robot elsewhere
+            raise ValueError(f"{self.name}: {which} pose names joints the robot does not have: {unknown}")
         return [float(values.get(n, 0.0)) for n in names]
 
 
 _JAKA_POSE = {"joint_1": 0.0, "joint_2": 0.0, "joint_3": 1.0, "joint_4": 1.0, "joint_5": 1.0, "joint_6": 1.0}
 # pybullet's own KUKA example's rest pose; the Panda's is the pose pybullet's Panda demo starts from.
-_KUKA_REST = {"J0": 0.0, "J1": 0.0, "J2": 0.0, "J3": 0.5 * math.pi, "J4": 0.0, "J5": -0.5 * math.pi * 0.66, "J6": 0.0}
+_KUKA_REST = {"lbr_iiwa_joint_1": 0.0, "lbr_iiwa_joint_2": 0.0, "lbr_iiwa_joint_3": 0.0,
+              "lbr_iiwa_joint_4": 0.5 * math.pi, "lbr_iiwa_joint_5": 0.0, "lbr_iiwa_joint_6": -0.5 * math.pi * 0.66,
+              "lbr_iiwa_joint_7": 0.0}
 _PANDA_REST = {"panda_joint1": 0.98, "panda_joint2": 0.458, "panda_joint3": 0.31, "panda_joint4": -2.24,
                "panda_joint5": -0.30, "panda_joint6": 2.66, "panda_joint7": 2.32}
 

@@ -60,6 +60,10 @@ struct RobotOptions {
   // RobotDrlSim loaded its robots): the URDF's mass and inertial frame, principal moments from the
   // collision shapes (robot.cpp shape_moments); false: the URDF's tensors.
   bool inertia_from_shapes = false;
+  // The URDF's <dynamics damping> (N m s/rad, N s/m for prismatic joints) as pybullet applies it:
+  // a joint torque of -damping x joint velocity added before every physics step (explicit, so a
+  // light link with a large damping overshoots, as in pybullet). false: the damping is ignored.
+  bool joint_damping = false;
   // Joints named by hold() are simulated as welded (Bullet fixed joints at their target) while
   // nothing can move them: no motor row and no degree of freedom for the solver. Why: a position
   // motor resting at its target holds its joint still to within the solver's tolerance, and the
@@ -133,6 +137,7 @@ private:
     float lower = 0, upper = 0;
     float target = 0;
     float velocity = 0, effort = 0;  // URDF limits
+    float damping = 0;               // URDF <dynamics damping>
     bool held = false;               // named by hold()
     bool welded = false;             // a Bullet fixed joint at `target` (RobotOptions::weld_held_joints)
     btMultiBodyJointMotor* motor = nullptr;
