@@ -60,6 +60,20 @@ void measure(const char* name, int repeat, int episodes) {
               final_sum / episodes);
 }
 
+// A beam's survivors: the first `keep` of the ranked `nodes` whose effector offsets lie at least
+// 1 cm apart (so that the beam does not fill with copies of one path).
+template <class Node>
+std::vector<Node> keep_apart(const std::vector<Node>& nodes, int keep) {
+  std::vector<Node> beam;
+  for (const Node& n : nodes) {
+    bool apart = true;
+    for (const Node& b : beam) apart = apart && (n.offset - b.offset).norm() >= 0.01f;
+    if (apart) beam.push_back(n);
+    if (static_cast<int>(beam.size()) == keep) break;
+  }
+  return beam;
+}
+
 }  // namespace
 
 TEST_CASE("paper jaka_button probe: scripted controllers near the button", "[.paper_probe]") {
@@ -167,13 +181,7 @@ TEST_CASE("paper jaka_button probe: beam search over move sequences on the simul
           if (!r.info.success) next.push_back({state->save_state(), to_target(r.observation), r.info.distance});
         }
       std::sort(next.begin(), next.end(), [](const Node& x, const Node& y) { return x.distance < y.distance; });
-      beam.clear();
-      for (const Node& n : next) {
-        bool apart = true;
-        for (const Node& b : beam) apart = apart && (n.offset - b.offset).norm() >= 0.01f;
-        if (apart) beam.push_back(n);
-        if (static_cast<int>(beam.size()) == keep) break;
-      }
+      beam = keep_apart(next, keep);
     }
     reached += succeeded ? 1 : 0;
     if (succeeded) {
@@ -226,13 +234,7 @@ TEST_CASE("paper jaka_button probe: beam search for the best return on the fixed
         next.push_back({state->save_state(), to_target(r.observation), ret});
       }
     std::sort(next.begin(), next.end(), [](const Node& x, const Node& y) { return x.ret > y.ret; });
-    beam.clear();
-    for (const Node& n : next) {
-      bool apart = true;
-      for (const Node& b : beam) apart = apart && (n.offset - b.offset).norm() >= 0.01f;
-      if (apart) beam.push_back(n);
-      if (static_cast<int>(beam.size()) == keep) break;
-    }
+    beam = keep_apart(next, keep);
   }
   std::printf("best return over %d steps (keep %d, moves held %d steps): %.2f (mean distance %.3f m)\n", horizon,
               keep, hold, beam.front().ret, -beam.front().ret / horizon);

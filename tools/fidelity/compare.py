@@ -131,13 +131,19 @@ def action_sequence(case, *, steps: int = 1000, seed: int = 0, hold: int = 1,
     rest = np.array(case.pose(rd.joint_names, "rest"))
     pb.reset_joints(q0)
     rd.reset_joints(q0)
-    ee_dev, q_dev = [], []
-    for a in actions:
-        move(pb, case, int(a), rest)
-        move(rd, case, int(a), rest)
-        ee_dev.append(np.linalg.norm(pb.link_position(case.effector) - rd.link_position(case.effector)))
-        q_dev.append(np.abs(pb.joint_positions() - rd.joint_positions()).max())
+    result = _moves_side_by_side(pb, rd, case, actions, rest)
     pb.close()
+    return result
+
+
+def _moves_side_by_side(a, b, case: RobotCase, actions, rest: np.ndarray) -> dict:
+    """Arms `a` and `b` through the same moves: effector and joint deviations after each."""
+    ee_dev, q_dev = [], []
+    for act in actions:
+        move(a, case, int(act), rest)
+        move(b, case, int(act), rest)
+        ee_dev.append(np.linalg.norm(a.link_position(case.effector) - b.link_position(case.effector)))
+        q_dev.append(np.abs(a.joint_positions() - b.joint_positions()).max())
     return _summary(np.array(ee_dev), np.array(q_dev))
 
 
@@ -155,15 +161,10 @@ def pybullet_sensitivity(case, *, steps: int = 1000, seed: int = 0, nudge: float
     rest = np.array(case.pose(a.joint_names, "rest"))
     a.reset_joints(q0)
     b.reset_joints(q0 + nudge)
-    ee_dev, q_dev = [], []
-    for act in actions:
-        move(a, case, int(act), rest)
-        move(b, case, int(act), rest)
-        ee_dev.append(np.linalg.norm(a.link_position(case.effector) - b.link_position(case.effector)))
-        q_dev.append(np.abs(a.joint_positions() - b.joint_positions()).max())
+    result = _moves_side_by_side(a, b, case, actions, rest)
     a.close()
     b.close()
-    return _summary(np.array(ee_dev), np.array(q_dev))
+    return result
 
 
 def recipe_search(arm, case: RobotCase, point, *, steps: int = 1000, beam: int = 16, hold: int = 4,
