@@ -63,6 +63,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
   batch_.resize(spec().observation, size());
   results_.resize(envs_.size());
   begun_.assign(envs_.size(), Begun{});
+  next_env_ = std::make_unique<NextEnv[]>(static_cast<std::size_t>(pool_.size()));
   all_active_.assign(envs_.size(), true);
   const int blocks = worker_count(num_threads, envs_.size());
   if (workers == EnvWorkers::processes && blocks > 1) {
@@ -206,7 +207,11 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   if (actions.size() != envs_.size() || active.size() != envs_.size())
     throw Error("VecEnv::step: one action and one active flag per env expected");
   for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
-  if (processes_.empty()) {
+  const bool movable = std::all_of(envs_.begin(), envs_.begin() + local_,
+                                   [](const std::unique_ptr<Env>& e) { return e->steps_on_any_thread(); });
+  if (processes_.empty() && movable && pool_.size() > 1) {
+    step_shared(actions, active);
+  } else if (processes_.empty()) {
     // The workers only read `active` and write their own envs' results.
     for_each_block([&](int first, int end) { step_block(first, end, actions, active); });
   } else {
@@ -220,6 +225,22 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
     tracker_.on_step(i, s.reward, s.info, s.done(), timesteps_, now);
   }
   return results_;
+}
+
+// Why: a worker whose envs finished early would otherwise wait at the end of every batch step for
+// the slowest block (an episode's reset, a step with contacts); taking the other blocks' unstarted
+// envs from the front keeps most envs on their own worker's core. Each env is still stepped once,
+// into its own column and result, so the results do not depend on who stepped it.
+void VecEnv::step_shared(const std::vector<Action>& actions, const std::vector<bool>& active) {
+  const int n = local_, workers = pool_.size();
+  for (int w = 0; w < workers; ++w) next_env_[static_cast<std::size_t>(w)].index.store(w * n / workers, std::memory_order_relaxed);
+  pool_.run([&](int w) {
+    for (int k = 0; k < workers; ++k) {
+      const int block = (w + k) % workers, end = (block + 1) * n / workers;
+      std::atomic<int>& next = next_env_[static_cast<std::size_t>(block)].index;
+      for (int i; (i = next.fetch_add(1, std::memory_order_relaxed)) < end;) step_block(i, i + 1, actions, active);
+    }
+  });
 }
 
 void VecEnv::step_with_processes(const std::vector<Action>& actions, const std::vector<bool>& active) {

@@ -66,8 +66,13 @@ TEST_CASE("VecEnv gives the same steps on 1, 2, 3 and 7 threads", "[vec_env][thr
   std::vector<rdsim::Action> actions;
   for (int i = 0; i < 7; ++i) actions.push_back(rdsim::Action::discrete(i % 2));
   rdsim::VecEnv one(toy::make_envs(7, true, 6, 4), 11, 20, 1);
+  // Envs bound to their worker, and envs any worker may step (VecEnv then shares them out).
+  for (const bool any_thread : {false, true})
   for (int threads : {2, 3, 7, 64}) {
-    rdsim::VecEnv many(toy::make_envs(7, true, 6, 4), 11, 20, threads);
+    INFO((any_thread ? "shared envs, " : "envs on their own worker, ") << threads << " threads");
+    auto envs = toy::make_envs(7, true, 6, 4);
+    for (auto& e : envs) dynamic_cast<toy::SignEnv&>(*e).any_thread = any_thread;
+    rdsim::VecEnv many(std::move(envs), 11, 20, threads);
     CHECK(many.num_threads() == std::min(threads, 7));
     rdsim::VecEnv ref(toy::make_envs(7, true, 6, 4), 11, 20, 1);
     for (int t = 0; t < 40; ++t) {

@@ -47,6 +47,9 @@ public:
   }
 
   const rdsim::Spec& spec() const override { return spec_; }
+  // Whether VecEnv may step it on another worker's thread (its default: no).
+  bool any_thread = false;
+  bool steps_on_any_thread() const override { return any_thread; }
 
   rdsim::Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override {
     if (seed) rng_.reseed(*seed);

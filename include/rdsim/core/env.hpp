@@ -144,6 +144,10 @@ public:
   // observation or reward work: lets benchmarks show the env's own overhead.
   // Returns false for envs without a physics world.
   virtual bool step_physics_only() { return false; }
+  // True when any thread may step this env, as long as one thread at a time does: it holds nothing
+  // bound to a thread (a GL context) and does not split its steps (begin_step). VecEnv then lets
+  // a worker that finished its own envs step another worker's remaining ones. Default: false.
+  virtual bool steps_on_any_thread() const { return false; }
   // Draws the current state for people when the env was made with render_mode "rgb_array"
   // (EnvConfig::render_width x render_height, the main camera). Returns false otherwise.
   virtual bool render(Image& /*frame*/) { return false; }

@@ -85,6 +85,10 @@ public:
   StepOutcome step_into(const Action& action, ObservationOut out) override;
   bool step_physics_only() override;
   bool render(Image& frame) override;
+  // Without a renderer (ground truth, no render_mode, no robot cameras drawn yet): nothing of it is
+  // bound to a thread. Its steps (microseconds of physics) are long enough to share between
+  // workers; the toy envs' (tens of nanoseconds) are not, so they keep the default.
+  bool steps_on_any_thread() const override { return !pixels_ && !viewer_ && !cameras_; }
 
   // EnvState: the task's physics state, the episode's step counter, target choice and random
   // stream; Bullet's contact caches are dropped instead (see core/env_state.hpp).

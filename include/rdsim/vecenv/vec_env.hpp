@@ -124,6 +124,9 @@ private:
   template <class Fn>
   void for_each_env(Fn fn);
   void step_block(int first, int end, const std::vector<Action>& actions, const std::vector<bool>& active);
+  // Every env stepped once, each worker its own block first, then whatever the others have not
+  // yet started (envs that steps_on_any_thread only): no worker waits while envs are left.
+  void step_shared(const std::vector<Action>& actions, const std::vector<bool>& active);
   void finish_env(int i, const StepOutcome& outcome);
   // Runs this process's share (`local`) while the worker processes run the command started on
   // them, then waits for every process even after an error, so that all are idle again before the
@@ -138,6 +141,11 @@ private:
   std::vector<std::unique_ptr<Env>> envs_;  // null where the env lives in a worker process
   int local_ = 0;                           // envs [0, local_) live in this process
   WorkerPool pool_;
+  // step_shared: per worker, the next env of its block that no worker has started.
+  struct alignas(64) NextEnv {
+    std::atomic<int> index{0};
+  };
+  std::unique_ptr<NextEnv[]> next_env_;
   std::vector<std::unique_ptr<EnvProcess>> processes_;  // the blocks after the local one, in order
   std::vector<int> process_first_;                      // first env of each
   ObservationBatch batch_;
