@@ -207,9 +207,8 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   if (actions.size() != envs_.size() || active.size() != envs_.size())
     throw Error("VecEnv::step: one action and one active flag per env expected");
   for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
-  const bool movable = std::all_of(envs_.begin(), envs_.begin() + local_,
-                                   [](const std::unique_ptr<Env>& e) { return e->steps_on_any_thread(); });
-  if (processes_.empty() && movable && pool_.size() > 1) {
+  const auto movable = [](const std::unique_ptr<Env>& e) { return e->steps_on_any_thread(); };
+  if (processes_.empty() && pool_.size() > 1 && std::all_of(envs_.begin(), envs_.end(), movable)) {
     step_shared(actions, active);
   } else if (processes_.empty()) {
     // The workers only read `active` and write their own envs' results.
