@@ -1,19 +1,15 @@
 #include "rdsim/nn/conv.hpp"
 
 #include <algorithm>
-#include <exception>
-#include <vector>
 #include <type_traits>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/nn/gemm.hpp"
 #include "rdsim/nn/init.hpp"
+#include "conv_onednn.hpp"
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-// Convolution as a matrix product: every output pixel's receptive field is copied into one
+// Eigen's backend computes a convolution as a matrix product (oneDNN's backend runs oneDNN's own
+// convolution kernels instead: src/nn/conv_onednn.cpp): every output pixel's receptive field is copied into one
 // column of a patch matrix ("im2col"), then one GEMM per chunk of samples computes all output
 // channels of all those pixels. With HWC images a patch row (one kernel row, all channels) is
 // a contiguous run of the input, so im2col is a handful of memcpy's per output pixel, and the
@@ -158,45 +154,6 @@ void check_rows(const char* what, Eigen::Index rows, int expected) {
                 std::to_string(expected));
 }
 
-// How many parts the batch splits into (nn::batch_parts), with a patch buffer for each.
-int prepare_parts(const Conv2d& conv, ConvWorkspace& ws, Eigen::Index batch) {
-  const double macs = static_cast<double>(conv.spec.out_channels) * conv.patch_size() * conv.output.height *
-                      conv.output.width * static_cast<double>(batch);
-  const int parts = static_cast<int>(std::min<Eigen::Index>(batch_parts(macs), batch));
-  if (static_cast<int>(ws.patches.size()) < parts) ws.patches.resize(static_cast<std::size_t>(parts));
-  return parts;
-}
-
-// Runs fn(part, first, end) on the samples [first, end) of each of `parts` contiguous parts of
-// the batch, each part on a thread of OpenMP's (the threads oneDNN's products use, so no other
-// thread spins beside them) with one-threaded products. The first error (lowest part) is rethrown
-// once every part has ended. Without OpenMP (a build without oneDNN) parts is always 1.
-template <class Fn>
-void run_parts(Eigen::Index batch, int parts, Fn fn) {
-  if (parts <= 1) {
-    fn(0, Eigen::Index{0}, batch);
-    return;
-  }
-  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(parts));
-  auto part = [&](int p) {
-    try {
-      OneThreadedGemm one_thread;
-      fn(p, p * batch / parts, (p + 1) * batch / parts);
-    } catch (...) {
-      errors[static_cast<std::size_t>(p)] = std::current_exception();
-    }
-  };
-#ifdef _OPENMP
-  // A team smaller than asked for (the runtime's limits) takes the parts in turn.
-#pragma omp parallel num_threads(parts)
-  for (int p = omp_get_thread_num(); p < parts; p += omp_get_num_threads()) part(p);
-#else
-  for (int p = 0; p < parts; ++p) part(p);
-#endif
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
-}
-
 }  // namespace
 
 void Conv2d::forward(const Eigen::MatrixXf& x, Eigen::MatrixXf& y, ConvWorkspace& ws) const {
@@ -204,19 +161,18 @@ void Conv2d::forward(const Eigen::MatrixXf& x, Eigen::MatrixXf& y, ConvWorkspace
   const Eigen::Index batch = x.cols();
   y.resize(out_size(), batch);
   if (batch == 0) return;
+  if (gemm_backend() == GemmBackend::OneDnn) return onednn_conv::forward(*this, x, y, ws.kernels);
   const int pixels = output.height * output.width;
-  run_parts(batch, prepare_parts(*this, ws, batch), [&](int part, Eigen::Index first, Eigen::Index end) {
-    const int chunk = chunk_samples(*this, ws, end - first);
-    float* buffer = patch_buffer(*this, ws.patches[static_cast<std::size_t>(part)], static_cast<Eigen::Index>(chunk) * pixels);
-    for (Eigen::Index s0 = first; s0 < end; s0 += chunk) {
-      const int count = static_cast<int>(std::min<Eigen::Index>(chunk, end - s0));
-      transfer_patches<Direction::Gather>(*this, x.col(s0).data(), count, buffer);
-      const Eigen::Map<const Eigen::MatrixXf> patches(buffer, patch_size(), static_cast<Eigen::Index>(count) * pixels);
-      Eigen::Map<Eigen::MatrixXf> out(y.col(s0).data(), spec.out_channels, static_cast<Eigen::Index>(count) * pixels);
-      matmul(weight.value, Op::None, patches, Op::None, out);
-      out.colwise() += bias.value.col(0);
-    }
-  });
+  const int chunk = chunk_samples(*this, ws, batch);
+  float* buffer = patch_buffer(*this, ws.patches, static_cast<Eigen::Index>(chunk) * pixels);
+  for (Eigen::Index s0 = 0; s0 < batch; s0 += chunk) {
+    const int count = static_cast<int>(std::min<Eigen::Index>(chunk, batch - s0));
+    transfer_patches<Direction::Gather>(*this, x.col(s0).data(), count, buffer);
+    const Eigen::Map<const Eigen::MatrixXf> patches(buffer, patch_size(), static_cast<Eigen::Index>(count) * pixels);
+    Eigen::Map<Eigen::MatrixXf> out(y.col(s0).data(), spec.out_channels, static_cast<Eigen::Index>(count) * pixels);
+    matmul(weight.value, Op::None, patches, Op::None, out);
+    out.colwise() += bias.value.col(0);
+  }
 }
 
 void Conv2d::backward(const Eigen::MatrixXf& x, const Eigen::MatrixXf& grad_y, Eigen::MatrixXf* grad_x,
@@ -225,43 +181,28 @@ void Conv2d::backward(const Eigen::MatrixXf& x, const Eigen::MatrixXf& grad_y, E
   check_rows("output gradient", grad_y.rows(), out_size());
   if (grad_y.cols() != x.cols()) throw Error("nn::Conv2d: output gradient and input batch sizes differ");
   const Eigen::Index batch = x.cols();
+  if (gemm_backend() == GemmBackend::OneDnn) {
+    if (grad_x) grad_x->resize(in_size(), batch);  // oneDNN writes every entry
+    if (batch > 0) onednn_conv::backward(*this, x, grad_y, grad_x, ws.kernels);
+    return;
+  }
   if (grad_x) grad_x->setZero(in_size(), batch);
   if (batch == 0) return;
   const int pixels = output.height * output.width;
-  const int parts = prepare_parts(*this, ws, batch);
-  // Part 0 adds into the layer's gradients as one part always did; the others into their own.
-  if (static_cast<int>(ws.weight_grads.size()) < parts - 1) {
-    ws.weight_grads.resize(static_cast<std::size_t>(parts - 1));
-    ws.bias_grads.resize(static_cast<std::size_t>(parts - 1));
-  }
-  run_parts(batch, parts, [&](int part, Eigen::Index first, Eigen::Index end) {
-    Eigen::MatrixXf* weight_grad = &weight.grad;
-    Eigen::MatrixXf* bias_grad = &bias.grad;
-    if (part > 0) {
-      weight_grad = &ws.weight_grads[static_cast<std::size_t>(part - 1)];
-      bias_grad = &ws.bias_grads[static_cast<std::size_t>(part - 1)];
-      weight_grad->setZero(weight.grad.rows(), weight.grad.cols());
-      bias_grad->setZero(bias.grad.rows(), bias.grad.cols());
+  const int chunk = chunk_samples(*this, ws, batch);
+  float* buffer = patch_buffer(*this, ws.patches, static_cast<Eigen::Index>(chunk) * pixels);
+  for (Eigen::Index s0 = 0; s0 < batch; s0 += chunk) {
+    const int count = static_cast<int>(std::min<Eigen::Index>(chunk, batch - s0));
+    const Eigen::Index columns = static_cast<Eigen::Index>(count) * pixels;
+    transfer_patches<Direction::Gather>(*this, x.col(s0).data(), count, buffer);
+    Eigen::Map<Eigen::MatrixXf> patches(buffer, patch_size(), columns);
+    const Eigen::Map<const Eigen::MatrixXf> g(grad_y.col(s0).data(), spec.out_channels, columns);
+    matmul(g, Op::None, patches, Op::Transpose, weight.grad, true);
+    bias.grad.col(0) += g.rowwise().sum();
+    if (grad_x) {
+      matmul(weight.value, Op::Transpose, g, Op::None, patches);
+      transfer_patches<Direction::Scatter>(*this, grad_x->col(s0).data(), count, buffer);
     }
-    const int chunk = chunk_samples(*this, ws, end - first);
-    float* buffer = patch_buffer(*this, ws.patches[static_cast<std::size_t>(part)], static_cast<Eigen::Index>(chunk) * pixels);
-    for (Eigen::Index s0 = first; s0 < end; s0 += chunk) {
-      const int count = static_cast<int>(std::min<Eigen::Index>(chunk, end - s0));
-      const Eigen::Index columns = static_cast<Eigen::Index>(count) * pixels;
-      transfer_patches<Direction::Gather>(*this, x.col(s0).data(), count, buffer);
-      Eigen::Map<Eigen::MatrixXf> patches(buffer, patch_size(), columns);
-      const Eigen::Map<const Eigen::MatrixXf> g(grad_y.col(s0).data(), spec.out_channels, columns);
-      matmul(g, Op::None, patches, Op::Transpose, *weight_grad, true);
-      bias_grad->col(0) += g.rowwise().sum();
-      if (grad_x) {
-        matmul(weight.value, Op::Transpose, g, Op::None, patches);
-        transfer_patches<Direction::Scatter>(*this, grad_x->col(s0).data(), count, buffer);
-      }
-    }
-  });
-  for (int p = 1; p < parts; ++p) {
-    weight.grad += ws.weight_grads[static_cast<std::size_t>(p - 1)];
-    bias.grad += ws.bias_grads[static_cast<std::size_t>(p - 1)];
   }
 }
 

@@ -38,9 +38,6 @@ std::atomic<int>& thread_count() {
   return count;
 }
 
-// Set on a thread that runs one part of a batch (OneThreadedGemm).
-thread_local bool one_threaded = false;
-
 // Multiply-adds below which a product, or a batch split over threads, stays on one thread: its
 // work is shorter than what waking and joining a second thread costs (e.g. 256 x 256 x 128).
 constexpr double kMinParallelMacs = 1 << 23;
@@ -71,7 +68,7 @@ void onednn_matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Ei
   // Small products stay on one thread: their work is shorter than what waking and joining a
   // second thread costs (the conv layers' per-chunk products, the small MLPs' layers).
   const bool large = static_cast<double>(m) * static_cast<double>(n) * static_cast<double>(k) >= kMinParallelMacs;
-  const int threads = large && !one_threaded ? thread_count().load(std::memory_order_relaxed) : 1;
+  const int threads = large ? thread_count().load(std::memory_order_relaxed) : 1;
   if (omp_get_max_threads() != threads) omp_set_num_threads(threads);
   const dnnl_status_t status =
       dnnl_sgemm(op_b == Op::Transpose ? 'T' : 'N', op_a == Op::Transpose ? 'T' : 'N', n, m,
@@ -111,14 +108,6 @@ void set_gemm_threads(int threads) {
 }
 
 int gemm_threads() { return thread_count().load(std::memory_order_relaxed); }
-
-int batch_parts(double macs) {
-  if (gemm_backend() != GemmBackend::OneDnn || one_threaded || macs < kMinParallelMacs) return 1;
-  return gemm_threads();
-}
-
-OneThreadedGemm::OneThreadedGemm() : saved_(one_threaded) { one_threaded = true; }
-OneThreadedGemm::~OneThreadedGemm() { one_threaded = saved_; }
 
 void matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b, Op op_b,
             Eigen::Ref<Eigen::MatrixXf> c, bool accumulate) {

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,19 +37,34 @@ struct ConvSpec {
 // rdsim::Error naming `where` when a size is not positive or the kernel does not fit.
 ImageShape conv_output_shape(const ImageShape& input, const ConvSpec& spec, const std::string& where);
 
-// Scratch memory of the convolution kernels (the im2col patch matrix), shared by all layers
-// of a network. It only grows, so nothing allocates after the first batch of a given size.
-// Keep one per use (training, inference, const evaluation each get their own).
+// oneDNN's convolution kernels of the layers a workspace has run, made on first use for each
+// layer and part size (src/nn/conv_onednn.cpp). A copy starts empty: kernels hold buffers that
+// two networks must not share.
+class ConvKernels {
+public:
+  struct Cache;
+  ConvKernels();
+  ~ConvKernels();
+  ConvKernels(const ConvKernels&);
+  ConvKernels& operator=(const ConvKernels&);
+  Cache& cache();
+
+private:
+  std::unique_ptr<Cache> cache_;
+};
+
+// Scratch memory of the convolutions, shared by all layers of a network. It only grows, so
+// nothing allocates after the first batch of a given size. Keep one per use (training,
+// inference, const evaluation each get their own).
 struct ConvWorkspace {
-  // One patch buffer per part of the batch (nn::batch_parts: one unless oneDNN runs on several
-  // threads), and per part beyond the first the weight and bias gradients of its samples, added
-  // to the layer's in part order (the same sums for a given thread count).
-  std::vector<Eigen::VectorXf> patches;
-  std::vector<Eigen::MatrixXf> weight_grads, bias_grads;
+  // Eigen's backend: the im2col patch matrix of one chunk of samples.
+  Eigen::VectorXf patches;
   // Samples are processed in chunks whose patch matrix holds at most this many floats
   // (always at least one sample per chunk): bounds memory for big images and keeps the patch
   // matrix in cache. See src/nn/conv.cpp for the measurement behind the default.
   long long max_patch_floats = 1 << 17;
+  // oneDNN's backend: its convolution kernels.
+  ConvKernels kernels;
 };
 
 // y = W * im2col(x) + b. Weight is out_channels x (kernel * kernel * in_channels); its column

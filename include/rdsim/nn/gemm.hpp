@@ -31,24 +31,6 @@ const char* to_string(GemmBackend backend);
 void set_gemm_threads(int threads);
 int gemm_threads();
 
-// How many parts a layer splits a batch of `macs` multiply-adds into, each on a thread of its
-// own with one-threaded products: gemm_threads() on oneDNN when the work is large enough to pay
-// for starting the threads, else 1 (so Eigen's products, and training, always run on one thread).
-int batch_parts(double macs);
-
-// Within its scope this thread's oneDNN products run on one thread: for a part of a batch that
-// a layer already runs beside the others (batch_parts).
-class OneThreadedGemm {
-public:
-  OneThreadedGemm();
-  ~OneThreadedGemm();
-  OneThreadedGemm(const OneThreadedGemm&) = delete;
-  OneThreadedGemm& operator=(const OneThreadedGemm&) = delete;
-
-private:
-  bool saved_;
-};
-
 enum class Op { None, Transpose };
 
 // c = op(a) op(b) (accumulate false; c must already have its shape) or c += op(a) op(b).
