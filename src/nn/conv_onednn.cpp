@@ -1,17 +1,16 @@
 #include "conv_onednn.hpp"
 
 #include <algorithm>
-#include <exception>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/nn/gemm.hpp"
+
+#include "batch_parts.hpp"
 
 #ifdef RDSIM_HAVE_ONEDNN
-#include <omp.h>
-
 #include <oneapi/dnnl/dnnl.hpp>
 #endif
 
@@ -22,10 +21,9 @@
 // (oneDNN then falls back to its own im2col + GEMM). So the weights are reordered to and from
 // the kernels' layout on every call (16 x 192 floats in the first layer: microseconds).
 //
-// Threads without changing the arithmetic: a large batch is cut into a fixed number of parts
-// (by its work, never by the thread count), every part runs one-threaded kernels, and the
-// parts' weight gradients are added in part order. Parts run side by side on oneDNN's OpenMP
-// threads (nn::gemm_threads()), so a layer gives the same bits on one thread or on several.
+// Threads without changing the arithmetic (src/nn/batch_parts.hpp): a large batch is cut into
+// parts by its work, every part runs one-threaded kernels, and the parts' weight gradients are
+// added in part order, so a layer gives the same bits on one thread or on several.
 namespace rdsim::nn {
 
 #ifdef RDSIM_HAVE_ONEDNN
@@ -34,12 +32,6 @@ namespace {
 using dnnl::memory;
 using Tag = memory::format_tag;
 constexpr auto kF32 = memory::data_type::f32;
-
-// Work (multiply-adds) of one part, and at most this many parts: 2^23 is where a second thread
-// pays for its start (nn/gemm.cpp); 8 parts keep 8 threads busy and, at batch 256, 32 samples
-// per part, where the kernels run as fast per sample as on the whole batch.
-constexpr double kPartMacs = 1 << 23;
-constexpr int kMaxParts = 8;
 
 dnnl::engine& cpu_engine() {
   static dnnl::engine engine(dnnl::engine::kind::cpu, 0);
@@ -91,12 +83,6 @@ struct ConvKernels::Cache {
 
 namespace {
 
-// Kernels made and run with one thread: their arithmetic then cannot depend on how many threads
-// OpenMP has (oneDNN sizes a kernel's work split at creation from omp_get_max_threads()).
-void one_thread() {
-  if (omp_get_max_threads() != 1) omp_set_num_threads(1);
-}
-
 memory::desc weights_desc(const Conv2d& conv) {
   // rdsim's weight (out x (ky, kx, c), column-major) is oneDNN's "hwio": o innermost.
   return memory::desc({conv.spec.out_channels, conv.input.channels, conv.spec.kernel, conv.spec.kernel}, kF32, Tag::hwio);
@@ -135,24 +121,23 @@ PartKernels& kernels_for(const Conv2d& conv, Eigen::Index samples, ConvKernels::
   return *cache.kernels.back();
 }
 
-// The batch's parts: how many (from the work alone) and the kernels of each part's size.
+// The batch's parts (batch_parts::count of the layer's work).
 struct Parts {
   int count = 1;
   Eigen::Index batch = 0;
-  Eigen::Index first(int p) const { return p * batch / count; }
+  Eigen::Index first(int p) const { return batch_parts::first(p, count, batch); }
   Eigen::Index size(int p) const { return first(p + 1) - first(p); }
 };
 
 Parts split(const Conv2d& conv, Eigen::Index batch) {
   const double macs = static_cast<double>(conv.spec.out_channels) * conv.patch_size() * conv.output.height *
                       conv.output.width * static_cast<double>(batch);
-  const auto count = std::min<Eigen::Index>({static_cast<Eigen::Index>(macs / kPartMacs), kMaxParts, batch});
-  return {static_cast<int>(std::max<Eigen::Index>(count, 1)), batch};
+  return {batch_parts::count(macs, batch), batch};
 }
 
 // Every part's kernels (two sizes at most), their weights refreshed from the layer's.
 std::vector<PartKernels*> prepare(const Conv2d& conv, const Parts& parts, ConvKernels::Cache& cache, bool data) {
-  one_thread();
+  batch_parts::one_thread();  // kernels made one-threaded: see batch_parts.hpp
   // The cache keeps the most recent kernels: a network sees a handful of batch sizes (rollout,
   // minibatch, evaluation), one layer at a time.
   constexpr std::size_t kKeep = 32;
@@ -172,34 +157,12 @@ std::vector<PartKernels*> prepare(const Conv2d& conv, const Parts& parts, ConvKe
   return kernels;
 }
 
-// Runs fn(p) for every part, side by side on up to gemm_threads() OpenMP threads (oneDNN runs
-// its kernels one-threaded inside a parallel region). The first error (lowest part) is rethrown
-// once all parts have ended.
-template <class Fn>
-void run_parts(int count, Fn fn) {
-  const int threads = std::min(count, gemm_threads());
-  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(count));
-  auto part = [&](int p) {
-    try {
-      fn(p);
-    } catch (...) {
-      errors[static_cast<std::size_t>(p)] = std::current_exception();
-    }
-  };
-  if (threads <= 1) {
-    for (int p = 0; p < count; ++p) part(p);
-  } else {
-    // A team smaller than asked for (the runtime's limits) takes the parts in turn.
-#pragma omp parallel num_threads(threads)
-    for (int p = omp_get_thread_num(); p < count; p += omp_get_num_threads()) part(p);
-  }
-  for (auto& e : errors) {
-    if (!e) continue;
-    try {
-      std::rethrow_exception(e);
-    } catch (const dnnl::error& error) {
-      throw Error(std::string("nn::Conv2d: oneDNN's convolution failed: ") + error.what());
-    }
+// Runs fn(p) for every part (batch_parts::run), with oneDNN's errors as rdsim's.
+void run_parts(int count, const std::function<void(int)>& fn) {
+  try {
+    batch_parts::run(count, fn);
+  } catch (const dnnl::error& error) {
+    throw Error(std::string("nn::Conv2d: oneDNN's convolution failed: ") + error.what());
   }
 }
 

@@ -5,9 +5,10 @@
 
 #include "rdsim/core/error.hpp"
 
+#include "batch_parts.hpp"
+
 #ifdef RDSIM_HAVE_ONEDNN
 #include <oneapi/dnnl/dnnl.h>
-#include <omp.h>  // oneDNN's threads are OpenMP's (Debian builds it with the OpenMP runtime)
 #endif
 
 namespace rdsim::nn {
@@ -38,10 +39,6 @@ std::atomic<int>& thread_count() {
   return count;
 }
 
-// Multiply-adds below which a product, or a batch split over threads, stays on one thread: its
-// work is shorter than what waking and joining a second thread costs (e.g. 256 x 256 x 128).
-constexpr double kMinParallelMacs = 1 << 23;
-
 void eigen_matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b,
                   Op op_b, Eigen::Ref<Eigen::MatrixXf> c, bool accumulate) {
   // The expressions the networks always used, so that the Eigen backend keeps their arithmetic.
@@ -60,22 +57,32 @@ void eigen_matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eig
 }
 
 #ifdef RDSIM_HAVE_ONEDNN
-void onednn_matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b,
-                   Op op_b, Eigen::Ref<Eigen::MatrixXf> c, bool accumulate, Eigen::Index k) {
+// One-threaded sgemm (batch_parts::run makes oneDNN one-threaded).
+void onednn_sgemm(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b,
+                  Op op_b, Eigen::Ref<Eigen::MatrixXf> c, bool accumulate, Eigen::Index k) {
   // dnnl_sgemm is row-major; a column-major C (m x n) is the row-major C^T, and
   // C^T = op(B)^T op(A)^T: the same call with the operands swapped and their flags kept.
   const auto m = static_cast<dnnl_dim_t>(c.rows()), n = static_cast<dnnl_dim_t>(c.cols());
-  // Small products stay on one thread: their work is shorter than what waking and joining a
-  // second thread costs (the conv layers' per-chunk products, the small MLPs' layers).
-  const bool large = static_cast<double>(m) * static_cast<double>(n) * static_cast<double>(k) >= kMinParallelMacs;
-  const int threads = large ? thread_count().load(std::memory_order_relaxed) : 1;
-  if (omp_get_max_threads() != threads) omp_set_num_threads(threads);
   const dnnl_status_t status =
       dnnl_sgemm(op_b == Op::Transpose ? 'T' : 'N', op_a == Op::Transpose ? 'T' : 'N', n, m,
                  static_cast<dnnl_dim_t>(k), 1.0f, b.data(), static_cast<dnnl_dim_t>(b.outerStride()), a.data(),
                  static_cast<dnnl_dim_t>(a.outerStride()), accumulate ? 1.0f : 0.0f, c.data(),
                  static_cast<dnnl_dim_t>(c.outerStride()));
   if (status != dnnl_success) throw Error("nn::matmul: oneDNN's sgemm failed (status " + std::to_string(status) + ")");
+}
+
+// C's columns cut into parts (batch_parts: by the work, so the same bits on any thread count),
+// each part's columns op(A) op(B)[:, part] by a one-threaded sgemm.
+void onednn_matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b,
+                   Op op_b, Eigen::Ref<Eigen::MatrixXf> c, bool accumulate, Eigen::Index k) {
+  const Eigen::Index n = c.cols();
+  const int parts = batch_parts::count(static_cast<double>(c.rows()) * static_cast<double>(n) * static_cast<double>(k), n);
+  batch_parts::run(parts, [&](int p) {
+    const Eigen::Index first = batch_parts::first(p, parts, n), cols = batch_parts::first(p + 1, parts, n) - first;
+    // Columns [first, first + cols) of op(B): columns of B, or rows of B when transposed.
+    if (op_b == Op::Transpose) onednn_sgemm(a, op_a, b.middleRows(first, cols), op_b, c.middleCols(first, cols), accumulate, k);
+    else onednn_sgemm(a, op_a, b.middleCols(first, cols), op_b, c.middleCols(first, cols), accumulate, k);
+  });
 }
 #endif
 
@@ -108,6 +115,16 @@ void set_gemm_threads(int threads) {
 }
 
 int gemm_threads() { return thread_count().load(std::memory_order_relaxed); }
+
+GemmScope::GemmScope(GemmBackend backend, int threads) : saved_backend_(gemm_backend()), saved_threads_(gemm_threads()) {
+  set_gemm_backend(backend);
+  set_gemm_threads(threads);
+}
+
+GemmScope::~GemmScope() {
+  set_gemm_backend(saved_backend_);
+  set_gemm_threads(saved_threads_);
+}
 
 void matmul(const Eigen::Ref<const Eigen::MatrixXf>& a, Op op_a, const Eigen::Ref<const Eigen::MatrixXf>& b, Op op_b,
             Eigen::Ref<Eigen::MatrixXf> c, bool accumulate) {

@@ -1,6 +1,7 @@
 #include "rdsim/training/train_config.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <thread>
 #include <nlohmann/json.hpp>
@@ -9,6 +10,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/json_text.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/nn/gemm.hpp"
 #include "rdsim/vecenv/worker_pool.hpp"
 
 namespace rdsim {
@@ -147,6 +149,16 @@ EnvWorkers resolve_env_workers(const TrainConfig& c) {
     throw Error("env_workers: \"processes\" needs \"renderer\": \"osmesa\" (a GPU context does not survive fork); "
                 "use \"threads\" or \"auto\"");
   return c.env_workers == "processes" ? EnvWorkers::processes : EnvWorkers::threads;
+}
+
+nn::GemmBackend resolve_gemm(TrainConfig& c) {
+  const char* variable = std::getenv("RDSIM_GEMM");
+  if (variable && *variable) {
+    const nn::GemmBackend backend = nn::gemm_backend_from_string(variable, "environment variable RDSIM_GEMM");
+    c.gemm = variable;
+    return backend;
+  }
+  return nn::gemm_backend_from_string(c.gemm, (c.source.empty() ? std::string("config") : c.source) + ": gemm");
 }
 
 void upgrade_v1_config(nlohmann::json& config) {

@@ -16,6 +16,7 @@
 #include "rdsim/core/files.hpp"
 #include "rdsim/core/run_files.hpp"
 #include "rdsim/dashboard/dashboard_server.hpp"
+#include "rdsim/nn/gemm.hpp"
 #include "rdsim/tensorboard/event_writer.hpp"
 #include "rdsim/training/checkpoint.hpp"
 #include "rdsim/training/data_parallel.hpp"
@@ -111,6 +112,7 @@ struct Trainer::Run {
   RunStart start;
   bool resume = false;
   std::unique_ptr<VecEnv> vec;
+  std::optional<nn::GemmScope> gemm;  // the learner's backend and threads while the run lasts
   std::unique_ptr<Algorithm> algo;
   std::unique_ptr<RunEpisodes> run_episodes;
   TrainerState state;
@@ -221,8 +223,12 @@ void Trainer::start() {
 
   const std::uint64_t seed = rank_seed(config.seed, comm.rank());
   on_every_rank(comm, [&] {  // an env or algorithm that refuses the config: one message
+    const nn::GemmBackend backend = resolve_gemm(config);
     r.vec = std::make_unique<VecEnv>(open_envs(config), seed, config.stats_window,
                                      resolve_num_threads(config, comm.local_size()), resolve_env_workers(config));
+    // The env workers wait while the learner updates, so it may use as many threads (the results
+    // do not depend on it: nn/gemm.hpp).
+    r.gemm.emplace(backend, r.vec->num_threads());
     r.algo = make_algorithm(config.algorithm, seed, r.vec->spec());
   });
   r.algo->set_communicator(comm);

@@ -74,6 +74,31 @@ TEST_CASE("matmul computes op(A) op(B), overwriting or accumulating, on every ba
   }
 }
 
+TEST_CASE("oneDNN's products of a large batch give the same bits on 1, 2 and 3 threads", "[nn]") {
+  if (!nn::onednn_available()) return;  // this build has only the eigen backend
+  BackendScope scope;
+  nn::set_gemm_backend(nn::GemmBackend::OneDnn);
+  Rng rng(5);
+  const int m = 300, k = 257, n = 301;  // 23M multiply-adds: cut into parts of uneven sizes
+  for (const nn::Op oa : {nn::Op::None, nn::Op::Transpose})
+    for (const nn::Op ob : {nn::Op::None, nn::Op::Transpose}) {
+      INFO("transposes " << (oa == nn::Op::Transpose) << (ob == nn::Op::Transpose));
+      const MatrixXf a = oa == nn::Op::None ? random_matrix(m, k, rng) : random_matrix(k, m, rng);
+      const MatrixXf b = ob == nn::Op::None ? random_matrix(k, n, rng) : random_matrix(n, k, rng);
+      const MatrixXf c0 = random_matrix(m, n, rng);
+      std::vector<MatrixXf> results;
+      for (const int threads : {1, 2, 3}) {
+        nn::set_gemm_threads(threads);
+        MatrixXf c = c0;
+        nn::matmul(a, oa, b, ob, c, true);
+        results.push_back(c);
+      }
+      CHECK(relative_difference(results[0].cast<double>(), op(a, oa) * op(b, ob) + c0.cast<double>()) < 1e-5);
+      CHECK(results[1] == results[0]);
+      CHECK(results[2] == results[0]);
+    }
+}
+
 TEST_CASE("matmul works on column blocks of bigger matrices and on empty products", "[nn]") {
   BackendScope scope;
   Rng rng(4);

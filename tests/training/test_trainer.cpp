@@ -7,6 +7,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/run_files.hpp"
+#include "rdsim/nn/gemm.hpp"
 #include "rdsim/training/model_file.hpp"
 #include "rdsim/training/trainer.hpp"
 #include "../app/rl_test_util.hpp"
@@ -110,4 +111,34 @@ TEST_CASE("request_stop saves a checkpoint from which a resumed Trainer matches 
   CHECK(rltest::drop_columns(rltest::slurp(dir / "part/episodes.csv"), 1) ==
         rltest::drop_columns(rltest::slurp(dir / "full/episodes.csv"), 1));
   CHECK((rdsim::read_model_file(dir / "part/model.bin").payload == rdsim::read_model_file(dir / "full/model.bin").payload));
+}
+
+TEST_CASE("a run on oneDNN's products gives the same CSVs on 1 and 2 threads and restores the backend", "[trainer]") {
+  if (!rdsim::nn::onednn_available()) return;  // this build has only Eigen's products
+  rltest::ScratchDir dir("trainer_onednn");
+  const rdsim::nn::GemmBackend before = rdsim::nn::gemm_backend();
+  const int threads_before = rdsim::nn::gemm_threads();
+  for (const int threads : {1, 2}) {
+    nlohmann::json config = short_ppo(dir / ("threads" + std::to_string(threads)));
+    // Layers of 512: their products are cut into parts (nn/gemm.hpp) that 2 threads run side by side.
+    config["network"]["hidden_sizes"] = {512, 512};
+    config["ppo"]["batch_size"] = 256;
+    config["gemm"] = "onednn";
+    config["num_threads"] = threads;
+    config["total_timesteps"] = 1024;
+    Trainer trainer(quiet_settings(config));
+    trainer.start();
+    CHECK(rdsim::nn::gemm_backend() == rdsim::nn::GemmBackend::OneDnn);
+    CHECK(rdsim::nn::gemm_threads() == threads);
+    while (trainer.update()) {
+    }
+    trainer.finish();
+  }
+  CHECK(rdsim::nn::gemm_backend() == before);
+  CHECK(rdsim::nn::gemm_threads() == threads_before);
+  CHECK(rltest::drop_columns(rltest::slurp(dir / "threads1/progress.csv"), 2) ==
+        rltest::drop_columns(rltest::slurp(dir / "threads2/progress.csv"), 2));
+  CHECK(rltest::drop_columns(rltest::slurp(dir / "threads1/episodes.csv"), 1) ==
+        rltest::drop_columns(rltest::slurp(dir / "threads2/episodes.csv"), 1));
+  CHECK(rltest::slurp(dir / "threads1/config.json").find("\"gemm\": \"onednn\"") != std::string::npos);
 }

@@ -6,10 +6,10 @@
 // C += op(A) op(B), float32, column-major. Two backends compute it:
 //   Eigen:  Eigen's own GEMM, the arithmetic rdsim always had.
 //   oneDNN: dnnl_sgemm of oneDNN (Debian libdnnl-dev), JIT kernels for the CPU it runs on; about
-//           1.3-3x Eigen's speed on the networks' shapes, and it can use several threads. Its
-//           summation order differs from Eigen's, so results differ in the last bits (and so do
-//           training CSVs against an Eigen build; the same build, backend and thread count still
-//           give the same CSV).
+//           1.3-3x Eigen's speed on the networks' shapes, and it can use several threads (with
+//           the same results on any count). Its summation order differs from Eigen's, so results
+//           differ in the last bits (and so do training CSVs against an Eigen build; the same
+//           build, backend and seed still give the same CSV).
 // The default is Eigen (the arithmetic of every published learning result); oneDNN where the build
 // has it (CMake RDSIM_ONEDNN) on request: the environment variable RDSIM_GEMM=eigen|onednn chooses
 // at start, set_gemm_backend() at run time.
@@ -26,10 +26,25 @@ void set_gemm_backend(GemmBackend backend);
 GemmBackend gemm_backend_from_string(const std::string& name, const std::string& where);
 const char* to_string(GemmBackend backend);
 
-// Threads of the oneDNN products (OpenMP; 1 by default so that the learner does not compete with
-// the env workers). Eigen's products always run on the calling thread.
+// Threads of the oneDNN backend's products and convolutions (OpenMP; 1 by default). A large one is
+// cut into parts by its work alone, and the parts run side by side on up to this many threads, so
+// results are the same bits on any thread count (src/nn/batch_parts.hpp). Eigen's products always
+// run on the calling thread.
 void set_gemm_threads(int threads);
 int gemm_threads();
+
+// Sets the backend and thread count for its lifetime, then restores the ones before.
+class GemmScope {
+public:
+  GemmScope(GemmBackend backend, int threads);
+  ~GemmScope();
+  GemmScope(const GemmScope&) = delete;
+  GemmScope& operator=(const GemmScope&) = delete;
+
+private:
+  GemmBackend saved_backend_;
+  int saved_threads_;
+};
 
 enum class Op { None, Transpose };
 

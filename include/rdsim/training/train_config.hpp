@@ -32,6 +32,7 @@ struct TrainConfig {
   int stats_window = 20;
   int num_threads = 0;  // 0: resolved by resolve_num_threads()
   std::string env_workers = "auto";  // resolved by resolve_env_workers()
+  std::string gemm = "eigen";        // the learner's arithmetic (nn/gemm.hpp); RDSIM_GEMM overrides
   int sync_check_interval = 10;
 };
 
@@ -60,6 +61,11 @@ void describe(V& v, C& c) {
            "each stepping its share of the envs; for pixel envs, whose drawing Mesa serialises within a "
            "process); auto = processes for pixel observations drawn by osmesa, threads otherwise and for a remote env. "
            "Results do not depend on it");
+  v.choice("gemm", c.gemm, {"eigen", "onednn"},
+           "the networks' matrix products and convolutions: eigen (Eigen's, on one thread) or onednn (oneDNN's "
+           "kernels, in builds with libdnnl-dev: faster, and during updates on num_threads threads with the same "
+           "results on any count). The two round differently, so a seed's CSVs differ between them. The "
+           "environment variable RDSIM_GEMM overrides it");
   v.field("sync_check_interval", c.sync_check_interval, config::Range{0, 1'000'000},
           "MPI runs: updates between comparisons of a hash of the weights across ranks; 0 = at the end only");
 }
@@ -74,6 +80,15 @@ enum class EnvWorkers;  // rdsim/vecenv/vec_env.hpp
 // The run's `env_workers`: "auto" is auto_env_workers(config.env), and threads for a remote env
 // (its connection does not survive fork); rdsim::Error for "processes" with a remote env.
 EnvWorkers resolve_env_workers(const TrainConfig& config);
+
+namespace nn {
+enum class GemmBackend;  // rdsim/nn/gemm.hpp
+}
+
+// The run's learner arithmetic: the environment variable RDSIM_GEMM where set (written into
+// config.gemm, so that the run's config.json records it), else config.gemm. rdsim::Error for
+// "onednn" in a build without oneDNN, naming the config key or the variable.
+nn::GemmBackend resolve_gemm(TrainConfig& config);
 
 // A run setting given on the command line instead of the config file ("--seed 4" sets "seed").
 // It is read with the config file's rules (type, range; read_train_config) and errors name the
