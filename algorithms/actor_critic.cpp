@@ -124,7 +124,7 @@ Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
 const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& raw, const Eigen::MatrixXf& actions) {
   const Eigen::MatrixXf& obs = scaled_input(raw, input_scale_, eval_input_);
   if (trunk_) {
-    trunk_pre_ = trunk_->forward(obs);
+    trunk_pre_ = trunk_->forward_borrowing(obs);  // obs lives until backward(): the header's contract
     activate(trunk_pre_, activation_, features_);
   }
   const Eigen::MatrixXf& f = trunk_ ? features_ : obs;

@@ -48,6 +48,14 @@ void Cnn::run_convs(const Eigen::MatrixXf& x, std::vector<Eigen::MatrixXf>& acts
 const Eigen::MatrixXf& Cnn::forward(const Eigen::MatrixXf& x) {
   run_convs(x, train_acts_, train_ws_);
   train_input_ = x;
+  borrowed_ = nullptr;
+  has_forward_ = true;
+  return head_.forward(convs_.empty() ? x : train_acts_.back());
+}
+
+const Eigen::MatrixXf& Cnn::forward_borrowing(const Eigen::MatrixXf& x) {
+  run_convs(x, train_acts_, train_ws_);
+  borrowed_ = &x;
   has_forward_ = true;
   return head_.forward(convs_.empty() ? x : train_acts_.back());
 }
@@ -67,16 +75,20 @@ Eigen::MatrixXf Cnn::evaluate(const Eigen::MatrixXf& x) const {
 Eigen::MatrixXf Cnn::backward(const Eigen::MatrixXf& grad_output, bool need_input_grad) {
   if (!has_forward_) throw Error("nn::Cnn: backward() called before forward()");
   // The head checks grad_output against its last forward() batch.
-  grad_a_ = head_.backward(grad_output, need_input_grad || !convs_.empty());
+  Eigen::MatrixXf head_grad = head_.backward(grad_output, need_input_grad || !convs_.empty());
+  if (convs_.empty()) return head_grad;
+  // One gradient buffer per conv output, kept between calls: batches of images are megabytes, and
+  // a buffer that changes size on every call costs page faults on every call.
+  conv_grads_.resize(convs_.size());
+  conv_grads_.back().swap(head_grad);
   for (size_t k = convs_.size(); k-- > 0;) {
-    activation_backward(grad_a_, train_acts_[k], shape_.activation);
-    const Eigen::MatrixXf& in = k == 0 ? train_input_ : train_acts_[k - 1];
-    const bool input_grad = k > 0 || need_input_grad;
-    convs_[k].backward(in, grad_a_, input_grad ? &grad_b_ : nullptr, train_ws_);
-    grad_a_.swap(grad_b_);
+    activation_backward(conv_grads_[k], train_acts_[k], shape_.activation);
+    const Eigen::MatrixXf& in = k > 0 ? train_acts_[k - 1] : borrowed_ ? *borrowed_ : train_input_;
+    Eigen::MatrixXf* grad_in = k > 0 ? &conv_grads_[k - 1] : need_input_grad ? &input_grad_ : nullptr;
+    convs_[k].backward(in, conv_grads_[k], grad_in, train_ws_);
   }
   if (!need_input_grad) return {};
-  return grad_a_;
+  return input_grad_;
 }
 
 void Cnn::set_max_patch_floats(long long floats) {

@@ -53,7 +53,8 @@ public:
   void act(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, ActBatch& out);
   Eigen::VectorXf predict_values(const Eigen::MatrixXf& obs);
 
-  // Training: forward over (obs, actions) keeping what backward() needs.
+  // Training: forward over (obs, actions) keeping what backward() needs. obs must stay alive and
+  // unchanged until backward(): a CNN trunk keeps a reference to it, not a copy.
   const PolicyEval& evaluate(const Eigen::MatrixXf& obs, const Eigen::MatrixXf& actions);
   // Accumulates parameter gradients of a loss given its derivatives w.r.t. each sample's
   // log_prob, entropy and value of the last evaluate().

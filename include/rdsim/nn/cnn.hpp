@@ -55,6 +55,7 @@ public:
   // nn::Network. params(): "conv<i>.weight", "conv<i>.bias" for each conv layer, then the head's
   // parameters prefixed "head." ("head.layer0.weight", ...).
   const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) override;
+  const Eigen::MatrixXf& forward_borrowing(const Eigen::MatrixXf& x) override;
   const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) override;
   Eigen::MatrixXf evaluate(const Eigen::MatrixXf& x) const override;
   Eigen::MatrixXf backward(const Eigen::MatrixXf& grad_output, bool need_input_grad = true) override;
@@ -78,11 +79,13 @@ private:
   CnnShape shape_;
   std::vector<Conv2d> convs_;
   Mlp head_;
-  Eigen::MatrixXf train_input_;
+  Eigen::MatrixXf train_input_;               // forward()'s copy of its input
+  const Eigen::MatrixXf* borrowed_ = nullptr;  // forward_borrowing()'s input, else null
   std::vector<Eigen::MatrixXf> train_acts_, infer_acts_;
   bool has_forward_ = false;
   ConvWorkspace train_ws_, infer_ws_;
-  Eigen::MatrixXf grad_a_, grad_b_;  // backward scratch
+  std::vector<Eigen::MatrixXf> conv_grads_;  // backward: dLoss/d(output of conv i)
+  Eigen::MatrixXf input_grad_;
 };
 
 }  // namespace rdsim::nn

@@ -16,6 +16,10 @@ public:
   // The returned reference stays valid until the next forward().
   virtual const Eigen::MatrixXf& forward(const Eigen::MatrixXf& x) = 0;
 
+  // forward() for a caller that keeps x alive and unchanged until its backward(): the network may
+  // keep a reference to x instead of a copy (a Cnn's input, a batch of images, is megabytes).
+  virtual const Eigen::MatrixXf& forward_borrowing(const Eigen::MatrixXf& x) { return forward(x); }
+
   // Back-propagates dLoss/dOutput (output_size x batch) of the LAST forward() batch.
   // ACCUMULATES (+=) into the parameter gradients, so several losses can share a network.
   // Returns dLoss/dInput (input_size x batch), or an empty matrix when !need_input_grad (which
