@@ -13,8 +13,8 @@
 namespace rdsim::nn::batch_parts {
 
 namespace {
-constexpr double kPartMacs = 1 << 23;
-constexpr Eigen::Index kMaxParts = 8;
+constexpr double kPartMacs = 1 << 24;
+constexpr Eigen::Index kMaxParts = 4;
 }  // namespace
 
 int count(double macs, Eigen::Index columns) {
