@@ -15,6 +15,18 @@ namespace rdsim::nn::batch_parts {
 namespace {
 constexpr double kPartMacs = 1 << 24;
 constexpr Eigen::Index kMaxParts = 4;
+constexpr Eigen::Index kPartFloats = 1 << 16, kVector = 16;
+
+// Parts of an elementwise pass over `floats` floats in `units` units (floats, columns).
+int elementwise_parts(Eigen::Index floats, Eigen::Index units) {
+  return static_cast<int>(std::clamp<Eigen::Index>(std::min(floats / kPartFloats, units), 1, kMaxParts));
+}
+
+// The start of part p of n elements in `parts` parts, rounded down to a multiple of `vector`.
+Eigen::Index first_aligned(int p, int parts, Eigen::Index n, Eigen::Index vector) {
+  return p * n / parts / vector * vector;
+}
+
 }  // namespace
 
 int count(double macs, Eigen::Index columns) {
@@ -46,6 +58,19 @@ void run(int parts, const std::function<void(int)>& fn) {
 #endif
   for (auto& e : errors)
     if (e) std::rethrow_exception(e);
+}
+
+void for_elements(Eigen::Index n, const std::function<void(Eigen::Index, Eigen::Index)>& fn) {
+  const int parts = elementwise_parts(n, n);
+  if (parts == 1) return fn(0, n);
+  auto start = [&](int p) { return p == parts ? n : first_aligned(p, parts, n, kVector); };
+  run(parts, [&](int p) { fn(start(p), start(p + 1) - start(p)); });
+}
+
+void for_columns(Eigen::Index rows, Eigen::Index cols, const std::function<void(Eigen::Index, Eigen::Index)>& fn) {
+  const int parts = elementwise_parts(rows * cols, cols);
+  if (parts == 1) return fn(0, cols);
+  run(parts, [&](int p) { fn(first(p, parts, cols), first(p + 1, parts, cols) - first(p, parts, cols)); });
 }
 
 void one_thread() {

@@ -25,6 +25,15 @@ inline Eigen::Index first(int p, int parts, Eigen::Index columns) { return p * c
 // one-threaded either way. Rethrows the first error (lowest part) once every part has ended.
 void run(int parts, const std::function<void(int)>& fn);
 
+// An elementwise pass over n floats (an activation, an optimiser step) cut into parts: one per
+// 2^16 floats (about 30 us of a memory-bound pass), at most 4, and runs fn(first, size) for each
+// as run() does. Every part but the last is a multiple of 16 floats long and starts at one, so
+// each float takes the same vector or scalar path as in one pass over all of them: the same bits.
+void for_elements(Eigen::Index n, const std::function<void(Eigen::Index, Eigen::Index)>& fn);
+
+// The same for a pass over a rows x cols matrix column by column: parts of whole columns.
+void for_columns(Eigen::Index rows, Eigen::Index cols, const std::function<void(Eigen::Index, Eigen::Index)>& fn);
+
 // Makes oneDNN code called from this thread outside run() one-threaded; kernels must also be
 // created so, as oneDNN sizes a kernel's work split from the thread count at creation.
 void one_thread();

@@ -6,6 +6,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/nn/optimizer.hpp"
 #include "rdsim/nn/serialize.hpp"
+#include "../batch_parts.hpp"
 
 namespace rdsim::nn {
 
@@ -31,12 +32,15 @@ void Adam::step() {
   const float root_c2 = static_cast<float>(std::sqrt(correction2));
   const float eps = config_.eps;
   for (size_t i = 0; i < params_.size(); ++i) {
-    auto g = params_[i].grad->array();
-    auto m = m_[i].array();
-    auto v = v_[i].array();
-    m = b1 * m + (1.0f - b1) * g;
-    v = b2 * v + (1.0f - b2) * g.square();
-    params_[i].value->array() -= step_size * m / (v.sqrt() / root_c2 + eps);
+    // A large tensor in parts side by side, with the same bits as one pass (batch_parts.hpp).
+    batch_parts::for_elements(m_[i].size(), [&](Eigen::Index first, Eigen::Index n) {
+      const auto g = Eigen::Map<const Eigen::ArrayXf>(params_[i].grad->data() + first, n);
+      auto m = Eigen::Map<Eigen::ArrayXf>(m_[i].data() + first, n);
+      auto v = Eigen::Map<Eigen::ArrayXf>(v_[i].data() + first, n);
+      m = b1 * m + (1.0f - b1) * g;
+      v = b2 * v + (1.0f - b2) * g.square();
+      Eigen::Map<Eigen::ArrayXf>(params_[i].value->data() + first, n) -= step_size * m / (v.sqrt() / root_c2 + eps);
+    });
   }
 }
 
