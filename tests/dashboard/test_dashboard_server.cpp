@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <sys/stat.h>
 #include <thread>
@@ -373,6 +374,10 @@ TEST_CASE("dashboard: a progress.csv link flipped in and out of the root is neve
       if (k % 2) fs::create_symlink("../inside/progress.csv", tmp, ec);
       else fs::create_symlink(base / "secret" / "progress.csv", tmp, ec);
       fs::rename(tmp, root / "flip" / "progress.csv", ec);
+      // A pause between flips, longer on the inside link: on a loaded machine a flipper that never
+      // stops could change the link during every request, which the server then refuses, so none
+      // would ever be served.
+      std::this_thread::sleep_for(std::chrono::microseconds(k % 2 ? 200 : 20));
     }
   });
   int leaks = 0, served = 0;
