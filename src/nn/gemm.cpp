@@ -101,7 +101,8 @@ void set_gemm_backend(GemmBackend backend) {
 GemmBackend gemm_backend_from_string(const std::string& name, const std::string& where) {
   if (name == "eigen") return GemmBackend::Eigen;
   if (name == "onednn") {
-    if (!kHaveOneDnn) throw Error(where + ": \"onednn\": this rdsim was built without oneDNN; expected \"eigen\"");
+    if (!kHaveOneDnn)
+      throw Error(where + ": \"onednn\": this rdsim was built without oneDNN (Debian libdnnl-dev, then rebuild); expected \"eigen\"");
     return GemmBackend::OneDnn;
   }
   throw Error(where + ": expected one of \"eigen\", \"onednn\", got \"" + name + "\"");
