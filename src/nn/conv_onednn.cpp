@@ -202,8 +202,7 @@ void backward(Conv2d& conv, const Eigen::MatrixXf& x, const Eigen::MatrixXf& gra
     const PartKernels& pk = *k[static_cast<std::size_t>(p)];
     if (!scratch.weight_grad || scratch.weight_grad.get_desc() != pk.weights_pd.diff_weights_desc())
       scratch.weight_grad = memory(pk.weights_pd.diff_weights_desc(), cpu_engine());
-    if (!scratch.bias_grad) scratch.bias_grad = memory(pk.weights_pd.diff_bias_desc(), cpu_engine());
-    if (scratch.bias_grad.get_desc() != pk.weights_pd.diff_bias_desc())
+    if (!scratch.bias_grad || scratch.bias_grad.get_desc() != pk.weights_pd.diff_bias_desc())
       scratch.bias_grad = memory(pk.weights_pd.diff_bias_desc(), cpu_engine());
   }
   run_parts(parts.count, [&](int p) {
