@@ -26,8 +26,9 @@ void set_gemm_backend(GemmBackend backend);
 GemmBackend gemm_backend_from_string(const std::string& name, const std::string& where);
 const char* to_string(GemmBackend backend);
 
-// Threads of the oneDNN backend's products and convolutions (OpenMP; 1 by default). A large one is
-// cut into parts by its work alone, and the parts run side by side on up to this many threads, so
+// Threads of the learner (OpenMP; 1 by default): the oneDNN backend's products and convolutions,
+// and on either backend the large elementwise passes (activations, Adam's step). A large one is cut
+// into parts by its work alone, and the parts run side by side on up to this many threads, so
 // results are the same bits on any thread count (src/nn/batch_parts.hpp). Eigen's products always
 // run on the calling thread.
 void set_gemm_threads(int threads);

@@ -62,7 +62,7 @@ void describe(V& v, C& c) {
            "process); auto = processes for pixel observations drawn by osmesa, threads otherwise and for a remote env. "
            "Results do not depend on it");
   v.choice("gemm", c.gemm, {"eigen", "onednn"},
-           "the networks' matrix products and convolutions: eigen (Eigen's, on one thread) or onednn (oneDNN's "
+           "the networks' matrix products and convolutions: eigen (Eigen's products, on one thread) or onednn (oneDNN's "
            "kernels, in builds with libdnnl-dev: faster, and during updates on num_threads threads with the same "
            "results on any count). The two round differently, so a seed's CSVs differ between them. The "
            "environment variable RDSIM_GEMM overrides it");
