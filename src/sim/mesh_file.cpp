@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "assimp_input.hpp"
+#include "dae_check.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/input_file.hpp"
 
@@ -138,42 +139,6 @@ struct Converter {
   }
 };
 
-// Assimp 5.2's COLLADA parser reads the integer lists of <p>, <v>, <vcount> and <h> until their
-// text ends, and a character that is neither a digit, a sign nor a space never gets consumed: one
-// stray byte made it grow the list until memory ran out (found by fuzz_mesh). The float lists of
-// <float_array> are read `count` times whatever they hold, and `count` sizes the list before any
-// value is read. So before Assimp sees a DAE, those lists may hold only what numbers are made of,
-// and no count attribute may exceed what the triangle limit allows.
-constexpr std::uint64_t kMaxDaeCount = 16ull * max_mesh_triangles * 3;
-
-void check_dae_lists(const std::string& xml, const std::string& file) {
-  const auto fail = [&](const std::string& why) { throw Error(file + ": not a readable DAE file: " + why); };
-  for (std::size_t at = xml.find('<'); at != std::string::npos; at = xml.find('<', at + 1)) {
-    std::size_t end = at + 1;
-    while (end < xml.size() && (std::isalnum(static_cast<unsigned char>(xml[end])) || xml[end] == '_')) ++end;
-    const std::string name = xml.substr(at + 1, end - at - 1);
-    const std::size_t close = xml.find('>', end);
-    if (close == std::string::npos) return;  // unterminated: Assimp reports it
-    const std::string tag = xml.substr(at, close - at);
-    for (std::size_t c = tag.find("count="); c != std::string::npos; c = tag.find("count=", c + 6)) {
-      const std::size_t digits = c + 7;  // past count="
-      if (digits >= tag.size()) break;
-      std::uint64_t n = 0;
-      for (std::size_t i = digits; i < tag.size() && std::isdigit(static_cast<unsigned char>(tag[i])); ++i)
-        if ((n = n * 10 + static_cast<std::uint64_t>(tag[i] - '0')) > kMaxDaeCount)
-          fail("<" + name + "> count over " + std::to_string(kMaxDaeCount));
-    }
-    const bool integers = name == "p" || name == "v" || name == "vcount" || name == "h";
-    if (!integers && name != "float_array") continue;
-    const std::size_t text_end = xml.find('<', close);
-    const char* allowed = integers ? "0123456789+- \t\r\n" : "0123456789+-.eEnNaAiIfF \t\r\n";
-    const std::size_t bad = xml.find_first_not_of(allowed, close + 1);
-    if (bad < text_end && bad != std::string::npos)
-      fail("<" + name + "> holds " + one_line(std::string(1, xml[bad])) + " where " + (integers ? "integers" : "numbers") +
-           " are expected");
-  }
-}
-
 // The file's bytes under rdsim's rule for input files; "file not found" said plainly.
 std::string read_whole(const std::string& file) {
   std::string bytes;
@@ -196,7 +161,7 @@ TriangleMesh read_mesh_file(const std::string& file, const Eigen::Vector3d& scal
     throw Error(file + ": scale (" + std::to_string(scale.x()) + " " + std::to_string(scale.y()) + " " +
                 std::to_string(scale.z()) + ") must be finite and non-zero in x, y and z");
   std::string bytes = read_whole(file);
-  if (format == Format::Dae) check_dae_lists(bytes, file);
+  if (format == Format::Dae) check_dae_file(bytes, file);
 
   Assimp::Importer importer;
   // Files the mesh names (an OBJ's .mtl) share the mesh's byte budget.

@@ -123,6 +123,28 @@ TEST_CASE("mesh file: missing, foreign, empty, malformed and oversized files are
              Contains("x.obj: a vertex is not finite or lies beyond 1000 m"));
   CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(mesh_fixture("cube.stl"), Eigen::Vector3d(1, 0, 1)); }),
              Contains("must be finite and non-zero"));
+  // DAE accessors must read inside the arrays they name (Assimp does not check; found by fuzz_mesh).
+  const auto dae = [&](const std::string& name, const std::string& array, const std::string& accessor) {
+    return write(name, "<?xml version=\"1.0\"?><COLLADA version=\"1.4.1\"><library_geometries><geometry id=\"g\"><mesh>"
+                       "<source id=\"p\"><float_array id=\"a\"" + array + ">0 0 0 1 0 0 0 1 0</float_array><technique_common>"
+                       "<accessor source=\"#a\"" + accessor + "><param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/>"
+                       "<param name=\"Z\" type=\"float\"/></accessor></technique_common></source><vertices id=\"v\">"
+                       "<input semantic=\"POSITION\" source=\"#p\"/></vertices><triangles count=\"1\"><input semantic=\"VERTEX\" "
+                       "source=\"#v\" offset=\"0\"/><p>0 1 2</p></triangles></mesh></geometry></library_geometries>"
+                       "<library_visual_scenes><visual_scene id=\"s\"><node id=\"n\"><instance_geometry url=\"#g\"/></node>"
+                       "</visual_scene></library_visual_scenes><scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>");
+  };
+  CHECK(read_mesh_file(dae("ok.dae", " count=\"9\"", " count=\"3\" stride=\"3\""), one).indices.size() == 3);
+  CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(dae("nc.dae", "", " count=\"3\" stride=\"3\""), one); }),
+             Contains("nc.dae: not a readable DAE file: an <accessor> reads 9 values of \"#a\", which holds 0"));
+  CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(dae("far.dae", " count=\"9\"", " count=\"30\" stride=\"3\""), one); }),
+             Contains("an <accessor> reads 90 values of \"#a\", which holds 9"));
+  CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(dae("off.dae", " count=\"9\"", " count=\"3\" stride=\"3\" offset=\"1\""), one); }),
+             Contains("an <accessor> reads 10 values"));
+  CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(dae("hex.dae", " count=\"0x9\"", " count=\"3\""), one); }),
+             Contains("<float_array> count \"0x9\" is not a whole number"));
+  CHECK_THAT(rdsim::test::error_of([&] { read_mesh_file(dae("two.dae", " count=\"9\" count=\"90\"", " count=\"3\""), one); }),
+             Contains("<float_array> has two count attributes"));
   // Over the size limit: refused unread (a sparse file).
   const std::string big = write("big.stl", "solid big\n");
   std::filesystem::resize_file(big, max_mesh_bytes + 1);
