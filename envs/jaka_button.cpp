@@ -6,9 +6,11 @@ namespace rdsim {
 
 EnvConfig jaka_button_defaults() {
   // max_steps: the paper used 1000 and had no success end.
-  return reach_env_config(EnvConfig{.name = "jaka_button", .max_steps = 200},
-                          ReachOptions{.max_distance = 0.7, .action_step = 0.015, .success_threshold = 0.025,
-                                       .ik_iterations = 1});
+  EnvConfig c = reach_env_config(EnvConfig{.name = "jaka_button", .max_steps = 200},
+                                 ReachOptions{.max_distance = 0.7, .action_step = 0.015, .success_threshold = 0.025,
+                                              .ik_iterations = 1});
+  c.options.emplace_back(ButtonOptions{});
+  return c;
 }
 
 // The paper's main camera (yaw 155, pitch -36, fov 60) re-aimed: the paper's target
@@ -26,11 +28,18 @@ ReachTaskSpec jaka_button_spec(const EnvConfig& config) {
   const std::string assets = asset_root(config.get<ReachOptions>());
   ReachTaskSpec s;
   s.name = "jaka_button";
+  const bool paper = config.get<ButtonOptions>().button == ButtonBody::Paper;
+  const Eigen::Isometry3f button(Eigen::Translation3f(0.5f, 0.0f, 0.0f));
   s.statics = {{assets + "/objects/table.urdf", Eigen::Isometry3f(Eigen::Translation3f(0.35f, 0.0f, 0.0f))},
-               {assets + "/objects/button.urdf", Eigen::Isometry3f(Eigen::Translation3f(0.5f, 0.0f, 0.0f))}};
+               paper ? StaticBodySpec{assets + "/objects/paper_button.urdf", button, true}
+                     : StaticBodySpec{assets + "/objects/button.urdf", button}};
+  // The original's floor plane, under a button pushed off the table (collision only, for the button
+  // alone: the arm meets the table top, and the floor beyond the table's edges is out of its reach).
+  if (paper) s.statics.push_back({assets + "/objects/paper_floor.urdf", s.statics[0].pose, false, true});
   s.target_body = JakaButton::button_index;
-  s.target_offset = Eigen::Vector3f(0.0f, 0.0f, 0.03f);  // the top of the button
-  s.nominal_target = Eigen::Vector3f(0.5f, 0.0f, 0.03f);
+  // The original's target is under its button; rdsim's static button is pressed on its top.
+  s.target_offset = paper ? Eigen::Vector3f::Zero() : Eigen::Vector3f(0.0f, 0.0f, 0.03f);
+  s.nominal_target = button.translation() + s.target_offset;
   s.target_half_range = Eigen::Vector3f(0.15f, 0.3f, 0.0f);
   s.workspace = Eigen::AlignedBox3f(Eigen::Vector3f(0.15f, -0.5f, 0.02f), Eigen::Vector3f(0.85f, 0.5f, 0.55f));
   s.robot_urdf = assets + "/jaka/jaka_zu7.urdf";

@@ -27,7 +27,9 @@ ReachTaskSpec jaka_obstacle_spec(const EnvConfig& config) {
   s.home << 0.66f, 1.50f, -2.32f, 2.39f, 1.5708f, 0.0f;
   Eigen::Isometry3f column = Eigen::Isometry3f::Identity();
   column.translation() << 0.35f, 0.15f, 0.0f;
-  s.statics.push_back({asset_root(config.get<ReachOptions>()) + "/objects/column.urdf", column});
+  // At column_index, before the paper button's floor (if any).
+  s.statics.insert(s.statics.begin() + JakaObstacle::column_index,
+                   StaticBodySpec{asset_root(config.get<ReachOptions>()) + "/objects/column.urdf", column});
   // Random buttons: x 0.45..0.65, y -0.2..0.0.
   s.random_centre = Eigen::Vector3f(0.55f, -0.1f, 0.03f);
   s.target_half_range = Eigen::Vector3f(0.1f, 0.1f, 0.0f);

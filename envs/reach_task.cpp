@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
@@ -131,7 +132,8 @@ ReachTask::ReachTask(ReachTaskSpec spec) : spec_(std::move(spec)) {
   static_models_.reserve(spec_.statics.size());
   for (const auto& s : spec_.statics) {
     static_models_.push_back(load_urdf(s.urdf));
-    static_ids_.push_back(world_->add_static_body(static_models_.back(), s.pose));
+    static_ids_.push_back(s.free ? world_->add_free_body(static_models_.back(), s.pose)
+                                 : world_->add_static_body(static_models_.back(), s.pose, s.free_bodies_only));
   }
   const RobotModel model = load_robot_urdf(spec_);
   robot_ = &world_->add_robot(model, spec_.base_pose, spec_.robot);
@@ -240,6 +242,8 @@ void ReachTask::apply_effector_target(const Eigen::Vector3f& goal) {
 void ReachTask::step_physics() {
   for (int k = 0; k < spec_.action_repeat; ++k) world_->step();
   ee_ = robot_->link_pose(ee_link_).translation();
+  if (spec_.target_body >= 0 && spec_.statics[static_cast<size_t>(spec_.target_body)].free)
+    target_ = world_->static_pose(static_ids_[static_cast<size_t>(spec_.target_body)]) * spec_.target_offset;
 }
 
 namespace {
@@ -276,6 +280,13 @@ void ReachTask::save_state(std::ostream& out) const {
   write_vector3(out, target_);
   write_vector3(out, ee_);
   write_f64(out, world_->time());
+  for (int body : static_ids_)
+    if (world_->is_free_body(body)) {
+      const FreeBodyState f = world_->free_body_state(body);
+      for (float x : f.transform) write_f32(out, x);
+      write_vector3(out, f.linear);
+      write_vector3(out, f.angular);
+    }
 }
 
 void ReachTask::load_state(std::istream& in, const std::string& source) {
@@ -287,8 +298,24 @@ void ReachTask::load_state(std::istream& in, const std::string& source) {
   const Eigen::Vector3f ee = read_vector3(in, source);
   const double time = read_f64(in, source);
   if (!(time >= 0.0 && time < 1e12)) throw Error(source + ": env state holds a simulated time out of range");
+  std::vector<FreeBodyState> free;
+  for (int body : static_ids_)
+    if (world_->is_free_body(body)) {
+      FreeBodyState f;
+      for (float& x : f.transform) x = read_f32(in, source);
+      const Eigen::Map<const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>> rotation(f.transform);
+      const bool finite = std::all_of(std::begin(f.transform), std::end(f.transform), [](float x) { return std::isfinite(x); });
+      if (!finite || !((rotation * rotation.transpose() - Eigen::Matrix3f::Identity()).cwiseAbs().maxCoeff() < 1e-3f))
+        throw Error(source + ": env state holds a free body pose that is not finite or not a rotation");
+      f.linear = read_vector3(in, source);
+      f.angular = read_vector3(in, source);
+      free.push_back(f);
+    }
   robot_->set_state(r, source);
-  set_target(target);
+  set_target(target);  // a free target body: placed at rest, then given its saved motion below
+  size_t next = 0;
+  for (int body : static_ids_)
+    if (world_->is_free_body(body)) world_->set_free_body_state(body, free[next++]);
   ee_ = ee;
   world_->set_time(time);
   drop_caches();

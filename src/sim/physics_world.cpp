@@ -75,7 +75,7 @@ WorldSettings pybullet_solver(WorldSettings base) {
 
 PhysicsWorld::~PhysicsWorld() { impl_->robots.clear(); }
 
-int PhysicsWorld::add_static_body(const RobotModel& model, const Eigen::Isometry3f& pose) {
+int PhysicsWorld::add_static_body(const RobotModel& model, const Eigen::Isometry3f& pose, bool free_bodies_only) {
   const int body = body_count();
   const std::vector<Eigen::Isometry3d> frames = model.link_poses_at_zero();
   std::vector<PlacedShape> placed;
@@ -100,7 +100,8 @@ int PhysicsWorld::add_static_body(const RobotModel& model, const Eigen::Isometry
   object->setCollisionFlags(object->getCollisionFlags() | btCollisionObject::CF_STATIC_OBJECT);
   object->setUserIndex(body);
   object->setUserIndex2(0);
-  if (collides) impl_->world.addCollisionObject(object.get(), kStaticGroup, kStaticMask);
+  if (collides)
+    impl_->world.addCollisionObject(object.get(), kStaticGroup, free_bodies_only ? kFreeBodyGroup : kStaticMask);
   impl_->statics.push_back(std::move(object));
   impl_->static_offsets.push_back(offset);
   impl_->robots.push_back(nullptr);
@@ -130,7 +131,7 @@ int PhysicsWorld::add_free_body(const RobotModel& model, const Eigen::Isometry3f
   const int body = body_count();
   object->setUserIndex(body);
   object->setUserIndex2(0);
-  impl_->world.addRigidBody(object.get(), btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+  impl_->world.addRigidBody(object.get(), kFreeBodyGroup, btBroadphaseProxy::AllFilter);
   impl_->statics.push_back(std::move(object));
   impl_->static_offsets.push_back(offset);
   impl_->robots.push_back(nullptr);
@@ -143,9 +144,9 @@ void PhysicsWorld::set_static_pose(int body, const Eigen::Isometry3f& pose) {
   btCollisionObject* o = impl_->statics[static_cast<size_t>(body)].get();
   o->setWorldTransform(to_bt(Eigen::Isometry3f(pose * impl_->static_offsets[static_cast<size_t>(body)])));
   if (btRigidBody* free = btRigidBody::upcast(o)) {  // teleported at rest
-    free->setInterpolationWorldTransform(o->getWorldTransform());
     free->setLinearVelocity(btVector3(0, 0, 0));
     free->setAngularVelocity(btVector3(0, 0, 0));
+    free->setCenterOfMassTransform(o->getWorldTransform());  // and its world inertia turned with it
     free->clearForces();
   }
   if (o->getBroadphaseHandle()) {
@@ -159,6 +160,50 @@ Eigen::Isometry3f PhysicsWorld::static_pose(int body) const {
     throw Error("physics: body " + std::to_string(body) + " is not a static body");
   return from_bt(impl_->statics[static_cast<size_t>(body)]->getWorldTransform()) *
          impl_->static_offsets[static_cast<size_t>(body)].inverse();
+}
+
+namespace {
+
+btRigidBody* free_body_of(const PhysicsWorld::Impl& impl, int body) {
+  btCollisionObject* o = body >= 0 && static_cast<size_t>(body) < impl.statics.size() ? impl.statics[static_cast<size_t>(body)].get() : nullptr;
+  btRigidBody* free = o ? btRigidBody::upcast(o) : nullptr;
+  if (!free) throw Error("physics: body " + std::to_string(body) + " is not a free body");
+  return free;
+}
+
+}  // namespace
+
+bool PhysicsWorld::is_free_body(int body) const {
+  return body >= 0 && body < body_count() && impl_->statics[static_cast<size_t>(body)] &&
+         btRigidBody::upcast(impl_->statics[static_cast<size_t>(body)].get()) != nullptr;
+}
+
+FreeBodyState PhysicsWorld::free_body_state(int body) const {
+  const btRigidBody* free = free_body_of(*impl_, body);
+  const btTransform& t = free->getWorldTransform();
+  FreeBodyState s;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) s.transform[3 * r + c] = static_cast<float>(t.getBasis()[r][c]);
+  for (int i = 0; i < 3; ++i) s.transform[9 + i] = static_cast<float>(t.getOrigin()[i]);
+  s.linear = from_bt(free->getLinearVelocity());
+  s.angular = from_bt(free->getAngularVelocity());
+  return s;
+}
+
+void PhysicsWorld::set_free_body_state(int body, const FreeBodyState& state) {
+  btRigidBody* free = free_body_of(*impl_, body);
+  const float* m = state.transform;
+  const btTransform t(btMatrix3x3(m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8]), btVector3(m[9], m[10], m[11]));
+  // Velocities first: setCenterOfMassTransform copies them as the interpolation velocities, as a
+  // step's integration does, and turns the world inertia with the frame.
+  free->setLinearVelocity(to_bt(state.linear));
+  free->setAngularVelocity(to_bt(state.angular));
+  free->setCenterOfMassTransform(t);
+  free->clearForces();
+  if (free->getBroadphaseHandle()) {
+    impl_->world.updateSingleAabb(free);
+    impl_->forget_pairs(free);
+  }
 }
 
 Robot& PhysicsWorld::add_robot(const RobotModel& model, const Eigen::Isometry3f& base_pose,

@@ -17,6 +17,7 @@ namespace rdsim {
 constexpr int kStaticGroup = btBroadphaseProxy::StaticFilter;
 constexpr int kRobotLinkGroup = 1 << 6;  // moving links
 constexpr int kRobotBaseGroup = 1 << 7;  // a fixed base and links welded to it
+constexpr int kFreeBodyGroup = btBroadphaseProxy::DefaultFilter;  // add_free_body
 constexpr int kStaticMask = kRobotLinkGroup | btBroadphaseProxy::DefaultFilter;
 constexpr int kRobotLinkMask = kStaticGroup | btBroadphaseProxy::DefaultFilter;
 constexpr int kRobotBaseMask = btBroadphaseProxy::DefaultFilter;

@@ -13,6 +13,7 @@
 #include "../error_of.hpp"
 #include "rdsim/core/config_fields.hpp"
 #include "rdsim/envs/arm_options.hpp"
+#include "rdsim/envs/button_options.hpp"
 #include "rdsim/envs/obstacle_options.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -68,8 +69,8 @@ TEST_CASE("every env option key is declared exactly once", "[config][envs]") {
     INFO(key);
     CHECK(count == 1);
   }
-  // The groups are the reaching tasks', the obstacle's and reach's arm (a new group shows up here).
-  CHECK(groups == std::set<std::type_index>{typeid(ReachOptions), typeid(ObstacleOptions), typeid(ArmOptions)});
+  // The groups are the reaching tasks', the Jaka's button, the obstacle's and reach's arm (a new group shows up here).
+  CHECK(groups == std::set<std::type_index>{typeid(ReachOptions), typeid(ButtonOptions), typeid(ObstacleOptions), typeid(ArmOptions)});
 }
 
 TEST_CASE("the registry accepts for each env exactly the union of the descriptions it uses", "[config][envs]") {
@@ -83,8 +84,8 @@ TEST_CASE("the registry accepts for each env exactly the union of the descriptio
   const std::map<std::string, std::set<std::string>> expected = {
       {"cartpole", core},
       {"pendulum", core},
-      {"jaka_button", with(pixel_core, group<ReachOptions>())},
-      {"jaka_obstacle", with(with(pixel_core, group<ReachOptions>()), group<ObstacleOptions>())},
+      {"jaka_button", with(with(pixel_core, group<ReachOptions>()), group<ButtonOptions>())},
+      {"jaka_obstacle", with(with(with(pixel_core, group<ReachOptions>()), group<ButtonOptions>()), group<ObstacleOptions>())},
       {"inmoov_tomato", with(pixel_core, group<ReachOptions>())},
       {"reach", with(with(pixel_core, group<ReachOptions>()), group<ArmOptions>())},
   };

@@ -132,3 +132,55 @@ TEST_CASE("jaka_button: the world's settings keep the table solid", "[jaka_butto
   CHECK(task.world().touching({task.robot().body(), -1}, {table, -1}));
   CHECK(lowest > -0.01f);  // the table top is z = 0: at most a centimetre of penetration
 }
+
+TEST_CASE("jaka_button: button paper is the original's free button: the arm pushes it away, the target moves with it, "
+          "a saved state restores it", "[jaka_button]") {
+  EnvConfig config = env_config("jaka_button");
+  config.get<ButtonOptions>().button = ButtonBody::Paper;
+  config.get<ReachOptions>().end_on_success = false;  // touching the button is a success: keep pushing
+  JakaButton env(config), restored(config);
+  const Eigen::Vector3f start(0.5f, 0.0f, 0.0f);  // the original's target: under its button
+  env.reset(3);
+  CHECK(env.task().target().isApprox(start));
+  const auto flange = [](const JakaButton& e) {
+    return e.task().robot().link_pose(e.task().robot_model().require_link("flange_link")).translation();
+  };
+  // Beside the button (it spans y -0.1..0.1), down to the workspace floor, then into it along +y.
+  const auto move = [&](int action, int steps) {
+    StepResult r;
+    for (int k = 0; k < steps; ++k) r = env.step(Action::discrete(action));
+    return r;
+  };
+  move(2, 25);  // -y
+  INFO("flange before the descent " << flange(env).transpose());
+  CHECK((env.task().target() - start).norm() < 1e-3f);  // it rests on the table, untouched
+  const StepResult down = move(4, 40);  // -z
+  INFO("flange at the floor " << flange(env).transpose() << " ended " << down.terminated << down.truncated);
+  move(3, 10);  // +y, into the button
+  env.drop_caches();  // as a checkpoint does (core/env_state.hpp)
+  const std::string saved = env.save_state();
+  restored.reset(11);
+  restored.load_state(saved, "test");
+  CHECK(restored.save_state() == saved);
+  StepResult a, b;
+  for (int k = 0; k < 40; ++k) {
+    a = env.step(Action::discrete(3));
+    b = restored.step(Action::discrete(3));
+    REQUIRE(a.observation.values == b.observation.values);
+    REQUIRE(a.reward == b.reward);
+  }
+  INFO("flange after the push " << flange(env).transpose() << ", target " << env.task().target().transpose());
+  CHECK(env.task().target().y() > start.y() + 0.02f);  // pushed away by more than 2 cm
+  CHECK((to_target(a.observation) - (env.task().target() - flange(env))).norm() < 1e-5f);
+  CHECK(a.reward == Approx(-(env.task().target() - flange(env)).norm()).margin(1e-6));
+  env.reset(3);
+  CHECK(env.task().target().isApprox(start));
+  // Off the table's edge (x 0.95) the original's floor plane, at the table top's height, carries it.
+  config.get<ReachOptions>().workspace_bounds = false;  // a far button would end the episode
+  JakaButton far(config);
+  far.reset(3);
+  const Eigen::Vector3f beyond(1.3f, 0.2f, 0.0f);
+  far.task().set_target(beyond);
+  for (int k = 0; k < 100; ++k) REQUIRE_FALSE(far.step(Action::discrete(4)).terminated);
+  CHECK((far.task().target() - beyond).norm() < 2e-3f);
+}

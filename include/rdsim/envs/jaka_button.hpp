@@ -3,6 +3,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
+#include "rdsim/envs/button_options.hpp"
 #include "rdsim/envs/reach_env.hpp"
 #include "rdsim/render/camera.hpp"
 
@@ -12,6 +13,10 @@
 // 1.2 x 1.2 m) is the plane z = 0, its centre at (0.35, 0); the robot base stands on it at the
 // origin; the button (assets/objects/button.urdf, r 4 cm, 3 cm high) stands on it at (0.5, 0, 0)
 // as in the paper. The target point is the centre of the button's top, (0.5, 0, 0.03).
+// button paper: the original's free 5 kg button (assets/objects/paper_button.urdf, 20 x 20 x 3.7 cm)
+// stands there instead, and the target is the centre of its bottom face, (0.5, 0, 0), moving with it;
+// a collision-only floor at the table top's height (assets/objects/paper_floor.urdf, the original's
+// floor plane) carries it on when it is pushed off the table.
 // random_target: the button moves by x += 0.15 U(-1,1), y += 0.3 U(-1,1) (the paper's box: x 0.35..0.65,
 // y -0.3..0.3), drawn from the env's Rng at each reset; every such point is reachable tool-down.
 // End effector: flange_link (centre of the flange face).

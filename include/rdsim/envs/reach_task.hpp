@@ -28,6 +28,11 @@ namespace rdsim {
 struct StaticBodySpec {
   std::string urdf;  // path of the URDF file
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
+  // A free rigid body the robot can push away (PhysicsWorld::add_free_body: the URDF's one link with
+  // its mass), put back at `pose` (or the drawn target) at rest at each reset.
+  bool free = false;
+  // Only free bodies collide with it (PhysicsWorld::add_static_body's free_bodies_only).
+  bool free_bodies_only = false;
 };
 
 struct ReachTaskSpec {
@@ -48,7 +53,8 @@ struct ReachTaskSpec {
 
   std::vector<StaticBodySpec> statics;
   // Index into `statics` of the body that carries the target (moved with it), -1 for none; the
-  // target point is that body's frame moved by `target_offset` (in the body frame).
+  // target point is that body's frame moved by `target_offset` (in the body frame). A free target
+  // body carries the target along when the robot pushes it.
   int target_body = -1;
   Eigen::Vector3f target_offset = Eigen::Vector3f::Zero();
 
@@ -129,7 +135,8 @@ public:
   // scaling: the joint drives' speed limits pace the motion over the following steps. Does not
   // step physics. The caller checks that `goal` is finite.
   void apply_effector_target(const Eigen::Vector3f& goal);
-  // action_repeat physics steps, then refreshes the end-effector position.
+  // action_repeat physics steps, then refreshes the end-effector position (and the target point,
+  // on a free target body).
   void step_physics();
 
   const Eigen::Vector3f& ee_position() const { return ee_; }  // world frame, as of the last step/reset
@@ -143,7 +150,7 @@ public:
   bool robot_touches(int static_index) const;
 
   // The simulated state between steps (robot joints and their targets, target point, end
-  // effector, simulated time), for checkpoints. load_state() leaves the contact caches dropped
+  // effector, simulated time, the free bodies' motion), for checkpoints. load_state() leaves the contact caches dropped
   // (drop_caches), as EnvState requires; rdsim::Error naming `source` for bytes of another task.
   void save_state(std::ostream& out) const;
   void load_state(std::istream& in, const std::string& source);

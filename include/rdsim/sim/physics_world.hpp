@@ -60,6 +60,14 @@ struct Contact {
   float distance = 0.0f;        // signed; negative = penetration depth
 };
 
+// A free body's centre-of-mass frame (Bullet's world transform: rotation row by row, then origin)
+// and its velocities (m/s, rad/s).
+struct FreeBodyState {
+  float transform[12] = {};
+  Eigen::Vector3f linear = Eigen::Vector3f::Zero();
+  Eigen::Vector3f angular = Eigen::Vector3f::Zero();
+};
+
 class PhysicsWorld {
 public:
   explicit PhysicsWorld(const WorldSettings& settings = {});
@@ -68,8 +76,10 @@ public:
   PhysicsWorld& operator=(const PhysicsWorld&) = delete;
 
   // A body that never moves by itself (floor, table, button): every link's collision shapes at
-  // the model's zero pose, placed at `pose`. Returns its body id.
-  int add_static_body(const RobotModel& model, const Eigen::Isometry3f& pose);
+  // the model's zero pose, placed at `pose`. Returns its body id. free_bodies_only: robots pass
+  // through it, only free bodies collide with it (a floor for a pushed object where the robot never
+  // reaches: no contact tests with every robot link each step).
+  int add_static_body(const RobotModel& model, const Eigen::Isometry3f& pose, bool free_bodies_only = false);
   // A free rigid body (a button the arm can push away, as pybullet's): a one-link model's collision
   // shapes with its mass (> 0) and inertia, placed at `pose`; it collides with everything. Bullet's
   // rigid-body defaults (friction 0.5, no restitution, no damping). set_static_pose teleports it at
@@ -78,6 +88,12 @@ public:
   // Moves a static (or free) body (e.g. a randomised target) and forgets its cached contacts.
   void set_static_pose(int body, const Eigen::Isometry3f& pose);
   Eigen::Isometry3f static_pose(int body) const;
+  bool is_free_body(int body) const;
+  // A free body's motion between steps, exactly as Bullet holds it (for saved env states: a pose
+  // through static_pose would round). rdsim::Error for a body that is not free.
+  FreeBodyState free_body_state(int body) const;
+  // Puts a free body back in a state free_body_state gave (bit for bit) and forgets its contacts.
+  void set_free_body_state(int body, const FreeBodyState& state);
 
   // A fixed-base articulated robot with its root link at `base_pose`; its body id is robot.body().
   Robot& add_robot(const RobotModel& model, const Eigen::Isometry3f& base_pose, const RobotOptions& options = {});
