@@ -142,7 +142,7 @@ TEST_CASE("jaka_button: button paper is the original's free button: the arm push
   const Eigen::Vector3f start(0.5f, 0.0f, 0.0f);  // the original's target: under its button
   env.reset(3);
   CHECK(env.task().target().isApprox(start));
-  const auto flange = [](const JakaButton& e) {
+  const auto flange = [](const JakaButton& e) -> Eigen::Vector3f {  // a copy: link_pose is a temporary
     return e.task().robot().link_pose(e.task().robot_model().require_link("flange_link")).translation();
   };
   // Beside the button (it spans y -0.1..0.1), down to the workspace floor, then into it along +y.
