@@ -187,6 +187,8 @@ void ReachTask::reset(Rng& rng, bool random_target) {
   if (random_target)
     for (int i = 0; i < 3; ++i) target[i] += static_cast<float>(rng.uniform(-1.0, 1.0)) * spec_.target_half_range[i];
   set_target(target);
+  for (size_t i = 0; i < static_ids_.size(); ++i)  // other free bodies: back in their place, at rest
+    if (spec_.statics[i].free && static_cast<int>(i) != spec_.target_body) world_->set_static_pose(static_ids_[i], spec_.statics[i].pose);
   for (int body : static_ids_) world_->forget_contacts(body);
   world_->forget_contacts(robot_->body());
   ee_ = robot_->link_pose(ee_link_).translation();
