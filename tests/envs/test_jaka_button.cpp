@@ -1,4 +1,6 @@
 #include <catch2/catch.hpp>
+#include <cstring>
+#include <limits>
 
 #include "env_test_util.hpp"
 #include "rdsim/core/error.hpp"
@@ -162,6 +164,21 @@ TEST_CASE("jaka_button: button paper is the original's free button: the arm push
   restored.reset(11);
   restored.load_state(saved, "test");
   CHECK(restored.save_state() == saved);
+  // A state without the button's motion (rdsim's static button) or with a damaged pose: one clear error.
+  JakaButton fixed(env_config("jaka_button"));
+  fixed.reset(3);
+  CHECK_THROWS_WITH(restored.load_state(fixed.save_state(), "static.bin"), Catch::Contains("static.bin"));
+  const ReachTask& task = restored.task();
+  const FreeBodyState motion = task.world().free_body_state(task.static_body(JakaButton::button_index));
+  const std::string pose_bytes(reinterpret_cast<const char*>(motion.transform), sizeof motion.transform);
+  std::string damaged = saved;
+  const size_t at = damaged.find(pose_bytes);
+  REQUIRE(at != std::string::npos);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(damaged.data() + at, &nan, sizeof nan);
+  CHECK_THROWS_WITH(restored.load_state(damaged, "damaged.bin"),
+                    Catch::Contains("damaged.bin: env state holds a free body pose that is not finite"));
+  restored.load_state(saved, "test");
   StepResult a, b;
   for (int k = 0; k < 40; ++k) {
     a = env.step(Action::discrete(3));
