@@ -164,19 +164,21 @@ Eigen::Isometry3f PhysicsWorld::static_pose(int body) const {
 
 namespace {
 
-btRigidBody* free_body_of(const PhysicsWorld::Impl& impl, int body) {
+// The free body `body`, or nullptr for any other id.
+btRigidBody* find_free_body(const PhysicsWorld::Impl& impl, int body) {
   btCollisionObject* o = body >= 0 && static_cast<size_t>(body) < impl.statics.size() ? impl.statics[static_cast<size_t>(body)].get() : nullptr;
-  btRigidBody* free = o ? btRigidBody::upcast(o) : nullptr;
+  return o ? btRigidBody::upcast(o) : nullptr;
+}
+
+btRigidBody* free_body_of(const PhysicsWorld::Impl& impl, int body) {
+  btRigidBody* free = find_free_body(impl, body);
   if (!free) throw Error("physics: body " + std::to_string(body) + " is not a free body");
   return free;
 }
 
 }  // namespace
 
-bool PhysicsWorld::is_free_body(int body) const {
-  return body >= 0 && body < body_count() && impl_->statics[static_cast<size_t>(body)] &&
-         btRigidBody::upcast(impl_->statics[static_cast<size_t>(body)].get()) != nullptr;
-}
+bool PhysicsWorld::is_free_body(int body) const { return find_free_body(*impl_, body) != nullptr; }
 
 FreeBodyState PhysicsWorld::free_body_state(int body) const {
   const btRigidBody* free = free_body_of(*impl_, body);
