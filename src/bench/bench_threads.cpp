@@ -66,9 +66,34 @@ private:
   ObservationBatch batch_;
 };
 
+// A VecEnv stepped in groups (VecEnv::send / recv), as an on-policy rollout with env_groups
+// steps it: each batch step receives every group's previous step and sends its next one.
+class PipelinedVecEnv {
+public:
+  explicit PipelinedVecEnv(VecEnv& vec) : vec_(vec) {}
+  void step(const std::vector<Action>& actions) {
+    for (int g = 0; g < vec_.groups(); ++g) {
+      if (vec_.in_flight() == vec_.groups()) vec_.recv(g);
+      vec_.send(g, actions);
+    }
+  }
+  // Receives the groups still in flight (inside the timed window: their steps are counted).
+  void finish() {
+    for (int g = 0; vec_.in_flight() > 0; ++g) vec_.recv(g);
+  }
+  VecEnv& vec() { return vec_; }
+
+private:
+  VecEnv& vec_;
+};
+
 // Training takes the finished episodes once per update; a VecEnv here every 256 steps as well.
 void take_episodes(PlainLoop&) {}
 void take_episodes(VecEnv& vec) { vec.episodes().take_finished(); }
+void take_episodes(PipelinedVecEnv& p) { p.vec().episodes().take_finished(); }
+void finish(PlainLoop&) {}
+void finish(VecEnv&) {}
+void finish(PipelinedVecEnv& p) { p.finish(); }
 
 // Env steps per second of `batch_steps` steps of every env.
 template <class Stepper>
@@ -78,6 +103,7 @@ double timed(Stepper& s, const std::vector<std::vector<Action>>& actions, long l
     s.step(actions[static_cast<std::size_t>(k) % actions.size()]);
     if (k % 256 == 255) take_episodes(s);
   }
+  finish(s);
   return static_cast<double>(batch_steps * envs) / seconds_since(t0);
 }
 
@@ -127,6 +153,7 @@ double independent_processes(std::vector<PlainLoop>& loops, const std::vector<st
 struct ThreadRow {
   int threads = 1;
   bool processes = false;  // workers 2.. are processes
+  int groups = 1;          // VecEnv::groups(): stepped with send / recv when above 1
   std::vector<double> runs;
   double steps_per_s = 0;
 };
@@ -164,12 +191,16 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
   // Where training's env_workers "auto" picks processes, the same counts on threads too: the
   // comparison in one run.
   const bool processes = auto_env_workers(row_config(c.entry->name, c.mode, c.image_size)) == EnvWorkers::processes;
+  // On threads, also in two pipelined groups (the config's env_groups: 2).
   for (int t : counts) {
-    for (bool p : {false, true}) {
+    for (int variant = 0; variant < 3; ++variant) {
+      const bool p = variant == 2, pipelined = variant == 1;
       if (p && (t == 1 || !processes)) continue;
+      if (pipelined && (t == 1 || envs < 2)) continue;
       vecs.push_back(std::make_unique<VecEnv>(make_envs(c, envs), kSeed, 20, t,
                                               p ? EnvWorkers::processes : EnvWorkers::threads));
-      result.rows.push_back({vecs.back()->num_threads(), p, {}, 0});
+      if (pipelined) vecs.back()->set_groups(2);
+      result.rows.push_back({vecs.back()->num_threads(), p, vecs.back()->groups(), {}, 0});
     }
   }
   // Random actions drawn before any clock starts: up to 512 batches, reused in turn.
@@ -181,11 +212,16 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
     for (int i = 0; i < envs; ++i) actions.back().push_back(random_action(vecs.front()->spec().action, rng));
   }
   const long long warmup = std::max<long long>(batch_steps / 10, 10);
+  const auto timed_row = [&](std::size_t k, long long steps) {
+    if (vecs[k]->groups() == 1) return timed(*vecs[k], actions, steps, envs);
+    PipelinedVecEnv pipelined(*vecs[k]);
+    return timed(pipelined, actions, steps, envs);
+  };
   timed(plain, actions, warmup, envs);
-  for (auto& v : vecs) timed(*v, actions, warmup, envs);
+  for (std::size_t k = 0; k < vecs.size(); ++k) timed_row(k, warmup);
   for (int r = 0; r < o.runs; ++r) {
     result.plain_runs.push_back(timed(plain, actions, batch_steps, envs));
-    for (std::size_t k = 0; k < vecs.size(); ++k) result.rows[k].runs.push_back(timed(*vecs[k], actions, batch_steps, envs));
+    for (std::size_t k = 0; k < vecs.size(); ++k) result.rows[k].runs.push_back(timed_row(k, batch_steps));
     // Each process steps every one of its envs batch_steps times, as the pool does.
     for (std::size_t k = 0; k < shares.size(); ++k)
       result.limits[k].runs.push_back(independent_processes(shares[k], actions, batch_steps));
@@ -208,7 +244,10 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
     std::fprintf(out, "%-16s %-13s %9s %6d %11s %12.0f %9s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
                  image.c_str(), r.envs, "plain loop", r.plain_per_s, "-");
     for (const auto& t : r.rows) {
-      const char* as = t.threads == 1 ? "" : t.processes ? "  this thread + processes" : "  threads";
+      const char* as = t.threads == 1         ? ""
+                       : t.processes          ? "  this thread + processes"
+                       : t.groups > 1         ? "  threads, 2 groups in turn (env_groups)"
+                                              : "  threads";
       std::fprintf(out, "%-16s %-13s %9s %6d %11d %12.0f %8.2fx%s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
                    image.c_str(), r.envs, t.threads, t.steps_per_s, t.steps_per_s / r.rows.front().steps_per_s, as);
     }
@@ -225,6 +264,8 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
                "speed-up is over the plain loop. workers: the training config's "
                "num_threads; pixel envs drawn by osmesa\nare measured on threads and on worker processes (what "
                "env_workers \"auto\" picks for them: Mesa's llvmpipe\ndraws one frame at a time per process). "
+               "2 groups in turn: the envs in two halves, each sent (VecEnv::send) as soon as received,\nso that no "
+               "worker waits for the other's last env at each batch step (what a rollout with env_groups 2 does). "
                "Pool overhead per env step, "
                "VecEnv on 1 thread vs the plain loop:\n");
   for (const auto& r : results) {
@@ -240,7 +281,7 @@ nlohmann::json to_json(const std::vector<CaseResult>& results, const BenchFpsOpt
   for (const auto& r : results) {
     nlohmann::json threads = nlohmann::json::array();
     for (const auto& t : r.rows)
-      threads.push_back({{"threads", t.threads}, {"env_workers", t.processes ? "processes" : "threads"},
+      threads.push_back({{"threads", t.threads}, {"env_workers", t.processes ? "processes" : "threads"}, {"env_groups", t.groups},
                          {"steps_per_s", t.steps_per_s}, {"runs_steps_per_s", t.runs},
                          {"speedup", t.steps_per_s / r.rows.front().steps_per_s}});
     nlohmann::json limits = nlohmann::json::array();

@@ -226,6 +226,7 @@ void Trainer::start() {
     const nn::GemmBackend backend = resolve_gemm(config);
     r.vec = std::make_unique<VecEnv>(open_envs(config), seed, config.stats_window,
                                      resolve_num_threads(config, comm.local_size()), resolve_env_workers(config));
+    r.vec->set_groups(std::min(config.env_groups, r.vec->size()));
     // The env workers wait while the learner updates, so it may use as many threads (the results
     // do not depend on it: nn/gemm.hpp).
     r.gemm.emplace(backend, r.vec->num_threads());

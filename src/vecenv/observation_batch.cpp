@@ -70,8 +70,17 @@ void ObservationBatch::assign(int env, const Observation& obs) {
 }
 
 const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch) {
-  if (batch.type == ObsType::Float32) return batch.values;
-  scratch = batch.pixels.cast<float>() * kPixelScale;
+  return network_input(batch, scratch, 0, batch.type == ObsType::Float32 ? static_cast<int>(batch.values.cols())
+                                                                          : static_cast<int>(batch.pixels.cols()));
+}
+
+const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch, int first, int count) {
+  if (batch.type == ObsType::Float32) {
+    if (first == 0 && count == batch.values.cols()) return batch.values;
+    scratch = batch.values.middleCols(first, count);
+  } else {
+    scratch = batch.pixels.middleCols(first, count).cast<float>() * kPixelScale;
+  }
   return scratch;
 }
 

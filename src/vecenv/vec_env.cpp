@@ -65,6 +65,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
   begun_.assign(envs_.size(), Begun{});
   next_env_ = std::make_unique<NextEnv[]>(static_cast<std::size_t>(pool_.size()));
   all_active_.assign(envs_.size(), true);
+  set_groups(1);
   const int blocks = worker_count(num_threads, envs_.size());
   if (workers == EnvWorkers::processes && blocks > 1) {
     // The same split as the threads': block w is envs [w n / T, (w + 1) n / T).
@@ -83,6 +84,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, std::uint64_t seed, int s
 }
 
 VecEnv::~VecEnv() {
+  stop_pipeline();  // a caller that left groups in flight (an error): they finish first
   for_each_env([&](int i) { envs_[static_cast<std::size_t>(i)].reset(); });
 }
 
@@ -132,6 +134,7 @@ void VecEnv::reset_all(std::uint64_t seed) {
 }
 
 void VecEnv::reset(std::uint64_t seed) {
+  require_idle("reset");
   reset_all(seed);
   tracker_.forget_running();
 }
@@ -206,7 +209,14 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions) {
 const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, const std::vector<bool>& active) {
   if (actions.size() != envs_.size() || active.size() != envs_.size())
     throw Error("VecEnv::step: one action and one active flag per env expected");
+  require_idle("step");
   for (std::size_t i = 0; i < envs_.size(); ++i) timesteps_ += active[i] ? 1 : 0;
+  dispatch(actions, active);
+  record(0, size(), active, timesteps_);
+  return results_;
+}
+
+void VecEnv::dispatch(const std::vector<Action>& actions, const std::vector<bool>& active) {
   const auto movable = [](const std::unique_ptr<Env>& e) { return e->steps_on_any_thread(); };
   if (processes_.empty() && pool_.size() > 1 && std::all_of(envs_.begin(), envs_.end(), movable)) {
     step_shared(actions, active);
@@ -216,14 +226,16 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   } else {
     step_with_processes(actions, active);
   }
+}
+
+void VecEnv::record(int first, int end, const std::vector<bool>& active, long long timestep) {
   double now = -1.0;  // read the clock only when an episode ended (it costs as much as a cartpole step)
-  for (int i = 0; i < size(); ++i) {
+  for (int i = first; i < end; ++i) {
     if (!active[static_cast<std::size_t>(i)]) continue;
     const EnvStep& s = results_[static_cast<std::size_t>(i)];
     if (s.done() && now < 0.0) now = wall_time();
-    tracker_.on_step(i, s.reward, s.info, s.done(), timesteps_, now);
+    tracker_.on_step(i, s.reward, s.info, s.done(), timestep, now);
   }
-  return results_;
 }
 
 // Why: a worker whose envs finished early would otherwise wait at the end of every batch step for
@@ -279,6 +291,7 @@ std::vector<std::optional<std::string>> VecEnv::env_states() const {
 }
 
 void VecEnv::save(std::ostream& out) const {
+  require_idle("save");
   write_u64(out, static_cast<std::uint64_t>(timesteps_));
   write_f64(out, wall_time());
   const auto states = env_states();
@@ -296,6 +309,7 @@ void VecEnv::save(std::ostream& out) const {
 }
 
 void VecEnv::drop_caches() {
+  require_idle("drop_caches");
   for (auto& p : processes_) p->start_drop_caches();
   // On each env's own worker, like every other call into an env.
   alongside_processes([&] {
@@ -306,6 +320,7 @@ void VecEnv::drop_caches() {
 }
 
 bool VecEnv::load(std::istream& in, const std::string& source) {
+  require_idle("load");
   const std::uint64_t timesteps = read_u64(in, source);
   const double wall = read_f64(in, source);
   // Counters far beyond any run (a negative count read as unsigned, a wall time of years) mean damage.

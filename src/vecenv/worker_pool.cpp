@@ -53,6 +53,17 @@ void WorkerPool::run_erased(void (*call)(void*, int), void* job) {
     call(job, 0);
     return;
   }
+  start_erased(call, job);
+  try {
+    call(job, 0);
+  } catch (...) {
+    errors_[0] = std::current_exception();
+  }
+  join();
+}
+
+void WorkerPool::start_erased(void (*call)(void*, int), void* job) {
+  if (threads_.empty()) return;
   start_.call = call;
   start_.job = job;
   pending_.store(static_cast<int>(threads_.size()));
@@ -63,11 +74,10 @@ void WorkerPool::run_erased(void (*call)(void*, int), void* job) {
     { std::lock_guard<std::mutex> lock(mutex_); }
     job_ready_.notify_all();
   }
-  try {
-    call(job, 0);
-  } catch (...) {
-    errors_[0] = std::current_exception();
-  }
+}
+
+void WorkerPool::join() {
+  if (threads_.empty()) return;
   if (!spin_until([this] { return pending_.load(std::memory_order_acquire) == 0; })) {
     std::unique_lock<std::mutex> lock(mutex_);
     caller_sleeping_.store(true);

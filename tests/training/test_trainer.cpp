@@ -1,5 +1,6 @@
 // The Trainer as a library drives it (the Python package, tests): a config as JSON, start / update /
 // finish, a stop asked for from outside, which saves and resumes exactly as Ctrl-C does.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <csignal>
 #include <filesystem>
@@ -141,4 +142,26 @@ TEST_CASE("a run on oneDNN's products gives the same CSVs on 1 and 2 threads and
   CHECK(rltest::drop_columns(rltest::slurp(dir / "threads1/episodes.csv"), 1) ==
         rltest::drop_columns(rltest::slurp(dir / "threads2/episodes.csv"), 1));
   CHECK(rltest::slurp(dir / "threads1/config.json").find("\"gemm\": \"onednn\"") != std::string::npos);
+}
+
+TEST_CASE("a run with env_groups gives the same CSVs on 1 and 2 threads", "[trainer]") {
+  rltest::ScratchDir dir("trainer_env_groups");
+  for (const int threads : {1, 2}) {
+    nlohmann::json config = short_ppo(dir / ("threads" + std::to_string(threads)));
+    // A reach env (any worker may step it, so the groups overlap), episodes of 200 steps.
+    config["env"] = {{"name", "jaka_button"}, {"is_discrete", true}};
+    config["total_timesteps"] = 4096;
+    config["env_groups"] = 2;  // rollouts act on one half of the envs while the workers step the other
+    config["num_threads"] = threads;
+    Trainer trainer(quiet_settings(config));
+    trainer.start();
+    while (trainer.update()) {
+    }
+    trainer.finish();
+  }
+  const std::string episodes = rltest::slurp(dir / "threads1/episodes.csv");
+  CHECK(std::count(episodes.begin(), episodes.end(), '\n') > 15);
+  CHECK(rltest::drop_columns(rltest::slurp(dir / "threads1/progress.csv"), 2) ==
+        rltest::drop_columns(rltest::slurp(dir / "threads2/progress.csv"), 2));
+  CHECK(rltest::drop_columns(episodes, 1) == rltest::drop_columns(rltest::slurp(dir / "threads2/episodes.csv"), 1));
 }

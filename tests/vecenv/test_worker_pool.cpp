@@ -75,6 +75,27 @@ TEST_CASE("WorkerPool: workers that went to sleep wake for the next job", "[pool
   CHECK(calls.load() == 6);
 }
 
+TEST_CASE("WorkerPool: start() runs the workers' share while the caller goes on; join() waits", "[pool]") {
+  WorkerPool pool(3);
+  std::atomic<int> release{0};
+  std::vector<int> ran(3, 0);
+  auto job = [&](int w) {
+    while (release.load() == 0) {}  // held until the caller, still free, lets go
+    ran[static_cast<std::size_t>(w)] = 1;
+  };
+  pool.start(job);
+  release.store(1);  // reached: start() returned while the workers were busy
+  pool.join();
+  CHECK(ran == std::vector<int>{0, 1, 1});  // worker 0 is the caller, which did not run the job
+  auto failing = [](int w) {
+    if (w == 2) throw std::runtime_error("worker 2");
+  };
+  pool.start(failing);
+  CHECK_THROWS_WITH(pool.join(), "worker 2");
+  pool.run([&](int w) { ran[static_cast<std::size_t>(w)] = 2; });  // the pool works on
+  CHECK(ran == std::vector<int>{2, 2, 2});
+}
+
 TEST_CASE("available_cores counts the cores this process may use", "[pool]") {
   const int n = rdsim::available_cores();
   CHECK(n >= 1);

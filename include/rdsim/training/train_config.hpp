@@ -32,6 +32,7 @@ struct TrainConfig {
   int stats_window = 20;
   int num_threads = 0;  // 0: resolved by resolve_num_threads()
   std::string env_workers = "auto";  // resolved by resolve_env_workers()
+  int env_groups = 1;
   std::string gemm = "eigen";        // the learner's arithmetic (nn/gemm.hpp); RDSIM_GEMM overrides
   int sync_check_interval = 10;
 };
@@ -56,6 +57,12 @@ void describe(V& v, C& c) {
           "workers stepping the envs (threads, or processes: env_workers; results do not depend on it); "
           "0 = every core this process may use "
           "(shared among the MPI ranks on one machine), at most num_envs");
+  v.field("env_groups", c.env_groups, config::Range{1, 4096},
+          "on-policy rollouts (PPO, A2C, TRPO): the envs cut into this many groups, stepped in turn: while the policy "
+          "acts on one group the workers step the others, so no worker waits for the other's last env at every step "
+          "(asynchronous batches in a fixed order; they overlap for envs any thread may step, the reach tasks without "
+          "pixels). Every env gets its actions as with 1, but the policy acts on smaller batches, whose last bits may "
+          "round differently: a seed's CSVs depend on env_groups, not on num_threads. At most num_envs");
   v.choice("env_workers", c.env_workers, {"auto", "threads", "processes"},
            "what the num_threads workers are: threads, or processes (this one and num_threads - 1 children, "
            "each stepping its share of the envs; for pixel envs, whose drawing Mesa serialises within a "

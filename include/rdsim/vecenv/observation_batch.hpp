@@ -37,6 +37,8 @@ struct ObservationBatch {
 // Network input for every env of `batch` (one column each): a Float32 batch itself (no copy), a
 // UInt8 one scaled to [0, 1] into `scratch`, bit for bit as encode_observation does.
 const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch);
+// The same for envs [first, first + count) (a copy into `scratch` unless that is every env).
+const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch, int first, int count);
 // The network input of env `env` alone.
 void encode_observation(const ObservationBatch& batch, int env, Eigen::Ref<Eigen::VectorXf> out);
 

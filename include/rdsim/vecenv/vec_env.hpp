@@ -2,6 +2,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -92,6 +94,26 @@ public:
   // is not used, their EnvStep is all zero, and they add no timesteps.
   const std::vector<EnvStep>& step(const std::vector<Action>& actions, const std::vector<bool>& active);
 
+  // Pipelined stepping, EnvPool's asynchronous batches in a fixed order: the envs are cut into
+  // groups() contiguous groups, group g = envs [g n / G, (g + 1) n / G). send(g, actions) starts
+  // group g's step (actions[i] for its envs; the other entries are not read) and returns at once;
+  // recv(g) waits for it and returns the results (entries of group g valid until the next recv or
+  // step). While the caller acts on one group, the workers step the others, so no worker waits at a
+  // barrier at the end of each batch step. Groups are sent and received in turn, 0, 1, ..., G-1,
+  // 0, ...; every env gets the same actions as with step() in the same order, episodes are recorded
+  // in env order with the timestep of their round (one step of every group) as step() records them,
+  // so a caller that acts the same gets the same results on any thread count. Overlap needs envs
+  // that steps_on_any_thread and more than one thread; otherwise recv() steps its group there and
+  // then. step(), reset(), save(), load() and drop_caches() need every group received first.
+  void set_groups(int groups);
+  int groups() const { return groups_; }
+  int group_first(int group) const { return group * size() / groups_; }
+  int group_end(int group) const { return (group + 1) * size() / groups_; }
+  void send(int group, const std::vector<Action>& actions);
+  const std::vector<EnvStep>& recv(int group);
+  // Groups sent and not yet received.
+  int in_flight() const { return in_flight_; }
+
   // Starts a new episode in every env, env i seeded as at construction from Rng::derive(seed,
   // rng_stream::env_base + i) (so reset(seed) after VecEnv(envs, seed) repeats the first episodes);
   // the episodes in progress are dropped from the tracker. For callers that restart all envs at once
@@ -137,6 +159,17 @@ private:
   // reset (seeds) or step every env, worker processes and this thread side by side.
   void reset_all(std::uint64_t seed);
   void step_with_processes(const std::vector<Action>& actions, const std::vector<bool>& active);
+  // Steps the envs with active[i] on whichever path suits them (shared, blocks or processes).
+  void dispatch(const std::vector<Action>& actions, const std::vector<bool>& active);
+  // The tracker's share of a step: envs [first, end) with active[i], stepped at `timestep`.
+  void record(int first, int end, const std::vector<bool>& active, long long timestep);
+  bool overlaps() const;
+  // Pipelined groups: one env step claimed from the oldest group in flight (worker w's own part
+  // of each group first); false when none is left to claim.
+  bool step_one_sent(int w);
+  void start_pipeline();
+  void stop_pipeline();
+  void require_idle(const char* what) const;
   std::vector<std::optional<std::string>> env_states() const;
 
   std::vector<std::unique_ptr<Env>> envs_;  // null where the env lives in a worker process
@@ -157,6 +190,23 @@ private:
   };
   std::vector<Begun> begun_;
   std::vector<bool> all_active_;
+  // Pipelined groups (send/recv).
+  int groups_ = 1;
+  std::vector<std::vector<bool>> group_active_;  // per group: its envs
+  std::vector<Action> sent_actions_;               // per env: the action its group was sent with
+  std::vector<std::exception_ptr> env_errors_;     // per env: what its pipelined step threw
+  struct alignas(64) GroupProgress {
+    std::atomic<int> done{0};  // envs of the group finished since its send
+  };
+  std::unique_ptr<GroupProgress[]> group_done_;
+  std::unique_ptr<NextEnv[]> group_next_;  // [group * workers + w]: next unclaimed env of w's part
+  int next_send_ = 0, next_recv_ = 0, in_flight_ = 0;
+  long long round_base_ = 0;  // timesteps_ when the round's group 0 was received
+  bool pipeline_running_ = false;
+  alignas(64) std::atomic<int> oldest_{0};            // the group received next (a hint for workers)
+  alignas(64) std::atomic<std::uint64_t> posts_{0};  // bumped by every send and by the stop
+  std::atomic<bool> stop_pipeline_{false};
+  std::function<void(int)> pipeline_job_;
   EpisodeTracker tracker_;
   std::uint64_t seed_;
   long long timesteps_ = 0;

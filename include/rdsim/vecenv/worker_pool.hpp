@@ -40,11 +40,22 @@ public:
     run_erased([](void* j, int w) { (*static_cast<std::remove_reference_t<Job>*>(j))(w); }, &job);
   }
 
+  // Starts job(w) on workers 1..size()-1 only and returns at once: the caller goes on with its
+  // own work (VecEnv's pipelined groups: the workers step envs while the caller acts). join()
+  // waits for them and rethrows the first exception; nothing else may run on the pool between.
+  // With one worker, start() does nothing.
+  template <class Job>
+  void start(Job& job) {
+    start_erased([](void* j, int w) { (*static_cast<Job*>(j))(w); }, &job);
+  }
+  void join();
+
   // How long a worker (and run() waiting for them) polls before it sleeps, in microseconds.
   static constexpr int kSpinMicros = 50;
 
 private:
   void run_erased(void (*call)(void*, int), void* job);
+  void start_erased(void (*call)(void*, int), void* job);
   void worker_main(int w);
 
   std::vector<std::thread> threads_;
