@@ -11,6 +11,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <new>
+#include <thread>
 
 #include "bench_util.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
@@ -150,6 +151,29 @@ double independent_processes(std::vector<PlainLoop>& loops, const std::vector<st
   return complete ? total : 0;
 }
 
+// Nanoseconds for one cache line to go from this thread to another and back (an atomic flag
+// passed to and fro, `trips` times): what every hand-over between two workers costs on this
+// machine at this moment. On a virtual machine it depends on where the host runs the two CPUs.
+double cache_line_round_trip_ns(int trips = 100000) {
+  struct alignas(64) Flag {
+    std::atomic<int> value{0};
+  } flag;
+  std::thread other([&] {
+    for (int i = 0; i < trips; ++i) {
+      while (flag.value.load(std::memory_order_acquire) != 2 * i + 1) {}
+      flag.value.store(2 * i + 2, std::memory_order_release);
+    }
+  });
+  const auto t0 = Clock::now();
+  for (int i = 0; i < trips; ++i) {
+    flag.value.store(2 * i + 1, std::memory_order_release);
+    while (flag.value.load(std::memory_order_acquire) != 2 * i + 2) {}
+  }
+  const double ns = seconds_since(t0) * 1e9 / trips;
+  other.join();
+  return ns;
+}
+
 struct ThreadRow {
   int threads = 1;
   bool processes = false;  // workers 2.. are processes
@@ -171,13 +195,14 @@ struct CaseResult {
     double steps_per_s = 0;
   };
   std::vector<Processes> limits;
+  std::vector<double> round_trip_runs;  // cache_line_round_trip_ns before each run (with 2+ threads)
 
   // What VecEnv on one thread adds to each env step over the plain loop, in nanoseconds.
   double overhead_ns() const { return 1e9 / rows.front().steps_per_s - 1e9 / plain_per_s; }
 };
 
 CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, const BenchFpsOptions& o) {
-  CaseResult result{c, envs, {}, 0, {}, {}};
+  CaseResult result{c, envs, {}, 0, {}, {}, {}};
   PlainLoop plain(make_envs(c, envs));
   // Built before any pool thread exists: t loops of envs / t envs each (the first ones take the rest).
   std::vector<std::vector<PlainLoop>> shares;
@@ -220,6 +245,7 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
   timed(plain, actions, warmup, envs);
   for (std::size_t k = 0; k < vecs.size(); ++k) timed_row(k, warmup);
   for (int r = 0; r < o.runs; ++r) {
+    if (counts.back() > 1) result.round_trip_runs.push_back(cache_line_round_trip_ns());
     result.plain_runs.push_back(timed(plain, actions, batch_steps, envs));
     for (std::size_t k = 0; k < vecs.size(); ++k) result.rows[k].runs.push_back(timed_row(k, batch_steps));
     // Each process steps every one of its envs batch_steps times, as the pool does.
@@ -273,6 +299,14 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
                  r.c.mode.c_str(), image_label(r.c.image_size).c_str(), r.overhead_ns(),
                  1e9 / r.rows.front().steps_per_s, 1e9 / r.plain_per_s);
   }
+  for (const auto& r : results) {
+    if (r.round_trip_runs.empty()) continue;
+    const auto [low, high] = std::minmax_element(r.round_trip_runs.begin(), r.round_trip_runs.end());
+    std::fprintf(out, "Cache line round trip between two threads, before each run of %s: median %.0f ns (%.0f-%.0f).\n"
+                 "Workers hand each other cache lines at every batch step (actions, results, the step's start and "
+                 "end);\nindependent processes do not.\n",
+                 r.c.entry->name.c_str(), median(r.round_trip_runs), *low, *high);
+  }
 }
 
 nlohmann::json to_json(const std::vector<CaseResult>& results, const BenchFpsOptions& o) {
@@ -292,7 +326,8 @@ nlohmann::json to_json(const std::vector<CaseResult>& results, const BenchFpsOpt
                          {"image_size", r.c.image_size > 0 ? nlohmann::json(r.c.image_size) : nlohmann::json(nullptr)},
                          {"envs", r.envs}, {"plain_loop_steps_per_s", r.plain_per_s},
                          {"plain_loop_runs_steps_per_s", r.plain_runs}, {"threads", threads},
-                         {"pool_overhead_ns_per_step", r.overhead_ns()}});
+                         {"pool_overhead_ns_per_step", r.overhead_ns()},
+                         {"cache_line_round_trip_ns_runs", r.round_trip_runs}});
   }
   return j;
 }
