@@ -216,12 +216,14 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
   // Where training's env_workers "auto" picks processes, the same counts on threads too: the
   // comparison in one run.
   const bool processes = auto_env_workers(row_config(c.entry->name, c.mode, c.image_size)) == EnvWorkers::processes;
-  // On threads, also in two pipelined groups (the config's env_groups: 2).
+  // On threads, also in two pipelined groups (the config's env_groups: 2), for envs whose groups
+  // overlap (any worker may step them; others would step one group at a time).
+  const bool overlapping = make_envs(c, 1).front()->steps_on_any_thread();
   for (int t : counts) {
     for (int variant = 0; variant < 3; ++variant) {
       const bool p = variant == 2, pipelined = variant == 1;
       if (p && (t == 1 || !processes)) continue;
-      if (pipelined && (t == 1 || envs < 2)) continue;
+      if (pipelined && (t == 1 || envs < 2 || !overlapping)) continue;
       vecs.push_back(std::make_unique<VecEnv>(make_envs(c, envs), kSeed, 20, t,
                                               p ? EnvWorkers::processes : EnvWorkers::threads));
       if (pipelined) vecs.back()->set_groups(2);
@@ -302,10 +304,10 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
   for (const auto& r : results) {
     if (r.round_trip_runs.empty()) continue;
     const auto [low, high] = std::minmax_element(r.round_trip_runs.begin(), r.round_trip_runs.end());
-    std::fprintf(out, "Cache line round trip between two threads, before each run of %s: median %.0f ns (%.0f-%.0f).\n"
+    std::fprintf(out, "Cache line round trip between two threads, before each run of %s %s: median %.0f ns (%.0f-%.0f).\n"
                  "Workers hand each other cache lines at every batch step (actions, results, the step's start and "
                  "end);\nindependent processes do not.\n",
-                 r.c.entry->name.c_str(), median(r.round_trip_runs), *low, *high);
+                 r.c.entry->name.c_str(), r.c.mode.c_str(), median(r.round_trip_runs), *low, *high);
   }
 }
 

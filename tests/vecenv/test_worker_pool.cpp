@@ -75,7 +75,7 @@ TEST_CASE("WorkerPool: workers that went to sleep wake for the next job", "[pool
   CHECK(calls.load() == 6);
 }
 
-TEST_CASE("WorkerPool: start() runs the workers' share while the caller goes on; join() waits", "[pool]") {
+TEST_CASE("WorkerPool: start() runs the workers' share while the caller goes on, join() waits", "[pool]") {
   WorkerPool pool(3);
   std::atomic<int> release{0};
   std::vector<int> ran(3, 0);
