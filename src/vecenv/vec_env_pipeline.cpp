@@ -4,7 +4,7 @@
 // average); with groups in flight a worker goes straight on to the next group's envs.
 //
 // Who does what: the workers (1..T-1) run one long pool job (start_pipeline to stop_pipeline)
-// that claims env steps from the groups in flight, oldest group first; the caller claims them too
+// that claims env steps from the groups in flight, in turn; the caller claims them too
 // while it waits in recv(). Each env of a sent group is claimed exactly once (an atomic index per
 // worker's part of the group), and a group is re-sent only after it was received, so an env is
 // never stepped twice at once. Everything shared (timesteps, episode tracker) is updated by recv()
@@ -39,13 +39,13 @@ void VecEnv::set_groups(int groups) {
     for (int i = group_first(g); i < group_end(g); ++i) group_active_[static_cast<std::size_t>(g)][static_cast<std::size_t>(i)] = true;
   sent_actions_.assign(envs_.size(), Action{});
   env_errors_.assign(envs_.size(), nullptr);
-  group_done_ = std::make_unique<GroupProgress[]>(static_cast<std::size_t>(groups));
+  group_done_ = std::make_unique<GroupProgress[]>(static_cast<std::size_t>(groups * pool_.size()));
+  group_expected_.assign(static_cast<std::size_t>(groups), 0);
   group_next_ = std::make_unique<NextEnv[]>(static_cast<std::size_t>(groups * pool_.size()));
   // Every part starts exhausted: nothing to claim before the first send.
   for (int g = 0; g < groups; ++g)
     for (int w = 0; w < pool_.size(); ++w) group_next_[static_cast<std::size_t>(g * pool_.size() + w)].index.store(group_end(g));
   next_send_ = next_recv_ = in_flight_ = 0;
-  oldest_.store(0);
 }
 
 void VecEnv::require_idle(const char* what) const {
@@ -70,8 +70,8 @@ void VecEnv::send(int group, const std::vector<Action>& actions) {
   next_send_ = (group + 1) % groups_;
   ++in_flight_;
   if (!overlaps()) return;  // recv() steps the group
-  group_done_[static_cast<std::size_t>(group)].done.store(0, std::memory_order_relaxed);
-  // Release: a worker that claims an index (acq_rel) sees the actions and the reset count.
+  group_expected_[static_cast<std::size_t>(group)] += end - first;
+  // Release: a worker that claims an index (acq_rel) sees the actions.
   for (int w = 0; w < workers; ++w)
     group_next_[static_cast<std::size_t>(group * workers + w)].index.store(first + w * (end - first) / workers,
                                                                            std::memory_order_release);
@@ -80,10 +80,10 @@ void VecEnv::send(int group, const std::vector<Action>& actions) {
   if (!pipeline_running_) start_pipeline();
 }
 
-bool VecEnv::step_one_sent(int w) {
-  const int workers = pool_.size(), oldest = oldest_.load(std::memory_order_relaxed);
+int VecEnv::step_one_sent(int w, int first_group) {
+  const int workers = pool_.size();
   for (int k = 0; k < groups_; ++k) {
-    const int g = (oldest + k) % groups_, first = group_first(g), n = group_end(g) - first;
+    const int g = (first_group + k) % groups_, first = group_first(g), n = group_end(g) - first;
     for (int j = 0; j < workers; ++j) {
       const int part = (w + j) % workers, part_end = first + (part + 1) * n / workers;
       std::atomic<int>& next = group_next_[static_cast<std::size_t>(g * workers + part)].index;
@@ -97,19 +97,25 @@ bool VecEnv::step_one_sent(int w) {
       } catch (...) {
         env_errors_[e] = std::current_exception();
       }
-      group_done_[static_cast<std::size_t>(g)].done.fetch_add(1, std::memory_order_release);
-      return true;
+      // This worker's own count: the caller reads it, nobody else writes it.
+      std::atomic<long long>& done = group_done_[static_cast<std::size_t>(g * workers + w)].done;
+      done.store(done.load(std::memory_order_relaxed) + 1, std::memory_order_release);
+      return g;
     }
   }
-  return false;
+  return -1;
 }
 
 void VecEnv::start_pipeline() {
   stop_pipeline_.store(false);
   pipeline_job_ = [this](int w) {
+    int group = 0;  // where this worker last found work: the groups come in turn from there
     for (;;) {
       const std::uint64_t seen = posts_.load();
-      if (step_one_sent(w)) continue;
+      if (const int g = step_one_sent(w, group); g >= 0) {
+        group = g;
+        continue;
+      }
       if (stop_pipeline_.load()) return;
       // Nothing to claim: poll briefly (the next send is usually microseconds away), then sleep
       // until a send or the stop, so that an update running meanwhile gets the core.
@@ -145,9 +151,14 @@ const std::vector<EnvStep>& VecEnv::recv(int group) {
   const std::vector<bool>& active = group_active_[static_cast<std::size_t>(group)];
   std::exception_ptr error;
   if (overlaps()) {
-    std::atomic<int>& done = group_done_[static_cast<std::size_t>(group)].done;
-    while (done.load(std::memory_order_acquire) < end - first)
-      if (!step_one_sent(0)) cpu_relax();
+    const auto finished = [&] {
+      long long done = 0;
+      for (int w = 0; w < pool_.size(); ++w)
+        done += group_done_[static_cast<std::size_t>(group * pool_.size() + w)].done.load(std::memory_order_acquire);
+      return done == group_expected_[static_cast<std::size_t>(group)];
+    };
+    while (!finished())
+      if (step_one_sent(0, group) < 0) cpu_relax();
     for (int i = first; i < end && !error; ++i) std::swap(error, env_errors_[static_cast<std::size_t>(i)]);
     for (int i = first; i < end; ++i) env_errors_[static_cast<std::size_t>(i)] = nullptr;
   } else {
@@ -158,7 +169,6 @@ const std::vector<EnvStep>& VecEnv::recv(int group) {
     }
   }
   next_recv_ = (group + 1) % groups_;
-  oldest_.store(next_recv_, std::memory_order_relaxed);
   if (--in_flight_ == 0) stop_pipeline();
   if (error) std::rethrow_exception(error);
   // The round's timestep, as step() would record it after stepping every env once.

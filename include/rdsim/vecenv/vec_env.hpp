@@ -164,9 +164,9 @@ private:
   // The tracker's share of a step: envs [first, end) with active[i], stepped at `timestep`.
   void record(int first, int end, const std::vector<bool>& active, long long timestep);
   bool overlaps() const;
-  // Pipelined groups: one env step claimed from the oldest group in flight (worker w's own part
-  // of each group first); false when none is left to claim.
-  bool step_one_sent(int w);
+  // Pipelined groups: one env step claimed from the groups in flight, from group `first` on (worker
+  // w's own part of each group first); the group it came from, or -1 when none is left to claim.
+  int step_one_sent(int w, int first);
   void start_pipeline();
   void stop_pipeline();
   void require_idle(const char* what) const;
@@ -195,15 +195,17 @@ private:
   std::vector<std::vector<bool>> group_active_;  // per group: its envs
   std::vector<Action> sent_actions_;               // per env: the action its group was sent with
   std::vector<std::exception_ptr> env_errors_;     // per env: what its pipelined step threw
+  // Per group and worker, on lines of their own: env steps of the group that worker finished, ever
+  // (never reset, so a send writes nothing the workers read but the claim indices).
   struct alignas(64) GroupProgress {
-    std::atomic<int> done{0};  // envs of the group finished since its send
+    std::atomic<long long> done{0};
   };
-  std::unique_ptr<GroupProgress[]> group_done_;
+  std::unique_ptr<GroupProgress[]> group_done_;   // [group * workers + w]
+  std::vector<long long> group_expected_;          // per group: its env steps sent, ever (the caller's)
   std::unique_ptr<NextEnv[]> group_next_;  // [group * workers + w]: next unclaimed env of w's part
   int next_send_ = 0, next_recv_ = 0, in_flight_ = 0;
   long long round_base_ = 0;  // timesteps_ when the round's group 0 was received
   bool pipeline_running_ = false;
-  alignas(64) std::atomic<int> oldest_{0};            // the group received next (a hint for workers)
   alignas(64) std::atomic<std::uint64_t> posts_{0};  // bumped by every send and by the stop
   std::atomic<bool> stop_pipeline_{false};
   std::function<void(int)> pipeline_job_;
