@@ -41,6 +41,7 @@ void VecEnv::set_groups(int groups) {
   env_errors_.assign(envs_.size(), nullptr);
   group_done_ = std::make_unique<GroupProgress[]>(static_cast<std::size_t>(groups * pool_.size()));
   group_expected_.assign(static_cast<std::size_t>(groups), 0);
+  group_overlaps_.assign(static_cast<std::size_t>(groups), false);
   group_next_ = std::make_unique<NextEnv[]>(static_cast<std::size_t>(groups * pool_.size()));
   // Every part starts exhausted: nothing to claim before the first send.
   for (int g = 0; g < groups; ++g)
@@ -69,7 +70,9 @@ void VecEnv::send(int group, const std::vector<Action>& actions) {
   for (int i = first; i < end; ++i) sent_actions_[static_cast<std::size_t>(i)] = actions[static_cast<std::size_t>(i)];
   next_send_ = (group + 1) % groups_;
   ++in_flight_;
-  if (!overlaps()) return;  // recv() steps the group
+  // Decided once per send, for its recv: whether the workers step the group or recv() does.
+  group_overlaps_[static_cast<std::size_t>(group)] = overlaps();
+  if (!group_overlaps_[static_cast<std::size_t>(group)]) return;
   group_expected_[static_cast<std::size_t>(group)] += end - first;
   // Release: a worker that claims an index (acq_rel) sees the actions.
   for (int w = 0; w < workers; ++w)
@@ -150,12 +153,12 @@ const std::vector<EnvStep>& VecEnv::recv(int group) {
   const int first = group_first(group), end = group_end(group);
   const std::vector<bool>& active = group_active_[static_cast<std::size_t>(group)];
   std::exception_ptr error;
-  if (overlaps()) {
+  if (group_overlaps_[static_cast<std::size_t>(group)]) {
     const auto finished = [&] {
       long long done = 0;
       for (int w = 0; w < pool_.size(); ++w)
         done += group_done_[static_cast<std::size_t>(group * pool_.size() + w)].done.load(std::memory_order_acquire);
-      return done == group_expected_[static_cast<std::size_t>(group)];
+      return done >= group_expected_[static_cast<std::size_t>(group)];
     };
     while (!finished())
       if (step_one_sent(0, group) < 0) cpu_relax();

@@ -202,6 +202,7 @@ private:
   };
   std::unique_ptr<GroupProgress[]> group_done_;   // [group * workers + w]
   std::vector<long long> group_expected_;          // per group: its env steps sent, ever (the caller's)
+  std::vector<bool> group_overlaps_;               // per group: its last send went to the workers
   std::unique_ptr<NextEnv[]> group_next_;  // [group * workers + w]: next unclaimed env of w's part
   int next_send_ = 0, next_recv_ = 0, in_flight_ = 0;
   long long round_base_ = 0;  // timesteps_ when the round's group 0 was received
