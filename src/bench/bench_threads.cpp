@@ -286,16 +286,17 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
                    l.steps_per_s / r.plain_per_s);
     }
   }
-  std::fprintf(out, "\nspeed-up: steps/s over those of 1 thread in the same run. plain loop: the same envs stepped "
-               "one after another\non one thread, no pool, no episode bookkeeping. N alone: N processes stepping "
-               "their share of the envs\nin plain loops at the same time, nothing shared but the machine; their "
-               "speed-up is over the plain loop. workers: the training config's "
-               "num_threads; pixel envs drawn by osmesa\nare measured on threads and on worker processes (what "
-               "env_workers \"auto\" picks for them: Mesa's llvmpipe\ndraws one frame at a time per process). "
-               "2 groups in turn: the envs in two halves, each sent (VecEnv::send) as soon as received,\nso that no "
-               "worker waits for the other's last env at each batch step (what a rollout with env_groups 2 does). "
-               "Pool overhead per env step, "
-               "VecEnv on 1 thread vs the plain loop:\n");
+  std::fputs("\nspeed-up: steps/s over those of 1 thread in the same run.\n"
+             "plain loop: the same envs stepped one after another on one thread, no pool, no episode bookkeeping.\n"
+             "N alone: N processes stepping their share of the envs in plain loops at the same time, nothing\n"
+             "  shared but the machine; their speed-up is over the plain loop.\n"
+             "workers: the training config's num_threads. Pixel envs drawn by osmesa are measured on threads and\n"
+             "  on worker processes (what env_workers \"auto\" picks for them: Mesa's llvmpipe draws one frame\n"
+             "  at a time per process).\n"
+             "2 groups in turn: the envs in two halves, each sent to the workers as soon as it is received, so\n"
+             "  that no worker waits for the other's last env at each batch step (a rollout with env_groups 2).\n"
+             "Pool overhead per env step, VecEnv on 1 thread vs the plain loop:\n",
+             out);
   for (const auto& r : results) {
     std::fprintf(out, "  %-16s %-13s %9s %+8.0f ns (%.0f vs %.0f ns per env step)\n", r.c.entry->name.c_str(),
                  r.c.mode.c_str(), image_label(r.c.image_size).c_str(), r.overhead_ns(),
