@@ -10,23 +10,11 @@
 // never stepped twice at once. Everything shared (timesteps, episode tracker) is updated by recv()
 // on the calling thread, in env order.
 #include <algorithm>
-#include <chrono>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 
 namespace rdsim {
-namespace {
-
-inline void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
-
-}  // namespace
 
 void VecEnv::set_groups(int groups) {
   require_idle("set_groups");
@@ -122,14 +110,7 @@ void VecEnv::start_pipeline() {
       if (stop_pipeline_.load()) return;
       // Nothing to claim: poll briefly (the next send is usually microseconds away), then sleep
       // until a send or the stop, so that an update running meanwhile gets the core.
-      const auto deadline = std::chrono::steady_clock::now() + std::chrono::microseconds(WorkerPool::kSpinMicros);
-      bool posted = false;
-      for (int spin = 1; !posted; ++spin) {
-        cpu_relax();
-        posted = posts_.load(std::memory_order_relaxed) != seen;
-        if (spin % 64 == 0 && std::chrono::steady_clock::now() > deadline) break;
-      }
-      if (!posted) posts_.wait(seen);
+      if (!spin_until([&] { return posts_.load(std::memory_order_relaxed) != seen; })) posts_.wait(seen);
     }
   };
   pool_.start(pipeline_job_);

@@ -6,29 +6,6 @@
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
-namespace {
-
-inline void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
-
-// Polls `done()` for up to kSpinMicros; true when it became true in that time.
-template <class Done>
-bool spin_until(Done done) {
-  using Clock = std::chrono::steady_clock;
-  const auto deadline = Clock::now() + std::chrono::microseconds(WorkerPool::kSpinMicros);
-  for (int i = 1;; ++i) {
-    if (done()) return true;
-    cpu_relax();
-    if (i % 64 == 0 && Clock::now() > deadline) return done();
-  }
-}
-
-}  // namespace
 
 WorkerPool::WorkerPool(int threads) {
   if (threads < 1) throw Error("WorkerPool: at least one thread expected, got " + std::to_string(threads));

@@ -1,5 +1,6 @@
 #pragma once
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
@@ -76,6 +77,29 @@ private:
   std::mutex mutex_;
   std::condition_variable job_ready_, job_done_;
 };
+
+// One pause of a spin-wait: tells the core this thread is polling (x86 `pause`, ARM `yield`), so a
+// sibling hardware thread and the line being polled are not starved.
+inline void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
+// Polls `done()` for up to WorkerPool::kSpinMicros, pausing between polls; true when it became true
+// in that time (the caller then sleeps until it does).
+template <class Done>
+bool spin_until(Done done) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::microseconds(WorkerPool::kSpinMicros);
+  for (int i = 1;; ++i) {
+    if (done()) return true;
+    cpu_relax();
+    if (i % 64 == 0 && Clock::now() > deadline) return done();
+  }
+}
 
 // Cores this process may run on: its CPU affinity mask (what mpirun's binding or taskset
 // leaves it), or std::thread::hardware_concurrency() where that is unknown. At least 1.
