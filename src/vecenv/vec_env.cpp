@@ -216,9 +216,13 @@ const std::vector<EnvStep>& VecEnv::step(const std::vector<Action>& actions, con
   return results_;
 }
 
-void VecEnv::dispatch(const std::vector<Action>& actions, const std::vector<bool>& active) {
+bool VecEnv::overlaps() const {
   const auto movable = [](const std::unique_ptr<Env>& e) { return e->steps_on_any_thread(); };
-  if (processes_.empty() && pool_.size() > 1 && std::all_of(envs_.begin(), envs_.end(), movable)) {
+  return processes_.empty() && pool_.size() > 1 && std::all_of(envs_.begin(), envs_.end(), movable);
+}
+
+void VecEnv::dispatch(const std::vector<Action>& actions, const std::vector<bool>& active) {
+  if (overlaps()) {
     step_shared(actions, active);
   } else if (processes_.empty()) {
     // The workers only read `active` and write their own envs' results.

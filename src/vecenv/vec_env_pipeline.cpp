@@ -9,7 +9,7 @@
 // worker's part of the group), and a group is re-sent only after it was received, so an env is
 // never stepped twice at once. Everything shared (timesteps, episode tracker) is updated by recv()
 // on the calling thread, in env order.
-#include <algorithm>
+#include <utility>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
@@ -41,12 +41,6 @@ void VecEnv::require_idle(const char* what) const {
   if (in_flight_ > 0)
     throw Error(std::string("VecEnv::") + what + ": " + std::to_string(in_flight_) +
                 " group(s) sent and not received; recv() them first");
-}
-
-// Envs that any thread may step, and more than one thread: the groups overlap.
-bool VecEnv::overlaps() const {
-  const auto movable = [](const std::unique_ptr<Env>& e) { return e->steps_on_any_thread(); };
-  return processes_.empty() && pool_.size() > 1 && std::all_of(envs_.begin(), envs_.end(), movable);
 }
 
 void VecEnv::send(int group, const std::vector<Action>& actions) {

@@ -163,6 +163,8 @@ private:
   void dispatch(const std::vector<Action>& actions, const std::vector<bool>& active);
   // The tracker's share of a step: envs [first, end) with active[i], stepped at `timestep`.
   void record(int first, int end, const std::vector<bool>& active, long long timestep);
+  // Envs that any worker thread may step, and more than one thread: step() shares them out
+  // (step_shared) and pipelined groups overlap.
   bool overlaps() const;
   // Pipelined groups: one env step claimed from the groups in flight, from group `first` on (worker
   // w's own part of each group first); the group it came from, or -1 when none is left to claim.
