@@ -144,6 +144,13 @@ public:
     const Eigen::Quaternionf q(pose.linear());
     return py::make_tuple(to_array(pose.translation()), to_array(Eigen::Vector4f(q.x(), q.y(), q.z(), q.w())));
   }
+  // (mass kg, principal moments kg m^2 (3,)) as Bullet simulates the link.
+  py::tuple link_inertia(const py::handle& link) const {
+    const Robot::LinkInertia i = robot().link_inertia(link_index(link));
+    py::array_t<double> moments(3);
+    for (int k = 0; k < 3; ++k) moments.mutable_at(k) = i.moments[k];
+    return py::make_tuple(i.mass, moments);
+  }
   py::array_t<double> link_position(const py::handle& link) const {
     return to_array(robot().link_pose(link_index(link)).translation());
   }
@@ -204,16 +211,24 @@ private:
 
 class PyWorld {
 public:
-  PyWorld(double time_step, int solver_iterations, const py::handle& gravity, double residual_threshold,
+  // residual_threshold: None = the default (0, or pybullet's 1e-7 with pybullet_solver); a number wins.
+  PyWorld(double time_step, int solver_iterations, const py::handle& gravity, const py::object& residual_threshold,
           bool pybullet_solver_settings)
       : data_(std::make_shared<WorldData>()) {
     WorldSettings s;
     s.time_step = time_step;
     s.solver_iterations = solver_iterations;
     s.gravity = read_values(gravity, 3, "rdsim.sim.World: gravity").cast<float>();
-    if (!(residual_threshold >= 0.0)) throw Error("rdsim.sim.World: solver_residual_threshold: expected >= 0");
-    s.solver_residual_threshold = residual_threshold;
     if (pybullet_solver_settings) s = pybullet_solver(s);
+    if (!residual_threshold.is_none()) {
+      const bool number = py::isinstance<py::float_>(residual_threshold) ||
+                          (py::isinstance<py::int_>(residual_threshold) && !py::isinstance<py::bool_>(residual_threshold));
+      const double threshold = number ? residual_threshold.cast<double>() : -1.0;
+      if (!(threshold >= 0.0))
+        throw Error("rdsim.sim.World: solver_residual_threshold: expected None or a number >= 0, got " +
+                    py::repr(residual_threshold).cast<std::string>());
+      s.solver_residual_threshold = threshold;
+    }
     data_->world = std::make_unique<PhysicsWorld>(s);
   }
 
@@ -294,13 +309,14 @@ void bind_sim(py::module_& parent) {
       .def("link_index", &PyRobot::link_index, py::arg("link"))
       .def("link_pose", &PyRobot::link_pose, py::arg("link"))
       .def("link_position", &PyRobot::link_position, py::arg("link"))
+      .def("link_inertia", &PyRobot::link_inertia, py::arg("link"))
       .def("link_positions", &PyRobot::link_positions)
       .def("null_space_ik", &PyRobot::null_space_ik, py::arg("link"), py::arg("target"), py::arg("start") = py::none(),
            py::arg("rest") = py::none(), py::arg("iterations") = 20, py::arg("residual_threshold") = 1e-4);
   py::class_<PyWorld>(m, "World", "A Bullet multibody world (sim::PhysicsWorld).")
-      .def(py::init<double, int, const py::handle&, double, bool>(), py::arg("time_step") = 1.0 / 240.0,
+      .def(py::init<double, int, const py::handle&, const py::object&, bool>(), py::arg("time_step") = 1.0 / 240.0,
            py::arg("solver_iterations") = 50, py::arg("gravity") = py::make_tuple(0.0, 0.0, -9.8),
-           py::arg("solver_residual_threshold") = 0.0, py::arg("pybullet_solver") = false)
+           py::arg("solver_residual_threshold") = py::none(), py::arg("pybullet_solver") = false)
       .def("add_robot", &PyWorld::add_robot, py::arg("urdf"), py::arg("position") = py::make_tuple(0.0, 0.0, 0.0),
            py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0), py::arg("drive") = "position_motor",
            py::arg("position_gain") = 1.0, py::arg("velocity_gain") = 1.0, py::arg("limit_constraints") = true,

@@ -23,18 +23,19 @@
 #include "rdsim/core/input_file.hpp"
 
 namespace rdsim {
-namespace {
 
-enum class Format { Stl, Obj, Dae };
-
-Format format_of(const std::string& file) {
+MeshFormat mesh_format(const std::string& file) {
   std::string ext = std::filesystem::path(file).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".stl") return Format::Stl;
-  if (ext == ".obj") return Format::Obj;
-  if (ext == ".dae") return Format::Dae;
+  if (ext == ".stl") return MeshFormat::Stl;
+  if (ext == ".obj") return MeshFormat::Obj;
+  if (ext == ".dae") return MeshFormat::Dae;
   throw Error(file + ": unsupported mesh format \"" + ext + "\" (rdsim reads .stl, .obj and .dae)");
 }
+
+namespace {
+
+using Format = MeshFormat;
 
 const char* format_name(Format f) { return f == Format::Stl ? "STL" : f == Format::Obj ? "OBJ" : "DAE"; }
 
@@ -156,7 +157,7 @@ std::string read_whole(const std::string& file) {
 }  // namespace
 
 TriangleMesh read_mesh_file(const std::string& file, const Eigen::Vector3d& scale) {
-  const Format format = format_of(file);
+  const Format format = mesh_format(file);
   if (!scale.allFinite() || !(scale.cwiseAbs().minCoeff() > 0.0))
     throw Error(file + ": scale (" + std::to_string(scale.x()) + " " + std::to_string(scale.y()) + " " +
                 std::to_string(scale.z()) + ") must be finite and non-zero in x, y and z");

@@ -13,6 +13,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/sim/joint_dynamics.hpp"
+#include "rdsim/sim/mesh_file.hpp"
 #include "rdsim/sim/physics_world.hpp"
 #include "physics_world_impl.hpp"
 
@@ -52,13 +53,19 @@ Eigen::Vector3d shape_moments(const Link& link) {
       case ShapeType::Cylinder: half = Eigen::Vector3d(s.radius, s.radius, s.length / 2.0) + Eigen::Vector3d::Constant(2.0 * kMargin); break;
       case ShapeType::Sphere: half = Eigen::Vector3d::Constant(s.radius + kMargin); break;
       case ShapeType::Mesh: {
+        // The box of all the mesh's vertices (pybullet's hull keeps every one; rdsim's collision hull
+        // may be reduced to max_hull_points, whose box is smaller), grown like the cylinder's by two
+        // margins a side, three for an OBJ file, which pybullet wraps in one more compound shape
+        // (measured with getDynamicsInfo: the KUKA iiwa's STL links the vertices' box + 6 mm with the
+        // link compound's margin, the Panda's OBJ links + 8 mm).
+        const double margins = mesh_format(s.mesh.file) == MeshFormat::Obj ? 3.0 : 2.0;
         Eigen::AlignedBox3d hull;
-        if (s.mesh.hull)
+        if (s.mesh.mesh)
+          for (const Eigen::Vector3f& p : s.mesh.mesh->positions) hull.extend(Eigen::Vector3d(p.cast<double>()));
+        else if (s.mesh.hull)
           for (const Eigen::Vector3f& p : s.mesh.hull->points) hull.extend(Eigen::Vector3d(p.cast<double>()));
         if (hull.isEmpty()) hull.extend(Eigen::Vector3d::Zero());
-        // A hull's box, like the cylinder's: its points grown by two margins a side (pybullet's
-        // KUKA iiwa links: the vertices' box + 6 mm with the compound's margin, measured).
-        return Eigen::AlignedBox3d(hull.min().array() - 2.0 * kMargin, hull.max().array() + 2.0 * kMargin);
+        return Eigen::AlignedBox3d(hull.min().array() - margins * kMargin, hull.max().array() + margins * kMargin);
       }
     }
     return Eigen::AlignedBox3d(-half, half);
@@ -101,7 +108,8 @@ BodyFrame body_frame(const Link& link, bool on_movable_joint, bool inertia_from_
     f.mass = kMovableMinMass;
     f.moments.setConstant(kMinMoment);
   }
-  if (f.mass > 0.0) f.moments = f.moments.cwiseMax(kMinMoment);
+  // Shape-derived moments are pybullet's as they are (a 2 g link without shapes: 1.3e-9 kg m^2).
+  if (f.mass > 0.0 && !inertia_from_shapes) f.moments = f.moments.cwiseMax(kMinMoment);
   f.in_link = link.inertial.origin;
   f.in_link.linear() = link.inertial.origin.linear() * axes;
   return f;
@@ -628,6 +636,15 @@ void Robot::before_step() {
   t.solve_impulses(dt);
   for (int i = 0; i < dof(); ++i)
     multibody_->addJointTorque(dofs_[static_cast<size_t>(i)].bullet_link, static_cast<btScalar>(t.impulse[i] / dt));
+}
+
+Robot::LinkInertia Robot::link_inertia(int link) const {
+  if (link < 0 || link >= static_cast<int>(model_.links.size()))
+    throw Error(model_.source + ": link " + std::to_string(link) + " out of range (0.." +
+                std::to_string(model_.links.size() - 1) + ")");
+  const size_t l = static_cast<size_t>(link);
+  const BodyFrame f = body_frame(model_.links[l], l > 0 && model_.joints[l - 1].movable(), options_.inertia_from_shapes);
+  return {f.mass, f.moments};
 }
 
 Eigen::Isometry3f Robot::link_pose(int link) const {

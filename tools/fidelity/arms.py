@@ -15,6 +15,8 @@ from .robots import RobotCase
 
 TIME_STEP = 1.0 / 240.0  # s: pybullet's default step, also rdsim's
 GRAVITY = (0.0, 0.0, -9.8)
+# pybullet's physics server stops the solver's iterations once the squared residual falls below this.
+PYBULLET_RESIDUAL_THRESHOLD = 1e-7
 
 
 class PyBulletArm:
@@ -26,7 +28,8 @@ class PyBulletArm:
     """
 
     def __init__(self, case: RobotCase, *, solver_iterations: int = 150, inertia_from_file: bool = True,
-                 position_gain: float = 0.1, velocity_gain: float = 1.0) -> None:
+                 position_gain: float = 0.1, velocity_gain: float = 1.0,
+                 solver_residual_threshold: float = PYBULLET_RESIDUAL_THRESHOLD) -> None:
         import pybullet as p
 
         self.p = p
@@ -34,7 +37,8 @@ class PyBulletArm:
         self.client = p.connect(p.DIRECT)
         p.setGravity(*GRAVITY, physicsClientId=self.client)
         p.setTimeStep(TIME_STEP, physicsClientId=self.client)
-        p.setPhysicsEngineParameter(numSolverIterations=solver_iterations, physicsClientId=self.client)
+        p.setPhysicsEngineParameter(numSolverIterations=solver_iterations,
+                                    solverResidualThreshold=solver_residual_threshold, physicsClientId=self.client)
         flags = p.URDF_USE_INERTIA_FROM_FILE if inertia_from_file else 0
         self.body = p.loadURDF(str(case.urdf()), case.base_position, useFixedBase=True, flags=flags,
                                physicsClientId=self.client)
@@ -104,6 +108,11 @@ class PyBulletArm:
         return np.array(self.p.getLinkState(self.body, j, computeForwardKinematics=True,
                                             physicsClientId=self.client)[4])
 
+    def link_inertia(self, link: str) -> tuple[float, np.ndarray]:
+        """(mass kg, principal moments kg m^2) as pybullet simulates the link (getDynamicsInfo)."""
+        info = self.p.getDynamicsInfo(self.body, self._links[link], physicsClientId=self.client)
+        return info[0], np.array(info[2])
+
     def ik(self, link: str, target: Sequence[float], rest: Sequence[float],
            start: Optional[Sequence[float]] = None) -> np.ndarray:
         """pybullet's calculateInverseKinematics as the original called it: rest poses with the URDF's
@@ -151,12 +160,13 @@ class RdsimArm:
 
     def __init__(self, case: RobotCase, *, solver_iterations: int = 150, position_gain: float = 0.1,
                  velocity_gain: float = 1.0, speed_limits: bool = False, link_damping: float = 0.04,
-                 pybullet_solver: bool = True, inertia_from_shapes: bool = True, joint_damping: bool = True) -> None:
+                 pybullet_solver: bool = True, inertia_from_shapes: bool = True, joint_damping: bool = True,
+                 solver_residual_threshold: Optional[float] = None) -> None:
         import rdsim.sim
 
         self.case = case
         self.world = rdsim.sim.World(time_step=TIME_STEP, solver_iterations=solver_iterations, gravity=GRAVITY,
-                                     pybullet_solver=pybullet_solver)
+                                     pybullet_solver=pybullet_solver, solver_residual_threshold=solver_residual_threshold)
         self.robot = self.world.add_robot(str(case.urdf()), case.base_position, drive="position_motor",
                                           position_gain=position_gain, velocity_gain=velocity_gain,
                                           speed_limits=speed_limits, link_damping=link_damping,
@@ -183,6 +193,10 @@ class RdsimArm:
 
     def link_position(self, link: str) -> np.ndarray:
         return np.asarray(self.robot.link_position(link))
+
+    def link_inertia(self, link: str) -> tuple[float, np.ndarray]:
+        mass, moments = self.robot.link_inertia(link)
+        return mass, np.asarray(moments)
 
     def ik(self, link: str, target: Sequence[float], rest: Sequence[float],
            start: Optional[Sequence[float]] = None) -> np.ndarray:

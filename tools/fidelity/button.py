@@ -13,7 +13,7 @@ from typing import Callable, Iterator
 
 import numpy as np
 
-from .arms import PyBulletArm, RdsimArm
+from .arms import PYBULLET_RESIDUAL_THRESHOLD, PyBulletArm, RdsimArm
 from .compare import recipe_search
 from .robots import CASES, ROOT
 
@@ -63,12 +63,14 @@ def rdsim_scene(arm: RdsimArm, target, *, free: bool = True) -> Callable[[], boo
     return moved
 
 
-def search_pair(target, *, steps: int = 1000, beam: int = 16, hold: int = 4) -> dict:
+def search_pair(target, *, steps: int = 1000, beam: int = 16, hold: int = 4,
+                solver_residual_threshold: float = PYBULLET_RESIDUAL_THRESHOLD) -> dict:
     """Greedy and beam closest approaches to `target` in both simulators (metres)."""
     case = CASES["jaka"]
-    pb = PyBulletArm(case, inertia_from_file=False)  # as the original loaded it
+    # as the original loaded it
+    pb = PyBulletArm(case, inertia_from_file=False, solver_residual_threshold=solver_residual_threshold)
     pb_moved = pybullet_scene(pb, target)
-    rd = RdsimArm(case)
+    rd = RdsimArm(case, solver_residual_threshold=solver_residual_threshold)
     rd_moved = rdsim_scene(rd, target)
     out = {"pybullet": recipe_search(pb, case, target, steps=steps, beam=beam, hold=hold, disturbed=pb_moved),
            "rdsim": recipe_search(rd, case, target, steps=steps, beam=beam, hold=hold, disturbed=rd_moved)}
@@ -76,12 +78,13 @@ def search_pair(target, *, steps: int = 1000, beam: int = 16, hold: int = 4) -> 
     return out
 
 
-def button_search(*, steps: int = 1000, seeds=range(100, 108), fixed: bool = True) -> Iterator[str]:
+def button_search(*, steps: int = 1000, seeds=range(100, 108), fixed: bool = True,
+                  solver_residual_threshold: float = PYBULLET_RESIDUAL_THRESHOLD) -> Iterator[str]:
     """Report rows: the fixed button, then random buttons by seed."""
     targets = [("fixed (0.5, 0, 0)", PAPER_TARGET)] if fixed else []
     targets += [(f"random, seed {s}", random_button(s)) for s in seeds]
     for label, target in targets:
-        r = search_pair(target, steps=steps)
+        r = search_pair(target, steps=steps, solver_residual_threshold=solver_residual_threshold)
         yield (f"| {label} | ({target[0]:.3f}, {target[1]:.3f}) | pybullet greedy {100 * r['pybullet']['greedy']:.1f} cm, "
                f"beam {100 * r['pybullet']['beam']:.1f} cm | "
                f"rdsim greedy {100 * r['rdsim']['greedy']:.1f} cm, beam {100 * r['rdsim']['beam']:.1f} cm |")

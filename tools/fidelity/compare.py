@@ -11,6 +11,7 @@ numbers (metres and radians); the pytest file and the report script only choose 
 Options passed on to :func:`fidelity.arms.make_pair`: ``inertia`` ("shapes", the default and the
 original's, or "urdf") and rdsim's ``speed_limits``, ``link_damping``, ``pybullet_solver`` (to measure
 rdsim as it was before the fidelity changes).
+- :func:`link_inertias` -- the masses and moments both derive from the collision shapes.
 - :func:`recipe_search` -- greedy and beam searches over the six moves (closest approach to a point).
 """
 from __future__ import annotations
@@ -19,7 +20,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from .arms import PyBulletArm, RdsimArm, make_pair
+from .arms import PYBULLET_RESIDUAL_THRESHOLD, PyBulletArm, RdsimArm, make_pair
 from .robots import CASES, RobotCase
 
 PHYSICS_STEPS_PER_MOVE = 2  # the original: two stepSimulation() calls per env step
@@ -148,13 +149,17 @@ def _moves_side_by_side(a, b, case: RobotCase, actions, rest: np.ndarray) -> dic
 
 
 def pybullet_sensitivity(case, *, steps: int = 1000, seed: int = 0, nudge: float = 1e-7,
-                         inertia: str = "shapes") -> dict:
+                         inertia: str = "shapes", solver_residual_threshold: float = PYBULLET_RESIDUAL_THRESHOLD,
+                         second_residual_threshold: Optional[float] = None) -> dict:
     """pybullet against itself: the same move sequence as action_sequence twice, the second run's
-    reset pose nudged by `nudge` rad per joint. How far the recipe itself amplifies a difference far
-    below float rounding: a sequence pybullet does not reproduce under it cannot judge rdsim."""
+    reset pose nudged by `nudge` rad per joint, or its solver stopping at `second_residual_threshold`
+    instead of `solver_residual_threshold`. How far the recipe itself amplifies a difference at or
+    below float rounding, or a change of the solver's tolerance: a sequence pybullet does not
+    reproduce under it cannot judge rdsim."""
     case = _case(case)
-    a = PyBulletArm(case, inertia_from_file=inertia == "urdf")
-    b = PyBulletArm(case, inertia_from_file=inertia == "urdf")
+    second = solver_residual_threshold if second_residual_threshold is None else second_residual_threshold
+    a = PyBulletArm(case, inertia_from_file=inertia == "urdf", solver_residual_threshold=solver_residual_threshold)
+    b = PyBulletArm(case, inertia_from_file=inertia == "urdf", solver_residual_threshold=second)
     rng = np.random.default_rng(seed)
     actions = rng.integers(0, 6, size=steps)
     q0 = np.array(case.pose(a.joint_names, "reset"))
@@ -165,6 +170,26 @@ def pybullet_sensitivity(case, *, steps: int = 1000, seed: int = 0, nudge: float
     a.close()
     b.close()
     return result
+
+
+def link_inertias(case) -> dict:
+    """The masses and principal moments both simulators give the links when they derive the inertia
+    from the collision shapes (pybullet's getDynamicsInfo; rdsim's Robot.link_inertia): the largest
+    relative moment difference over the links with mass, and its link."""
+    case = _case(case)
+    pb, rd = make_pair(case, inertia="shapes")
+    worst, worst_link = 0.0, ""
+    for link in rd.robot.link_names:
+        mass_pb, moments_pb = pb.link_inertia(link)
+        mass_rd, moments_rd = rd.link_inertia(link)
+        if mass_pb <= 0.0:  # a fixed base: pybullet gives it no mass
+            continue
+        diff = max(abs(mass_pb - mass_rd) / mass_pb,
+                   float(np.max(np.abs(moments_pb - moments_rd) / np.abs(moments_pb))))
+        if diff > worst:
+            worst, worst_link = diff, link
+    pb.close()
+    return {"worst": worst, "link": worst_link}
 
 
 def recipe_search(arm, case: RobotCase, point, *, steps: int = 1000, beam: int = 16, hold: int = 4,

@@ -31,6 +31,10 @@ inline constexpr double max_mesh_extent = 1000.0;                     // m: |coo
 // points in 42 fixed directions, at most 42 vertices) so that a moving link's collision test stays cheap.
 inline constexpr std::size_t max_hull_points = 100;
 
+enum class MeshFormat { Stl, Obj, Dae };
+// The format a file's extension names (case-insensitive); an rdsim::Error for any other.
+MeshFormat mesh_format(const std::string& file);
+
 // Reads and converts one file, uncached. `scale` must be finite and non-zero in x, y and z.
 TriangleMesh read_mesh_file(const std::string& file, const Eigen::Vector3d& scale);
 

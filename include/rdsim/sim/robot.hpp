@@ -32,7 +32,8 @@ class btMultiBodyConstraint;
 // Modelling choices (documented because Bullet needs them):
 //  - each link's inertia tensor is diagonalised: Bullet bodies live in their principal axes;
 //  - a movable joint's child with no mass gets 1 g and a tiny inertia (Bullet cannot move a
-//    massless body); principal moments below 1e-8 kg m^2 are raised to it;
+//    massless body); the URDF's principal moments below 1e-8 kg m^2 are raised to it (moments
+//    from the shapes, RobotOptions::inertia_from_shapes, are kept as pybullet computes them);
 //  - URDF joint damping/friction are not simulated (the drives dominate them); Bullet's default
 //    link damping is switched off unless RobotOptions::link_damping asks for it (pybullet keeps it).
 namespace rdsim {
@@ -126,6 +127,14 @@ public:
 
   // A link's URDF frame in the world, as of the last step or reset. Cheap (one transform product).
   Eigen::Isometry3f link_pose(int link) const;
+
+  // The mass (kg) and principal moments (kg m^2) Bullet simulates a link with: the URDF's, or with
+  // RobotOptions::inertia_from_shapes those pybullet's loadURDF derives from the collision shapes.
+  struct LinkInertia {
+    double mass = 0.0;
+    Eigen::Vector3d moments = Eigen::Vector3d::Zero();
+  };
+  LinkInertia link_inertia(int link) const;
 
   // Called by PhysicsWorld::step before Bullet's step: applies the ComputedTorque drive.
   void before_step();
