@@ -392,5 +392,12 @@ TEST_CASE("dashboard: a progress.csv link flipped in and out of the root is neve
   done = true;
   flipper.join();
   CHECK(leaks == 0);
-  CHECK(served > 0);  // the link inside the root is followed
+  // The link inside the root is followed. Checked once the flipping stops: on a loaded machine the
+  // flipper can change the link during every one of the requests above, which are then refused.
+  INFO(served << " of 3000 requests served while the link flipped");
+  const fs::path tmp = root / "flip" / "next.lnk";
+  fs::remove(tmp);
+  fs::create_symlink("../inside/progress.csv", tmp);
+  fs::rename(tmp, root / "flip" / "progress.csv");
+  CHECK(status_of(get(port, "/api/progress?run=0:flip")) == 200);
 }
