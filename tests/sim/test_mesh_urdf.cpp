@@ -5,10 +5,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "../error_of.hpp"
+#include "../scratch_dir.hpp"
 #include "mesh_test_util.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/sim/mesh_file.hpp"
@@ -148,6 +151,61 @@ TEST_CASE("mesh URDF: a static body collides with the mesh's triangles, a robot 
     CHECK(fall(world, robot, 1.5) == Approx(0.08f).margin(0.004f));
     CHECK(world.touching({robot.body(), 1}, {floor, -1}, 0.01f));
   }
+}
+
+TEST_CASE("mesh URDF: inertia from the shapes follows pybullet's rule for mesh links", "[urdf][mesh][physics]") {
+  // pybullet's loadURDF without URDF_USE_INERTIA_FROM_FILE: a box's moments around all the mesh's
+  // vertices, grown by 1 mm margins: two a side for an STL, three for an OBJ (pybullet wraps its
+  // hulls in one more compound), and the link compound's one (tools/fidelity checks real robots).
+  RobotOptions options;
+  options.inertia_from_shapes = true;
+  const auto moments_of = [&](const std::string& geometry, const std::string& urdf) {
+    PhysicsWorld world;
+    return world.add_robot(parse_urdf(dropper(geometry), urdf), Eigen::Isometry3f::Identity(), options).link_inertia(1);
+  };
+  const auto box = [](double x, double y, double z) -> Eigen::Vector3d {  // moments of a 1 kg box (kg m^2)
+    return Eigen::Vector3d(y * y + z * z, x * x + z * z, x * x + y * y) / 12.0;
+  };
+  // cube.stl and cube.obj: a cube of side 2 scaled to 0.1 x 0.2 x 0.3 m.
+  const Robot::LinkInertia stl = moments_of(R"(<mesh filename="cube.stl" scale="0.05 0.1 0.15"/>)", mesh_fixture("d.urdf"));
+  CHECK(stl.mass == 1.0);
+  CHECK(stl.moments.isApprox(box(0.106, 0.206, 0.306), 1e-6));
+  const Robot::LinkInertia obj = moments_of(R"(<mesh filename="cube.obj" scale="0.05 0.1 0.15"/>)", mesh_fixture("d.urdf"));
+  CHECK(obj.moments.isApprox(box(0.108, 0.208, 0.308), 1e-6));
+  // A sphere of 0.1 m radius with 1,200 triangles: its collision hull is reduced to at most
+  // max_hull_points vertices, whose box is smaller; the moments still come from every vertex.
+  rdsim::test::ScratchDir dir("mesh_inertia");
+  {
+    std::ofstream out(dir / "ball.obj");
+    const int rings = 20, sectors = 30;
+    for (int i = 0; i <= rings; ++i)
+      for (int j = 0; j < sectors; ++j) {
+        const double theta = M_PI * i / rings, phi = 2.0 * M_PI * j / sectors;
+        out << "v " << 0.1 * std::sin(theta) * std::cos(phi) << ' ' << 0.1 * std::sin(theta) * std::sin(phi) << ' '
+            << 0.1 * std::cos(theta) << '\n';
+      }
+    for (int i = 0; i < rings; ++i)
+      for (int j = 0; j < sectors; ++j) {
+        const int a = i * sectors + j + 1, b = i * sectors + (j + 1) % sectors + 1;
+        out << "f " << a << ' ' << a + sectors << ' ' << b + sectors << "\nf " << a << ' ' << b + sectors << ' ' << b << '\n';
+      }
+  }
+  const RobotModel ball = parse_urdf(dropper(R"(<mesh filename="ball.obj"/>)"), dir / "ball.urdf");
+  REQUIRE(ball.links[1].collisions[0].mesh.hull);
+  REQUIRE(ball.links[1].collisions[0].mesh.hull->points.size() <= max_hull_points);
+  Eigen::AlignedBox3f vertices, hull;
+  for (const Eigen::Vector3f& p : ball.links[1].collisions[0].mesh.mesh->positions) vertices.extend(p);
+  for (const Eigen::Vector3f& p : ball.links[1].collisions[0].mesh.hull->points) hull.extend(p);
+  CHECK(hull.sizes().x() < vertices.sizes().x() - 1e-3f);  // the reduced hull's box is smaller
+  const Eigen::Vector3d size = vertices.sizes().cast<double>() + Eigen::Vector3d::Constant(0.008);
+  PhysicsWorld world;
+  const Robot::LinkInertia moments = world.add_robot(ball, Eigen::Isometry3f::Identity(), options).link_inertia(1);
+  CHECK(moments.moments.isApprox(box(size.x(), size.y(), size.z()), 1e-6));
+  // Without the option: the URDF's tensor.
+  PhysicsWorld plain;
+  const Robot& urdf_inertia = plain.add_robot(ball, Eigen::Isometry3f::Identity());
+  CHECK(urdf_inertia.link_inertia(1).moments.isApprox(Eigen::Vector3d::Constant(0.01)));
+  CHECK_THROWS_WITH(urdf_inertia.link_inertia(2), Contains("link 2 out of range"));
 }
 
 TEST_CASE("mesh URDF: pybullet_data's KUKA iiwa loads with its meshes", "[urdf][mesh][pybullet_data]") {
