@@ -99,3 +99,10 @@ def test_free_body_rests_on_the_floor():
     assert np.allclose(position, (0.5, 0.0, 0.0), atol=2e-3), position
     with pytest.raises(rdsim.Error, match="a free body must be one link"):
         world.add_free_body(str(CASES["jaka"].urdf()))
+
+
+def test_recipe_speed_runs():
+    # tools/fidelity/recipe_speed.py (docs/benchmarks.md): the original's recipe in pybullet, timed.
+    from fidelity.recipe_speed import run
+    rate, ik, physics = run(20, seed=0)
+    assert rate > 0 and ik > 0 and physics > 0
