@@ -64,11 +64,11 @@ def test_inertia_from_the_shapes_is_pybullets(name):
     assert r["worst"] < 1e-3, r
 
 
-@pytest.mark.parametrize("name,seeds", [("jaka", (2, 9)), ("kuka", (1, 8))])
+@pytest.mark.parametrize("name,seeds", [("jaka", (2, 9)), ("kuka", (8, 9))])
 def test_recipe_moves_track_pybullet_over_1000_moves(name, seeds):
     # With the solver's 150 iterations all run in both simulators, the whole 1,000-move sequences
     # agree to the targets. These seeds are the ones where pybullet's early exit (residual 1e-7),
-    # which float rounding can move by an iteration, once made them part by 1-9 cm (docs/fidelity.md).
+    # which float rounding can move by an iteration, makes them part by 1.2-9 cm (docs/fidelity.md).
     for seed in seeds:
         r = action_sequence(name, steps=1000, seed=seed, inertia="shapes", solver_residual_threshold=0.0)
         assert r["ee_mean"] < 0.005 and r["ee_max"] < 0.02, (name, seed, r)
