@@ -109,13 +109,17 @@ def inverse_kinematics(case, *, goals: int = 100, seed: int = 0, spread: float =
             "rd_residual_mean": float(np.mean(rd_err))}
 
 
-def move(arm, case: RobotCase, action: int, rest: np.ndarray) -> None:
-    """One discrete move of the original's recipe: the IK goal is the effector +- action_step along one
-    axis (actions 0..5 = -x, +x, -y, +y, -z, +z), the IK solution becomes the position targets, then
-    two physics steps."""
+def aim(arm, case: RobotCase, action: int, rest: np.ndarray) -> None:
+    """The first half of a move: the IK goal is the effector +- action_step along one axis (actions
+    0..5 = -x, +x, -y, +y, -z, +z), and the IK solution becomes the position targets."""
     goal = arm.link_position(case.effector).copy()
     goal[action // 2] += case.action_step if action % 2 else -case.action_step
     arm.set_position_targets(arm.ik(case.effector, goal, rest))
+
+
+def move(arm, case: RobotCase, action: int, rest: np.ndarray) -> None:
+    """One discrete move of the original's recipe: aim, then two physics steps."""
+    aim(arm, case, action, rest)
     arm.step(PHYSICS_STEPS_PER_MOVE)
 
 

@@ -24,7 +24,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
 from fidelity.arms import PyBulletArm  # noqa: E402
 from fidelity.button import PAPER_TARGET, pybullet_scene  # noqa: E402
-from fidelity.compare import PHYSICS_STEPS_PER_MOVE  # noqa: E402
+from fidelity.compare import PHYSICS_STEPS_PER_MOVE, aim  # noqa: E402
 from fidelity.robots import CASES  # noqa: E402
 
 
@@ -41,9 +41,7 @@ def run(steps: int, seed: int) -> tuple[float, float, float]:
         if k % 1000 == 0:
             arm.reset_joints(q0)
         t0 = time.process_time()
-        goal = arm.link_position(case.effector).copy()
-        goal[action // 2] += case.action_step if action % 2 else -case.action_step
-        arm.set_position_targets(arm.ik(case.effector, goal, rest))
+        aim(arm, case, int(action), rest)
         t1 = time.process_time()
         arm.step(PHYSICS_STEPS_PER_MOVE)
         t2 = time.process_time()
