@@ -15,6 +15,8 @@ void original_solver_work(ReachTaskSpec& spec) {
   spec.world.solver_residual_threshold = 0.0;
   spec.world.sparse_joint_rows = false;
   spec.world.joint_row_warm_start = 0.0;
+  spec.world.joint_block_solve = false;
+  spec.world.skip_separated_pairs = false;
   spec.robot.weld_held_joints = false;
 }
 

@@ -62,6 +62,8 @@ PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings),
   info.m_warmstartingFactor = static_cast<btScalar>(settings.warmstarting_factor);
   impl_->solver.set_sparse(settings.sparse_joint_rows);
   impl_->solver.set_warm_start(settings.joint_row_warm_start);
+  impl_->solver.set_block_solve(settings.joint_block_solve);
+  if (settings.skip_separated_pairs) impl_->dispatcher.setNearCallback(skip_separated_pairs);
 }
 
 WorldSettings pybullet_solver(WorldSettings base) {
@@ -235,6 +237,10 @@ void PhysicsWorld::step() {
   const auto dt = static_cast<btScalar>(settings_.time_step);
   impl_->world.stepSimulation(dt, 0, dt);  // maxSubSteps = 0: exactly one step of dt
   time_ += settings_.time_step;
+}
+
+PhysicsWorld::Work PhysicsWorld::work() const {
+  return Work{impl_->solver.iterations(), impl_->dispatcher.skipped};
 }
 
 std::vector<Contact> PhysicsWorld::contacts(float max_distance) const {

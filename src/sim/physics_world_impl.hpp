@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rdsim/sim/physics_world.hpp"
+#include "separated_pairs.hpp"
 #include "sparse_row_solver.hpp"
 
 namespace rdsim {
@@ -53,7 +54,7 @@ public:
 
 struct PhysicsWorld::Impl {
   btDefaultCollisionConfiguration config;
-  btCollisionDispatcher dispatcher{&config};
+  PairDispatcher dispatcher{&config};
   btSimpleBroadphase broadphase;
   SparseRowSolver solver;
   MultiBodyWorld world{&dispatcher, &broadphase, &solver, &config};

@@ -14,6 +14,7 @@ btScalar SparseRowSolver::solveGroupCacheFriendlySetup(btCollisionObject** bodie
       bodies, numBodies, manifolds, numManifolds, constraints, numConstraints, info, debugDrawer);
   list_rows();
   if (warm_start_ != 0) warm_start_rows();
+  if (block_solve_) block_solve_rows();
   return r;
 }
 
@@ -52,6 +53,97 @@ btScalar SparseRowSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodi
     std::sort(last_.begin(), last_.end());
   }
   return btMultiBodyConstraintSolver::solveGroupCacheFriendlyFinish(bodies, numBodies, info);
+}
+
+// The joint rows' fixed point, found directly. Row i is at rest in solve_row when
+//   rhs_i - cfm_i x_i - jdi_i J_i . dv(x) = 0,   dv(x) = dv_now + sum_j r_j (x_j - x_now_j),
+// with r_j row j's unit-impulse response and jdi_i its m_jacDiagABInv. Divided by jdi_i:
+//   K x = b,   K = A + diag(cfm / jdi),   A_ij = J_i . r_j (J M^-1 J^T: symmetric),
+//   b_i = rhs_i / jdi_i - J_i . dv_now + (A x_now)_i,
+// each x_i within [lower_i, upper_i]: a row at a bound stays there while the others want it
+// pushed further (an active-set pass: at most 2n + 2 rounds of an LDLT solve).
+void SparseRowSolver::block_solve_rows() {
+  const int n = m_multiBodyNonContactConstraints.size();
+  if (n == 0 || static_cast<int>(rows_.size()) != n) return;
+  const btMultiBody* body = rows_[0].a.body;
+  for (const Row& row : rows_)
+    if (!body || row.a.body != body || row.b.responds) return;  // one multibody's own rows only
+  Block& k = block_;
+  k.matrix.resize(n, n);
+  k.rhs.resize(n);
+  k.x.resize(n);
+  k.state.assign(static_cast<size_t>(n), 0);
+  const btScalar* jacobians = &m_data.m_jacobians[0];
+  const btScalar* responses = &m_data.m_deltaVelocitiesUnitImpulse[0];
+  const btScalar* dv = &m_data.m_deltaVelocities[0];
+  for (int i = 0; i < n; ++i) {
+    const btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
+    const Side& s = rows_[static_cast<size_t>(i)].a;
+    const double jdi = c.m_jacDiagABInv;
+    if (!(jdi > 0)) return;
+    double j_dv = 0;
+    for (int e = s.begin; e < s.end; ++e) j_dv += double(jacobians[s.jacobian + entries_[e]]) * dv[s.velocity + entries_[e]];
+    for (int j = 0; j < n; ++j) {
+      const int response = rows_[static_cast<size_t>(j)].a.jacobian;
+      double sum = 0;
+      for (int e = s.begin; e < s.end; ++e) sum += double(jacobians[s.jacobian + entries_[e]]) * responses[response + entries_[e]];
+      k.matrix(i, j) = sum;
+    }
+    k.rhs(i) = double(c.m_rhs) / jdi - j_dv;
+    k.x(i) = c.m_appliedImpulse;
+  }
+  k.rhs += k.matrix * k.x;
+  for (int i = 0; i < n; ++i) k.matrix(i, i) += double(m_multiBodyNonContactConstraints[i].m_cfm) / m_multiBodyNonContactConstraints[i].m_jacDiagABInv;
+  if (!solve_block(n)) return;  // Bullet's iterations alone, from where the rows are
+  for (int i = 0; i < n; ++i) {
+    btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
+    const btScalar impulse = std::clamp(static_cast<btScalar>(k.x(i)), c.m_lowerLimit, c.m_upperLimit);
+    const btScalar delta = impulse - btScalar(c.m_appliedImpulse);
+    c.m_appliedImpulse = impulse;
+    apply_impulse(rows_[static_cast<size_t>(i)].a, delta);
+  }
+}
+
+// The active-set rounds of block_solve_rows on block_; false when they find no answer.
+bool SparseRowSolver::solve_block(int n) {
+  Block& k = block_;
+  for (int round = 0; round < 2 * n + 2; ++round) {
+    k.free.clear();
+    for (int i = 0; i < n; ++i) {
+      const btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
+      if (k.state[static_cast<size_t>(i)] == 0) k.free.push_back(i);
+      else k.x(i) = k.state[static_cast<size_t>(i)] < 0 ? c.m_lowerLimit : c.m_upperLimit;
+    }
+    const int m = static_cast<int>(k.free.size());
+    if (m > 0) {
+      k.sub.resize(m, m);
+      k.sub_rhs.resize(m);
+      for (int p = 0; p < m; ++p) {
+        const int i = k.free[static_cast<size_t>(p)];
+        k.sub_rhs(p) = k.rhs(i);
+        for (int j = 0; j < n; ++j)
+          if (k.state[static_cast<size_t>(j)] != 0) k.sub_rhs(p) -= k.matrix(i, j) * k.x(j);
+        for (int q = 0; q < m; ++q) k.sub(p, q) = k.matrix(i, k.free[static_cast<size_t>(q)]);
+      }
+      k.ldlt.compute(k.sub);
+      if (k.ldlt.info() != Eigen::Success || !(k.ldlt.rcond() > 1e-12)) return false;  // dependent rows
+      k.sub_rhs = k.ldlt.solve(k.sub_rhs);
+      for (int p = 0; p < m; ++p) k.x(k.free[static_cast<size_t>(p)]) = k.sub_rhs(p);
+    }
+    if (!k.x.allFinite()) return false;
+    bool settled = true;
+    for (int i = 0; i < n; ++i) {
+      const btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
+      int& state = k.state[static_cast<size_t>(i)];
+      const double wants = k.rhs(i) - k.matrix.row(i).dot(k.x);  // > 0: the row wants more impulse
+      const int next = state == 0 ? (k.x(i) < c.m_lowerLimit ? -1 : k.x(i) > c.m_upperLimit ? 1 : 0)
+                                  : ((state < 0 && wants > 0) || (state > 0 && wants < 0) ? 0 : state);
+      settled &= next == state;
+      state = next;
+    }
+    if (settled) return true;
+  }
+  return false;
 }
 
 SparseRowSolver::Side SparseRowSolver::list_side(btMultiBody* body, int jacobian, int velocity) {
@@ -119,6 +211,7 @@ btScalar SparseRowSolver::solveSingleIteration(int iteration, btCollisionObject*
                                                btPersistentManifold** manifolds, int numManifolds,
                                                btTypedConstraint** constraints, int numConstraints,
                                                const btContactSolverInfo& info, btIDebugDraw* debugDrawer) {
+  ++iterations_;
   const int n = m_multiBodyNonContactConstraints.size();
   if (!sparse_ || n == 0 || static_cast<int>(rows_.size()) != n)
     return btMultiBodyConstraintSolver::solveSingleIteration(iteration, bodies, numBodies, manifolds, numManifolds,

@@ -20,6 +20,7 @@
 // to the root, and they are few).
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 
+#include <Eigen/Dense>
 #include <vector>
 
 namespace rdsim {
@@ -31,6 +32,10 @@ public:
   // Each joint row starts from `factor` times the impulse it ended the last step with (0: from
   // zero, as Bullet does). See WorldSettings::joint_row_warm_start.
   void set_warm_start(double factor) { warm_start_ = static_cast<btScalar>(factor); }
+  // Before the iterations, solve one multibody's joint rows together, directly (see
+  // WorldSettings::joint_block_solve).
+  void set_block_solve(bool on) { block_solve_ = on; }
+  long long iterations() const { return iterations_; }  // solveSingleIteration calls so far
 
   btScalar solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
                                          const btContactSolverInfo& info) override;
@@ -58,6 +63,8 @@ private:
   };
   void list_rows();
   void warm_start_rows();
+  void block_solve_rows();
+  bool solve_block(int n);
   // Adds `impulse` times a side's unit-impulse response to the solver's and the multibody's
   // velocity changes, as a row's iteration does.
   void apply_impulse(const Side& side, btScalar impulse);
@@ -65,6 +72,8 @@ private:
   btScalar solve_row(btMultiBodySolverConstraint& c, const Row& row);
 
   bool sparse_ = true;
+  bool block_solve_ = false;
+  long long iterations_ = 0;
   btScalar warm_start_ = 0;
   // The joint rows' impulses at the end of the last solve, by (constraint, row), sorted.
   struct Impulse {
@@ -74,6 +83,14 @@ private:
     bool operator<(const Impulse& o) const { return constraint != o.constraint ? constraint < o.constraint : row < o.row; }
   };
   std::vector<Impulse> last_;
+  // block_solve_rows' system and scratch, kept between steps so that solving allocates nothing.
+  struct Block {
+    Eigen::MatrixXd matrix, sub;
+    Eigen::VectorXd rhs, x, sub_rhs;
+    std::vector<int> state, free;  // per row: -1 at its lower bound, +1 at its upper, 0 free
+    Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  };
+  Block block_;
   std::vector<Row> rows_;     // per m_multiBodyNonContactConstraints entry
   std::vector<int> entries_;  // offsets, see Side
 };

@@ -41,6 +41,8 @@ struct WorldSettings {
   // motor holding an arm needs about the same impulse step after step, so with a residual
   // threshold the solver then stops after a few iterations instead of rebuilding it.
   double joint_row_warm_start = 0.0;
+  bool joint_block_solve = false;
+  bool skip_separated_pairs = true;
 };
 
 // The solver settings pybullet's physics server applies to every new world (contact ERP 0.08, linear
@@ -103,6 +105,12 @@ public:
 
   void step();  // one fixed time step
   double time() const { return time_; }
+  // Work the steps so far have done (benchmarks and tests read it).
+  struct Work {
+    long long solver_iterations = 0;  // sequential-impulse iterations, summed over steps
+    long long pairs_skipped = 0;      // narrow-phase tests skipped (WorldSettings::skip_separated_pairs)
+  };
+  Work work() const;
   const WorldSettings& settings() const { return settings_; }
 
   // Contacts found by the last step's collision pass (points within `max_distance`).
