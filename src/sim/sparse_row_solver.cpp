@@ -26,14 +26,20 @@ void SparseRowSolver::apply_impulse(const Side& side, btScalar impulse) {
   side.body->applyDeltaVeeMultiDof2(response, impulse);
 }
 
+std::array<int, 4> SparseRowSolver::row_key(const btMultiBodySolverConstraint& c) {
+  btMultiBodyConstraint& constraint = *c.m_orgConstraint;
+  const btMultiBody* body = constraint.getMultiBodyA();
+  return {body ? body->getUserIndex() : -1, constraint.getLinkA(), constraint.getConstraintType(), c.m_orgDofIndex};
+}
+
 void SparseRowSolver::warm_start_rows() {
   for (int k = 0; k < m_multiBodyNonContactConstraints.size(); ++k) {
     btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[k];
     const Row& row = rows_[static_cast<size_t>(k)];
     if (!c.m_orgConstraint || !row.a.body || !row.b.body) continue;
-    const Impulse key{c.m_orgConstraint, c.m_orgDofIndex, 0};
+    const Impulse key{row_key(c), 0};
     const auto it = std::lower_bound(last_.begin(), last_.end(), key);
-    if (it == last_.end() || it->constraint != key.constraint || it->row != key.row) continue;
+    if (it == last_.end() || it->key != key.key) continue;
     const btScalar impulse = std::clamp(warm_start_ * it->impulse, c.m_lowerLimit, c.m_upperLimit);
     if (impulse == 0) continue;
     c.m_appliedImpulse = impulse;
@@ -48,7 +54,7 @@ btScalar SparseRowSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodi
   if (warm_start_ != 0) {
     for (int k = 0; k < m_multiBodyNonContactConstraints.size(); ++k) {
       const btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[k];
-      if (c.m_orgConstraint) last_.push_back({c.m_orgConstraint, c.m_orgDofIndex, c.m_appliedImpulse});
+      if (c.m_orgConstraint) last_.push_back({row_key(c), c.m_appliedImpulse});
     }
     std::sort(last_.begin(), last_.end());
   }
@@ -57,17 +63,19 @@ btScalar SparseRowSolver::solveGroupCacheFriendlyFinish(btCollisionObject** bodi
 
 // The joint rows' fixed point, found directly. Row i is at rest in solve_row when
 //   rhs_i - cfm_i x_i - jdi_i J_i . dv(x) = 0,   dv(x) = dv_now + sum_j r_j (x_j - x_now_j),
-// with r_j row j's unit-impulse response and jdi_i its m_jacDiagABInv. Divided by jdi_i:
+// with J_i its Jacobian and r_j row j's unit-impulse response, each the sum of the row's A and
+// B sides (both on this multibody: a joint limit's upper row is written on its B side), and jdi_i
+// its m_jacDiagABInv. Divided by jdi_i:
 //   K x = b,   K = A + diag(cfm / jdi),   A_ij = J_i . r_j (J M^-1 J^T: symmetric),
 //   b_i = rhs_i / jdi_i - J_i . dv_now + (A x_now)_i,
 // each x_i within [lower_i, upper_i]: a row at a bound stays there while the others want it
-// pushed further (an active-set pass: at most 2n + 2 rounds of an LDLT solve).
+// pushed further (active-set rounds of an LDLT solve).
 void SparseRowSolver::block_solve_rows() {
   const int n = m_multiBodyNonContactConstraints.size();
-  if (n == 0 || static_cast<int>(rows_.size()) != n) return;
+  if (n == 0 || n > kMaxBlockRows || static_cast<int>(rows_.size()) != n) return;
   const btMultiBody* body = rows_[0].a.body;
-  for (const Row& row : rows_)
-    if (!body || row.a.body != body || row.b.responds) return;  // one multibody's own rows only
+  for (const Row& row : rows_)  // one multibody's own rows only
+    if (!body || row.a.body != body || (row.b.body && (row.b.body != body || row.b.velocity != row.a.velocity))) return;
   Block& k = block_;
   k.matrix.resize(n, n);
   k.rhs.resize(n);
@@ -75,25 +83,36 @@ void SparseRowSolver::block_solve_rows() {
   k.state.assign(static_cast<size_t>(n), 0);
   const btScalar* jacobians = &m_data.m_jacobians[0];
   const btScalar* responses = &m_data.m_deltaVelocitiesUnitImpulse[0];
-  const btScalar* dv = &m_data.m_deltaVelocities[0];
+  const btScalar* dv = &m_data.m_deltaVelocities[0] + rows_[0].a.velocity;
+  // J_i . v for a vector v over this body's velocities, both sides of row i.
+  auto dot = [&](const Row& row, auto&& v) {
+    double sum = 0;
+    for (const Side* s : {&row.a, &row.b})
+      if (s->body)
+        for (int e = s->begin; e < s->end; ++e) sum += double(jacobians[s->jacobian + entries_[e]]) * v(entries_[e]);
+    return sum;
+  };
   for (int i = 0; i < n; ++i) {
     const btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
-    const Side& s = rows_[static_cast<size_t>(i)].a;
+    const Row& row = rows_[static_cast<size_t>(i)];
     const double jdi = c.m_jacDiagABInv;
     if (!(jdi > 0)) return;
-    double j_dv = 0;
-    for (int e = s.begin; e < s.end; ++e) j_dv += double(jacobians[s.jacobian + entries_[e]]) * dv[s.velocity + entries_[e]];
     for (int j = 0; j < n; ++j) {
-      const int response = rows_[static_cast<size_t>(j)].a.jacobian;
-      double sum = 0;
-      for (int e = s.begin; e < s.end; ++e) sum += double(jacobians[s.jacobian + entries_[e]]) * responses[response + entries_[e]];
-      k.matrix(i, j) = sum;
+      const Row& other = rows_[static_cast<size_t>(j)];
+      k.matrix(i, j) = dot(row, [&](int e) {
+        double r = other.a.responds ? responses[other.a.jacobian + e] : 0.0;
+        if (other.b.responds) r += responses[other.b.jacobian + e];
+        return r;
+      });
     }
-    k.rhs(i) = double(c.m_rhs) / jdi - j_dv;
+    k.rhs(i) = double(c.m_rhs) / jdi - dot(row, [&](int e) { return double(dv[e]); });
     k.x(i) = c.m_appliedImpulse;
   }
   k.rhs += k.matrix * k.x;
-  for (int i = 0; i < n; ++i) k.matrix(i, i) += double(m_multiBodyNonContactConstraints[i].m_cfm) / m_multiBodyNonContactConstraints[i].m_jacDiagABInv;
+  for (int i = 0; i < n; ++i) {
+    const btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
+    k.matrix(i, i) += double(c.m_cfm) / c.m_jacDiagABInv;
+  }
   if (!solve_block(n)) return;  // Bullet's iterations alone, from where the rows are
   for (int i = 0; i < n; ++i) {
     btMultiBodySolverConstraint& c = m_multiBodyNonContactConstraints[i];
@@ -101,7 +120,26 @@ void SparseRowSolver::block_solve_rows() {
     const btScalar delta = impulse - btScalar(c.m_appliedImpulse);
     c.m_appliedImpulse = impulse;
     apply_impulse(rows_[static_cast<size_t>(i)].a, delta);
+    apply_impulse(rows_[static_cast<size_t>(i)].b, delta);
   }
+}
+
+// LDLT of a free block. Dependent rows (a motor and a limit row on one joint, both free) make
+// it singular: they ask one velocity for two values, and the answer is one of them at its bound.
+// A diagonal of 1e-9 of the largest entry lets the solve say which: it sends the pair's impulses
+// far apart, past their bounds, and the next active-set round clamps them.
+bool SparseRowSolver::factor(Eigen::MatrixXd& sub) {
+  Block& k = block_;
+  auto regular = [&] {
+    if (k.ldlt.info() != Eigen::Success) return false;
+    const auto pivots = k.ldlt.vectorD().cwiseAbs();
+    return pivots.minCoeff() > 1e-12 * pivots.maxCoeff();
+  };
+  k.ldlt.compute(sub);
+  if (regular()) return true;
+  sub.diagonal().array() += 1e-9 * sub.diagonal().cwiseAbs().maxCoeff();
+  k.ldlt.compute(sub);
+  return regular();
 }
 
 // The active-set rounds of block_solve_rows on block_; false when they find no answer.
@@ -125,8 +163,7 @@ bool SparseRowSolver::solve_block(int n) {
           if (k.state[static_cast<size_t>(j)] != 0) k.sub_rhs(p) -= k.matrix(i, j) * k.x(j);
         for (int q = 0; q < m; ++q) k.sub(p, q) = k.matrix(i, k.free[static_cast<size_t>(q)]);
       }
-      k.ldlt.compute(k.sub);
-      if (k.ldlt.info() != Eigen::Success || !(k.ldlt.rcond() > 1e-12)) return false;  // dependent rows
+      if (!factor(k.sub)) return false;
       k.sub_rhs = k.ldlt.solve(k.sub_rhs);
       for (int p = 0; p < m; ++p) k.x(k.free[static_cast<size_t>(p)]) = k.sub_rhs(p);
     }

@@ -21,6 +21,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 
 #include <Eigen/Dense>
+#include <array>
 #include <vector>
 
 namespace rdsim {
@@ -65,6 +66,7 @@ private:
   void warm_start_rows();
   void block_solve_rows();
   bool solve_block(int n);
+  bool factor(Eigen::MatrixXd& sub);
   // Adds `impulse` times a side's unit-impulse response to the solver's and the multibody's
   // velocity changes, as a row's iteration does.
   void apply_impulse(const Side& side, btScalar impulse);
@@ -75,14 +77,21 @@ private:
   bool block_solve_ = false;
   long long iterations_ = 0;
   btScalar warm_start_ = 0;
-  // The joint rows' impulses at the end of the last solve, by (constraint, row), sorted.
+  // The joint rows' impulses at the end of the last solve, sorted by what the row is: its
+  // multibody's user index (the body id), link, constraint type and row. Not by the constraint's
+  // address: a robot that rebuilds its multibody (welds freed) gets new constraints, which the
+  // allocator may or may not place where old ones were, so an address would hand a new row some
+  // old row's impulse in one run and not in another.
   struct Impulse {
-    const btMultiBodyConstraint* constraint;
-    int row;
+    std::array<int, 4> key;  // body, link, type, row
     btScalar impulse;
-    bool operator<(const Impulse& o) const { return constraint != o.constraint ? constraint < o.constraint : row < o.row; }
+    bool operator<(const Impulse& o) const { return key < o.key; }
   };
+  static std::array<int, 4> row_key(const btMultiBodySolverConstraint& c);
   std::vector<Impulse> last_;
+  // More rows than this (a humanoid with every joint free) are left to the iterations: each
+  // active-set round is an O(n^3) factorisation.
+  static constexpr int kMaxBlockRows = 16;
   // block_solve_rows' system and scratch, kept between steps so that solving allocates nothing.
   struct Block {
     Eigen::MatrixXd matrix, sub;

@@ -82,3 +82,29 @@ TEST_CASE("Position-motor presets weld the InMoov's held joints, and only those"
   const std::unique_ptr<ReachEnv> defaults = make_reach_env(test::env_config("inmoov_tomato"), nullptr);
   CHECK(defaults->task().robot().welded_dofs() == 0);
 }
+
+TEST_CASE("Two envs of a paper preset in one process step identically", "[physics][fidelity]") {
+  // The InMoov frees welded joints near the tree, rebuilding its multibody and its constraints;
+  // nothing the next steps compute may depend on where the allocator put the new objects.
+  const EnvConfig config = test::paper_env_config("inmoov_tomato");
+  for (std::uint64_t seed : {1, 2}) {
+    const TrajectoryDeviation d = trajectory_deviation(config, nullptr, nullptr, action_sequence(ActionScript::Sweeps, seed, 1000), seed);
+    INFO("seed " << seed);
+    CHECK(d.steps == 1000);
+    CHECK(d.max_effector == 0.0);
+    CHECK(d.max_joint == 0.0);
+  }
+}
+
+TEST_CASE("Skipping pairs that are provably apart leaves the paper presets' trajectories unchanged", "[physics][fidelity]") {
+  const SpecEdit bullet_pairs = [](ReachTaskSpec& s) { s.world.skip_separated_pairs = false; };
+  for (const char* env : {"jaka_button", "inmoov_tomato"}) {
+    const EnvConfig config = test::paper_env_config(env);
+    for (ActionScript script : {ActionScript::Random, ActionScript::Sweeps}) {
+      const TrajectoryDeviation d = trajectory_deviation(config, bullet_pairs, nullptr, action_sequence(script, 1, 1000), 1);
+      INFO(env << " " << to_string(script));
+      CHECK(d.max_effector == 0.0);
+      CHECK(d.max_joint == 0.0);
+    }
+  }
+}
