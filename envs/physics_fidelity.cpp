@@ -106,7 +106,14 @@ std::vector<TrajectoryDeviation> trajectory_deviations(const EnvConfig& config, 
       ++d.steps;
     }
   }
-  for (TrajectoryDeviation& d : out) {
+  auto iterations = [](const ReachEnv& env) {
+    const PhysicsWorld::Work w = env.task().world().work();
+    return w.steps > 0 ? static_cast<double>(w.solver_iterations) / static_cast<double>(w.steps) : 0.0;
+  };
+  for (size_t k = 0; k < out.size(); ++k) {
+    TrajectoryDeviation& d = out[k];
+    d.iterations_a = iterations(*a);
+    d.iterations_b = iterations(*envs[k]);
     d.seconds_a = seconds_a;
     if (d.steps > 0) {
       d.mean_effector /= d.steps;

@@ -22,10 +22,12 @@ double tolerance(const std::string& env) { return env.rfind("inmoov", 0) == 0 ? 
 int bench_physics_command(const BenchPhysicsOptions& o) {
   const std::vector<std::string> envs = o.envs.empty() ? std::vector<std::string>{"jaka_button", "inmoov_tomato"} : o.envs;
   std::printf("rdsim bench-physics: paper presets, %d-step sequences; a = the solver's original work, b = the "
-              "speed-ups,\nc = a with one more solver iteration (how much the sequence itself amplifies a tiny change)\n\n",
+              "speed-ups,\nc = a with one more solver iteration (how much the sequence itself amplifies a tiny change);\n"
+              "iters a/b: solver iterations per physics step\n\n",
               o.steps);
-  std::printf("%-14s %-7s %4s %12s %12s %12s %12s %10s %12s %8s  %s\n", "env", "script", "seed", "b mean ee mm",
-              "b max ee mm", "b mean q rad", "b max q rad", "speed b/a", "c mean ee mm", "verdict", "b max q joint");
+  std::printf("%-14s %-7s %4s %12s %12s %12s %12s %10s %11s %12s %8s  %s\n", "env", "script", "seed", "b mean ee mm",
+              "b max ee mm", "b mean q rad", "b max q rad", "speed b/a", "iters a/b", "c mean ee mm", "verdict",
+              "b max q joint");
   bool all_within = true;
   for (const std::string& env : envs) {
     const EnvConfig config = read_train_config(repo_root() + "/configs/paper/" + env + ".json").env;
@@ -51,9 +53,11 @@ int bench_physics_command(const BenchPhysicsOptions& o) {
         }
         seconds_a += b.seconds_a;
         seconds_b += b.seconds_b;
-        std::printf("%-14s %-7s %4d %12.4f %12.4f %12.2e %12.2e %9.2fx %12.4f %8s  %s\n", env.c_str(),
+        char iterations[32];
+        std::snprintf(iterations, sizeof iterations, "%.0f/%.1f", b.iterations_a, b.iterations_b);
+        std::printf("%-14s %-7s %4d %12.4f %12.4f %12.2e %12.2e %9.2fx %11s %12.4f %8s  %s\n", env.c_str(),
                     to_string(script), seed, 1e3 * b.mean_effector, 1e3 * b.max_effector, b.mean_joint, b.max_joint,
-                    b.seconds_a / b.seconds_b, 1e3 * c.mean_effector, verdict,
+                    b.seconds_a / b.seconds_b, iterations, 1e3 * c.mean_effector, verdict,
                     b.max_joint_name.empty() ? "-" : b.max_joint_name.c_str());
         std::fflush(stdout);
       }

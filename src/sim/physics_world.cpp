@@ -237,10 +237,11 @@ void PhysicsWorld::step() {
   const auto dt = static_cast<btScalar>(settings_.time_step);
   impl_->world.stepSimulation(dt, 0, dt);  // maxSubSteps = 0: exactly one step of dt
   time_ += settings_.time_step;
+  ++steps_;
 }
 
 PhysicsWorld::Work PhysicsWorld::work() const {
-  return Work{impl_->solver.iterations(), impl_->dispatcher.skipped};
+  return Work{steps_, impl_->solver.iterations(), impl_->dispatcher.skipped};
 }
 
 std::vector<Contact> PhysicsWorld::contacts(float max_distance) const {

@@ -46,6 +46,7 @@ struct TrajectoryDeviation {
   double mean_joint = 0, max_joint = 0;        // rad (m for prismatic), largest joint difference per step
   std::string max_joint_name;                  // the joint of max_joint
   double seconds_a = 0, seconds_b = 0;         // wall-clock time of each run (env steps only)
+  double iterations_a = 0, iterations_b = 0;   // solver iterations per physics step of each run
 };
 
 // Runs the reference env (config + `reference`) and one env per edit in `others` from reset(seed)

@@ -119,6 +119,7 @@ public:
   double time() const { return time_; }
   // Work the steps so far have done (benchmarks and tests read it).
   struct Work {
+    long long steps = 0;              // step() calls
     long long solver_iterations = 0;  // sequential-impulse iterations, summed over steps
     long long pairs_skipped = 0;      // narrow-phase tests skipped (WorldSettings::skip_separated_pairs)
   };
@@ -148,6 +149,7 @@ public:
 private:
   WorldSettings settings_;
   double time_ = 0.0;
+  long long steps_ = 0;  // step() calls (Work)
   std::unique_ptr<Impl> impl_;
 };
 
