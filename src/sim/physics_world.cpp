@@ -285,6 +285,7 @@ void PhysicsWorld::forget_contacts(int body) {
 void PhysicsWorld::forget_all_contacts() {
   btCollisionObjectArray& objects = impl_->world.getCollisionObjectArray();
   for (int i = 0; i < objects.size(); ++i) impl_->forget_pairs(objects[i]);
+  impl_->solver.forget_warm_starts();
 }
 
 }  // namespace rdsim

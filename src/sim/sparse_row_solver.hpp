@@ -37,6 +37,9 @@ public:
   // WorldSettings::joint_block_solve).
   void set_block_solve(bool on) { block_solve_ = on; }
   long long iterations() const { return iterations_; }  // solveSingleIteration calls so far
+  // Drops the joint rows' impulses kept for the next step's warm start (a cache, like Bullet's
+  // contact manifolds: PhysicsWorld::forget_all_contacts).
+  void forget_warm_starts() { last_.clear(); }
 
   btScalar solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int numBodies,
                                          const btContactSolverInfo& info) override;

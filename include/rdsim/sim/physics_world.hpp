@@ -136,7 +136,8 @@ public:
   // Drops the cached contact pairs of a body (after teleporting it), so the next step starts
   // from its current state only.
   void forget_contacts(int body);
-  // Drops every cached pair and contact manifold (with its warm-starting impulses). Afterwards
+  // Drops every cached pair and contact manifold (with its warm-starting impulses) and the joint
+  // rows' warm starts (WorldSettings::joint_row_warm_start). Afterwards
   // the world evolves exactly like one rebuilt from the same body poses and joint states: the
   // broadphase re-finds pairs in its fixed proxy order. What EnvState::drop_caches relies on.
   void forget_all_contacts();
