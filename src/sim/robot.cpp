@@ -16,6 +16,7 @@
 #include "rdsim/sim/mesh_file.hpp"
 #include "rdsim/sim/physics_world.hpp"
 #include "physics_world_impl.hpp"
+#include "joint_rows.hpp"
 
 namespace rdsim {
 namespace {
@@ -362,12 +363,17 @@ void Robot::build() {
                                   on_base ? kRobotBaseMask : kRobotLinkMask);
 
   const auto dt = static_cast<btScalar>(world_.settings().time_step);
+  // rdsim's joint constraints set their rows up without the work that yields zeros
+  // (src/sim/joint_rows.hpp); Bullet's own go with the reference solver the tests compare them with.
+  const bool own_rows = world_.settings().sparse_joint_rows;
   for (Dof& d : dofs_) {
     d.motor = nullptr;
     if (d.welded) continue;
     const Joint& j = model.joints[static_cast<size_t>(d.joint)];
     if (options_.drive == JointDrive::ConstraintMotor) {
-      d.motor = new btMultiBodyJointMotor(multibody_, d.bullet_link, 0, 0, static_cast<btScalar>(j.effort) * dt);
+      const auto max_impulse = static_cast<btScalar>(j.effort) * dt;
+      d.motor = own_rows ? new JointMotor(multibody_, d.bullet_link, max_impulse)
+                         : new btMultiBodyJointMotor(multibody_, d.bullet_link, 0, 0, max_impulse);
       d.motor->setPositionTarget(d.target, position_gain_);
       d.motor->setVelocityTarget(0, velocity_gain_);
       d.motor->setErp(1);
@@ -375,8 +381,9 @@ void Robot::build() {
       impl.world.addMultiBodyConstraint(d.motor);
     }
     if (options_.limit_constraints && j.type != JointType::Continuous) {
-      auto* limit = new btMultiBodyJointLimitConstraint(multibody_, d.bullet_link, static_cast<btScalar>(j.lower),
-                                                        static_cast<btScalar>(j.upper));
+      const auto lower = static_cast<btScalar>(j.lower), upper = static_cast<btScalar>(j.upper);
+      auto* limit = own_rows ? new JointLimit(multibody_, d.bullet_link, lower, upper)
+                             : new btMultiBodyJointLimitConstraint(multibody_, d.bullet_link, lower, upper);
       impl.world.addMultiBodyConstraint(limit);
       limits_.push_back(limit);
     }

@@ -19,16 +19,22 @@ TEST_CASE("Action sequences are fixed by their seed, sweeps hold each move", "[p
 }
 
 TEST_CASE("The sparse joint rows alone leave a paper preset's trajectory unchanged", "[physics][fidelity]") {
-  const EnvConfig config = test::paper_env_config("inmoov_tomato");
+  // Sparse rows: rdsim's joint motors and limits (src/sim/joint_rows.hpp) and solver rows, against
+  // Bullet's constraints and dense rows.
   const SpecEdit sparse_only = [](ReachTaskSpec& s) {
     original_solver_work(s);
     s.world.sparse_joint_rows = true;
   };
-  const TrajectoryDeviation d = trajectory_deviation(config, original_solver_work, sparse_only,
-                                                     action_sequence(ActionScript::Sweeps, 1, 60), 1);
-  CHECK(d.steps == 60);
-  CHECK(d.max_effector == 0.0);
-  CHECK(d.max_joint == 0.0);
+  for (const auto& [name, steps] : {std::pair<const char*, int>{"inmoov_tomato", 60}, {"jaka_button", 1000}}) {
+    INFO(name);
+    for (ActionScript script : {ActionScript::Sweeps, ActionScript::Random}) {
+      const TrajectoryDeviation d = trajectory_deviation(test::paper_env_config(name), original_solver_work, sparse_only,
+                                                         action_sequence(script, 1, steps), 1);
+      CHECK(d.steps == steps);
+      CHECK(d.max_effector == 0.0);
+      CHECK(d.max_joint == 0.0);
+    }
+  }
 }
 
 TEST_CASE("The physics speed-ups keep the Jaka paper preset within the fidelity tolerance", "[physics][fidelity]") {
