@@ -213,7 +213,8 @@ class PyWorld {
 public:
   // residual_threshold: None = the default (0, or pybullet's 1e-7 with pybullet_solver); a number wins.
   PyWorld(double time_step, int solver_iterations, const py::handle& gravity, const py::object& residual_threshold,
-          bool pybullet_solver_settings)
+          bool pybullet_solver_settings, double joint_row_warm_start, bool joint_block_solve,
+          bool skip_separated_pairs)
       : data_(std::make_shared<WorldData>()) {
     WorldSettings s;
     s.time_step = time_step;
@@ -229,6 +230,9 @@ public:
                     py::repr(residual_threshold).cast<std::string>());
       s.solver_residual_threshold = threshold;
     }
+    s.joint_row_warm_start = joint_row_warm_start;  // PhysicsWorld checks the range
+    s.joint_block_solve = joint_block_solve;
+    s.skip_separated_pairs = skip_separated_pairs;
     data_->world = std::make_unique<PhysicsWorld>(s);
   }
 
@@ -280,6 +284,15 @@ public:
   double time() const { return data_->world->time(); }
   double time_step() const { return data_->world->settings().time_step; }
   int solver_iterations() const { return data_->world->settings().solver_iterations; }
+  // What the steps so far cost (PhysicsWorld::work).
+  py::dict work() const {
+    const PhysicsWorld::Work w = data_->world->work();
+    py::dict d;
+    d["steps"] = w.steps;
+    d["solver_iterations"] = w.solver_iterations;
+    d["pairs_skipped"] = w.pairs_skipped;
+    return d;
+  }
 
 private:
   std::shared_ptr<WorldData> data_;
@@ -314,9 +327,11 @@ void bind_sim(py::module_& parent) {
       .def("null_space_ik", &PyRobot::null_space_ik, py::arg("link"), py::arg("target"), py::arg("start") = py::none(),
            py::arg("rest") = py::none(), py::arg("iterations") = 20, py::arg("residual_threshold") = 1e-4);
   py::class_<PyWorld>(m, "World", "A Bullet multibody world (sim::PhysicsWorld).")
-      .def(py::init<double, int, const py::handle&, const py::object&, bool>(), py::arg("time_step") = 1.0 / 240.0,
-           py::arg("solver_iterations") = 50, py::arg("gravity") = py::make_tuple(0.0, 0.0, -9.8),
-           py::arg("solver_residual_threshold") = py::none(), py::arg("pybullet_solver") = false)
+      .def(py::init<double, int, const py::handle&, const py::object&, bool, double, bool, bool>(),
+           py::arg("time_step") = 1.0 / 240.0, py::arg("solver_iterations") = 50,
+           py::arg("gravity") = py::make_tuple(0.0, 0.0, -9.8), py::arg("solver_residual_threshold") = py::none(),
+           py::arg("pybullet_solver") = false, py::arg("joint_row_warm_start") = 0.0,
+           py::arg("joint_block_solve") = false, py::arg("skip_separated_pairs") = true)
       .def("add_robot", &PyWorld::add_robot, py::arg("urdf"), py::arg("position") = py::make_tuple(0.0, 0.0, 0.0),
            py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0), py::arg("drive") = "position_motor",
            py::arg("position_gain") = 1.0, py::arg("velocity_gain") = 1.0, py::arg("limit_constraints") = true,
@@ -332,7 +347,8 @@ void bind_sim(py::module_& parent) {
       .def("step", &PyWorld::step, py::arg("steps") = 1)
       .def_property_readonly("time", &PyWorld::time)
       .def_property_readonly("time_step", &PyWorld::time_step)
-      .def_property_readonly("solver_iterations", &PyWorld::solver_iterations);
+      .def_property_readonly("solver_iterations", &PyWorld::solver_iterations)
+      .def("work", &PyWorld::work, "Steps, solver iterations and skipped narrow-phase pairs so far.");
 }
 
 }  // namespace rdsim::python

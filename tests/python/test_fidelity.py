@@ -101,6 +101,30 @@ def test_free_body_rests_on_the_floor():
         world.add_free_body(str(CASES["jaka"].urdf()))
 
 
+def test_world_speed_ups_and_work_counts():
+    # The paper presets' solver speed-ups, set on a World of one's own: the early exit, warm-started
+    # joint rows and the block solve end within the solver's tolerance of the full 150 iterations,
+    # in a fraction of them (World.work() counts them).
+    def run(**speed_ups):
+        world = rdsim.sim.World(solver_iterations=150, pybullet_solver=True, **speed_ups)
+        arm = world.add_robot(str(CASES["jaka"].urdf()), position_gain=0.1, velocity_gain=1.0,
+                              speed_limits=False, link_damping=0.04, inertia_from_shapes=True)
+        arm.reset_joints([0, 0, 1, 1, 1, 1])
+        for k in range(4):
+            arm.set_position_targets([0.3 * k, 0.1, 1.1, 0.9, 1.0, 1.2])
+            world.step(60)
+        return arm.joint_positions(), world.work()
+
+    q_full, full = run(solver_residual_threshold=0.0)
+    q_fast, fast = run(solver_residual_threshold=1e-9, joint_row_warm_start=1.0, joint_block_solve=True)
+    assert full["steps"] == fast["steps"] == 240
+    assert full["solver_iterations"] > 100 * 240  # Bullet also stops once no row changes at all
+    assert fast["solver_iterations"] < full["solver_iterations"] / 5, fast
+    assert np.abs(q_fast - q_full).max() < 1e-3, (q_fast, q_full)
+    with pytest.raises(rdsim.Error, match="joint_row_warm_start must be in"):
+        rdsim.sim.World(joint_row_warm_start=2.0)
+
+
 def test_recipe_speed_runs():
     # tools/fidelity/recipe_speed.py (docs/benchmarks.md): the original's recipe in pybullet, timed.
     from fidelity.recipe_speed import run
