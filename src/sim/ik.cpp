@@ -129,6 +129,20 @@ IkResult solve_with_restarts(const KinematicChain& chain, const Eigen::Isometry3
   return best;
 }
 
+// (J J^T + damping^2 I)^-1 e for a 3-row J, by a Cholesky factorisation written out (the IK's
+// inner loop: Eigen's LLT runs its general loops on a 3x3).
+Eigen::Vector3d damped_solve(const PositionJacobian& j, const Eigen::Vector3d& e, double damping) {
+  const double d2 = damping * damping;
+  const double a00 = j.row(0).squaredNorm() + d2, a11 = j.row(1).squaredNorm() + d2, a22 = j.row(2).squaredNorm() + d2;
+  const double a01 = j.row(0).dot(j.row(1)), a02 = j.row(0).dot(j.row(2)), a12 = j.row(1).dot(j.row(2));
+  const double l00 = std::sqrt(a00), l10 = a01 / l00, l20 = a02 / l00;
+  const double l11 = std::sqrt(a11 - l10 * l10), l21 = (a12 - l20 * l10) / l11;
+  const double l22 = std::sqrt(a22 - l20 * l20 - l21 * l21);
+  const double z0 = e[0] / l00, z1 = (e[1] - l10 * z0) / l11, z2 = (e[2] - l20 * z0 - l21 * z1) / l22;
+  const double y2 = z2 / l22, y1 = (z1 - l21 * y2) / l11;
+  return {(z0 - l10 * y1 - l20 * y2) / l00, y1, y2};
+}
+
 }  // namespace
 
 JointVector null_space_ik(const KinematicChain& chain, const Eigen::Vector3d& target, const JointVector& start,
@@ -138,10 +152,9 @@ JointVector null_space_ik(const KinematicChain& chain, const Eigen::Vector3d& ta
   // As pybullet: the loop tests the error measured at the start of the previous iteration, so the
   // step that begins within `tolerance` is still taken.
   for (int it = 0; it < o.iterations && error_norm > o.tolerance; ++it) {
-    ChainJacobian jacobian;
-    const Eigen::Vector3d error = target - chain.forward(q, jacobian).translation();
+    PositionJacobian j;
+    const Eigen::Vector3d error = target - chain.tip_position(q, j);
     error_norm = error.norm();
-    const auto j = jacobian.topRows<3>();
     // The null-space velocity: a pull towards the rest pose, and a push back from beyond a limit of
     // limit_gain x (limit - q) / range (a joint inside its limits feels only the pull).
     JointVector pull = o.rest_gain * (rest - q);
@@ -154,7 +167,7 @@ JointVector null_space_ik(const KinematicChain& chain, const Eigen::Vector3d& ta
     // J^T A^-1 e + (I - J^T A^-1 J) p  =  J^T A^-1 (e - J p) + p,  A = J J^T + damping^2 I: the DLS
     // step towards what the pull p leaves of the error, plus the pull.
     const Eigen::Vector3d rest_error = error - j * pull;
-    JointVector dq = damped_least_squares_step(j, rest_error, o.damping) + pull;
+    JointVector dq = j.transpose() * damped_solve(j, rest_error, o.damping) + pull;
     double largest = 0.0;  // a plain loop, as in solve() (GCC 12 and Eigen's maxCoeff)
     for (int i = 0; i < dq.size(); ++i) largest = std::max(largest, std::abs(dq[i]));
     if (largest > o.max_joint_step) dq *= o.max_joint_step / largest;

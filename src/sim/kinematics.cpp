@@ -1,6 +1,7 @@
 #include "rdsim/sim/kinematics.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "rdsim/core/error.hpp"
 
@@ -39,7 +40,14 @@ KinematicChain::KinematicChain(const RobotModel& model, const std::string& tip_l
     if (dof_ == kMaxChainDof)
       throw Error(model.source + ": the chain to link \"" + tip_link + "\" has more than " +
                   std::to_string(kMaxChainDof) + " movable joints");
-    steps_[static_cast<size_t>(dof_)] = Step{pending, joint.axis, joint.type == JointType::Prismatic};
+    Step& step = steps_[static_cast<size_t>(dof_)];
+    step = Step{pending, joint.axis, joint.type == JointType::Prismatic};
+    step.turns_before = !pending.linear().isIdentity(0.0);
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(joint.axis[k]) == 1.0 && joint.axis.squaredNorm() == 1.0) {
+        step.frame_axis = k;
+        step.axis_sign = joint.axis[k];
+      }
     model_joint_[static_cast<size_t>(dof_)] = j;
     lo[static_cast<size_t>(dof_)] = joint.lower;
     hi[static_cast<size_t>(dof_)] = joint.upper;
@@ -84,6 +92,40 @@ Eigen::Isometry3d KinematicChain::forward(const JointVector& q, ChainJacobian& j
     } else {
       jacobian.col(i) << z.cross(tip.translation() - origin_world[static_cast<size_t>(i)]), z;
     }
+  }
+  return tip;
+}
+
+Eigen::Vector3d KinematicChain::tip_position(const JointVector& q, PositionJacobian& jacobian) const {
+  std::array<Eigen::Vector3d, kMaxChainDof> axis_world, origin_world;
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();  // the frame's rotation and origin (root frame)
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int i = 0; i < dof_; ++i) {
+    const Step& s = steps_[static_cast<size_t>(i)];
+    p += r * s.before.translation();
+    if (s.turns_before) r = r * s.before.linear();
+    const auto k = static_cast<size_t>(i);
+    axis_world[k] = s.frame_axis >= 0 ? Eigen::Vector3d(s.axis_sign * r.col(s.frame_axis)) : Eigen::Vector3d(r * s.axis);
+    origin_world[k] = p;
+    if (s.prismatic) {
+      p += axis_world[k] * q[i];
+    } else if (s.frame_axis >= 0) {
+      // Rotation about frame axis a by angle t: the other two columns (b, c), in cyclic order,
+      // turn in their plane: b' = cos t b + sin t c, c' = -sin t b + cos t c.
+      const double t = s.axis_sign * q[i], c = std::cos(t), sn = std::sin(t);
+      const int b_col = (s.frame_axis + 1) % 3, c_col = (s.frame_axis + 2) % 3;
+      const Eigen::Vector3d b0 = r.col(b_col), c0 = r.col(c_col);
+      r.col(b_col) = c * b0 + sn * c0;
+      r.col(c_col) = c * c0 - sn * b0;
+    } else {
+      r = r * Eigen::AngleAxisd(q[i], s.axis).toRotationMatrix();
+    }
+  }
+  const Eigen::Vector3d tip = p + r * tip_offset_.translation();
+  jacobian.resize(3, dof_);
+  for (int i = 0; i < dof_; ++i) {
+    const auto k = static_cast<size_t>(i);
+    jacobian.col(i) = steps_[k].prismatic ? axis_world[k] : Eigen::Vector3d(axis_world[k].cross(tip - origin_world[k]));
   }
   return tip;
 }

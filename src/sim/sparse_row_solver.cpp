@@ -128,7 +128,7 @@ void SparseRowSolver::block_solve_rows() {
 // it singular: they ask one velocity for two values, and the answer is one of them at its bound.
 // A diagonal of 1e-9 of the largest entry lets the solve say which: it sends the pair's impulses
 // far apart, past their bounds, and the next active-set round clamps them.
-bool SparseRowSolver::factor(Eigen::MatrixXd& sub) {
+bool SparseRowSolver::factor(BlockMatrix& sub) {
   Block& k = block_;
   auto regular = [&] {
     if (k.ldlt.info() != Eigen::Success) return false;
@@ -164,7 +164,7 @@ bool SparseRowSolver::solve_block(int n) {
         for (int q = 0; q < m; ++q) k.sub(p, q) = k.matrix(i, k.free[static_cast<size_t>(q)]);
       }
       if (!factor(k.sub)) return false;
-      k.sub_rhs = k.ldlt.solve(k.sub_rhs);
+      k.ldlt.solveInPlace(k.sub_rhs);
       for (int p = 0; p < m; ++p) k.x(k.free[static_cast<size_t>(p)]) = k.sub_rhs(p);
     }
     if (!k.x.allFinite()) return false;

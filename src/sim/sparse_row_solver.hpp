@@ -53,6 +53,12 @@ protected:
                                 int numConstraints, const btContactSolverInfo& info, btIDebugDraw* debugDrawer) override;
 
 private:
+  // More rows than this (a humanoid with every joint free) are left to the iterations: each
+  // active-set round is an O(n^3) factorisation.
+  static constexpr int kMaxBlockRows = 16;
+  // block_solve_rows' matrices: fixed capacity, never on the heap.
+  using BlockMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxBlockRows, kMaxBlockRows>;
+  using BlockVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxBlockRows, 1>;
   // One side (A or B) of one row: the offsets (into the side's Jacobian / velocity block) where
   // its Jacobian is non-zero, entries_[begin, end), and whether its unit-impulse response is.
   struct Side {
@@ -69,7 +75,7 @@ private:
   void warm_start_rows();
   void block_solve_rows();
   bool solve_block(int n);
-  bool factor(Eigen::MatrixXd& sub);
+  bool factor(BlockMatrix& sub);
   // Adds `impulse` times a side's unit-impulse response to the solver's and the multibody's
   // velocity changes, as a row's iteration does.
   void apply_impulse(const Side& side, btScalar impulse);
@@ -92,15 +98,12 @@ private:
   };
   static std::array<int, 4> row_key(const btMultiBodySolverConstraint& c);
   std::vector<Impulse> last_;
-  // More rows than this (a humanoid with every joint free) are left to the iterations: each
-  // active-set round is an O(n^3) factorisation.
-  static constexpr int kMaxBlockRows = 16;
-  // block_solve_rows' system and scratch, kept between steps so that solving allocates nothing.
+  // block_solve_rows' system and scratch, kept between steps.
   struct Block {
-    Eigen::MatrixXd matrix, sub;
-    Eigen::VectorXd rhs, x, sub_rhs;
+    BlockMatrix matrix, sub;
+    BlockVector rhs, x, sub_rhs;
     std::vector<int> state, free;  // per row: -1 at its lower bound, +1 at its upper, 0 free
-    Eigen::LDLT<Eigen::MatrixXd> ldlt;
+    Eigen::LDLT<BlockMatrix> ldlt;
   };
   Block block_;
   std::vector<Row> rows_;     // per m_multiBodyNonContactConstraints entry

@@ -122,3 +122,35 @@ TEST_CASE("A chain to an unknown link is an error naming the file", "[kinematics
   const RobotModel m = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
   CHECK_THROWS_WITH(KinematicChain(m, "tool0"), Catch::Contains("jaka_zu7.urdf") && Catch::Contains("tool0"));
 }
+
+TEST_CASE("The IK's position-only kinematics equal the full forward kinematics", "[kinematics][ik]") {
+  // KinematicChain::tip_position takes shortcuts (a joint about a frame axis, a joint frame without
+  // rotation); the Jaka (axes +-z, -y), the InMoov's right arm (+-x, +-y, +-z) and a chain with a
+  // slanted axis and a slide check each against forward().
+  const std::string mass = R"(<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>)";
+  const RobotModel slanted = parse_urdf(R"(<robot name="r"><link name="a"/><link name="b">)" + mass + R"(</link>
+    <link name="c">)" + mass + R"(</link><link name="d">)" + mass + R"(</link>
+    <joint name="j1" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.1" rpy="0.3 0 0.2"/>
+      <axis xyz="0.6 0 0.8"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+    <joint name="j2" type="prismatic"><parent link="b"/><child link="c"/><origin xyz="0.2 0 0"/>
+      <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    <joint name="j3" type="revolute"><parent link="c"/><child link="d"/><origin xyz="0 0.1 0" rpy="0 0.5 0"/>
+      <axis xyz="0 0 -1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>)",
+                                        "slanted.urdf");
+  const RobotModel jaka = load_urdf(test_asset("jaka/jaka_zu7.urdf"));
+  const RobotModel inmoov = load_urdf(test_asset("inmoov/inmoov.urdf"));
+  const std::pair<const RobotModel*, const char*> chains[] = {{&jaka, "flange_link"}, {&inmoov, "r_hand_ee"}, {&slanted, "d"}};
+  Rng rng(3);
+  for (const auto& [model, tip_link] : chains) {
+    const KinematicChain chain(*model, tip_link);
+    INFO(tip_link << ", " << chain.dof() << " joints");
+    for (int t = 0; t < 50; ++t) {
+      const JointVector q = random_config(chain, rng);
+      ChainJacobian full;
+      PositionJacobian position;
+      const Eigen::Vector3d tip = chain.forward(q, full).translation();
+      CHECK((chain.tip_position(q, position) - tip).cwiseAbs().maxCoeff() < 1e-14);
+      CHECK((position - full.topRows<3>()).cwiseAbs().maxCoeff() < 1e-14);
+    }
+  }
+}

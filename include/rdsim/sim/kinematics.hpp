@@ -16,6 +16,7 @@ constexpr int kMaxChainDof = 16;  // arms and hands; a whole humanoid is several
 // Joint values of a chain and its Jacobian: fixed-capacity Eigen types, never heap-allocated.
 using JointVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxChainDof, 1>;
 using ChainJacobian = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::ColMajor, 6, kMaxChainDof>;
+using PositionJacobian = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, kMaxChainDof>;
 
 // The movable joints on the path from a model's root link to one link (the "tip", e.g. a
 // flange). Poses are in the root link's frame.
@@ -35,12 +36,19 @@ public:
   // Also the geometric Jacobian of the tip: rows 0-2 map joint speeds to its linear velocity,
   // rows 3-5 to its angular velocity (root frame).
   Eigen::Isometry3d forward(const JointVector& q, ChainJacobian& jacobian) const;
+  // The tip's position and the position rows of its Jacobian only: the same kinematics as
+  // forward(), for an IK's inner loop (a joint about a frame axis turns two columns of the frame,
+  // a joint frame without rotation adds only its offset). Equal to forward()'s to rounding.
+  Eigen::Vector3d tip_position(const JointVector& q, PositionJacobian& jacobian) const;
 
 private:
   struct Step {
     Eigen::Isometry3d before;  // from the previous joint's frame (after its motion) to this joint's frame
     Eigen::Vector3d axis;      // in this joint's frame
     bool prismatic = false;
+    bool turns_before = true;  // `before` has a rotation (else it is a pure offset)
+    int frame_axis = -1;       // axis is +-(this frame axis) exactly: 0, 1, 2; -1 otherwise
+    double axis_sign = 1.0;
   };
   int dof_ = 0;
   int tip_link_ = -1;
