@@ -210,11 +210,19 @@ private:
 };
 
 class PyWorld {
+  // A Python int or float (not a bool) as a double; rdsim.Error naming `key` otherwise.
+  static double read_number(const py::object& value, const char* key) {
+    const bool number = py::isinstance<py::float_>(value) || (py::isinstance<py::int_>(value) && !py::isinstance<py::bool_>(value));
+    if (!number)
+      throw Error(std::string("rdsim.sim.World: ") + key + ": expected None or a number, got " + py::repr(value).cast<std::string>());
+    return value.cast<double>();
+  }
+
 public:
   // residual_threshold: None = the default (0, or pybullet's 1e-7 with pybullet_solver); a number wins.
   PyWorld(double time_step, int solver_iterations, const py::handle& gravity, const py::object& residual_threshold,
-          bool pybullet_solver_settings, double joint_row_warm_start, bool joint_block_solve,
-          bool skip_separated_pairs)
+          bool pybullet_solver_settings, const py::object& contact_warm_start, double joint_row_warm_start,
+          bool joint_block_solve, bool skip_separated_pairs)
       : data_(std::make_shared<WorldData>()) {
     WorldSettings s;
     s.time_step = time_step;
@@ -222,15 +230,15 @@ public:
     s.gravity = read_values(gravity, 3, "rdsim.sim.World: gravity").cast<float>();
     if (pybullet_solver_settings) s = pybullet_solver(s);
     if (!residual_threshold.is_none()) {
-      const bool number = py::isinstance<py::float_>(residual_threshold) ||
-                          (py::isinstance<py::int_>(residual_threshold) && !py::isinstance<py::bool_>(residual_threshold));
-      const double threshold = number ? residual_threshold.cast<double>() : -1.0;
+      const double threshold = read_number(residual_threshold, "solver_residual_threshold");
       if (!(threshold >= 0.0))
         throw Error("rdsim.sim.World: solver_residual_threshold: expected None or a number >= 0, got " +
                     py::repr(residual_threshold).cast<std::string>());
       s.solver_residual_threshold = threshold;
     }
-    s.joint_row_warm_start = joint_row_warm_start;  // PhysicsWorld checks the range
+    // contact_warm_start: None = the default (Bullet's 0.85, or pybullet's 0.1 with pybullet_solver).
+    if (!contact_warm_start.is_none()) s.warmstarting_factor = read_number(contact_warm_start, "contact_warm_start");
+    s.joint_row_warm_start = joint_row_warm_start;  // PhysicsWorld checks the ranges
     s.joint_block_solve = joint_block_solve;
     s.skip_separated_pairs = skip_separated_pairs;
     data_->world = std::make_unique<PhysicsWorld>(s);
@@ -327,10 +335,10 @@ void bind_sim(py::module_& parent) {
       .def("null_space_ik", &PyRobot::null_space_ik, py::arg("link"), py::arg("target"), py::arg("start") = py::none(),
            py::arg("rest") = py::none(), py::arg("iterations") = 20, py::arg("residual_threshold") = 1e-4);
   py::class_<PyWorld>(m, "World", "A Bullet multibody world (sim::PhysicsWorld).")
-      .def(py::init<double, int, const py::handle&, const py::object&, bool, double, bool, bool>(),
+      .def(py::init<double, int, const py::handle&, const py::object&, bool, const py::object&, double, bool, bool>(),
            py::arg("time_step") = 1.0 / 240.0, py::arg("solver_iterations") = 50,
            py::arg("gravity") = py::make_tuple(0.0, 0.0, -9.8), py::arg("solver_residual_threshold") = py::none(),
-           py::arg("pybullet_solver") = false, py::arg("joint_row_warm_start") = 0.0,
+           py::arg("pybullet_solver") = false, py::arg("contact_warm_start") = py::none(), py::arg("joint_row_warm_start") = 0.0,
            py::arg("joint_block_solve") = false, py::arg("skip_separated_pairs") = true)
       .def("add_robot", &PyWorld::add_robot, py::arg("urdf"), py::arg("position") = py::make_tuple(0.0, 0.0, 0.0),
            py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0), py::arg("drive") = "position_motor",

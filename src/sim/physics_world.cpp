@@ -51,6 +51,8 @@ PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings),
   if (settings.solver_iterations < 1) throw Error("physics: solver_iterations must be >= 1");
   if (!(settings.joint_row_warm_start >= 0.0 && settings.joint_row_warm_start <= 1.0))
     throw Error("physics: joint_row_warm_start must be in [0, 1]");
+  if (!(settings.warmstarting_factor >= 0.0 && settings.warmstarting_factor <= 1.0))
+    throw Error("physics: warmstarting_factor must be in [0, 1]");
   impl_->world.setGravity(to_bt(settings.gravity));
   btContactSolverInfo& info = impl_->world.getSolverInfo();
   info.m_numIterations = settings.solver_iterations;

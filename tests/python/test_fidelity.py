@@ -116,13 +116,18 @@ def test_world_speed_ups_and_work_counts():
         return arm.joint_positions(), world.work()
 
     q_full, full = run(solver_residual_threshold=0.0)
-    q_fast, fast = run(solver_residual_threshold=1e-9, joint_row_warm_start=1.0, joint_block_solve=True)
+    q_fast, fast = run(solver_residual_threshold=1e-9, contact_warm_start=1.0, joint_row_warm_start=1.0,
+                       joint_block_solve=True)
     assert full["steps"] == fast["steps"] == 240
     assert full["solver_iterations"] > 100 * 240  # Bullet also stops once no row changes at all
     assert fast["solver_iterations"] < full["solver_iterations"] / 5, fast
     assert np.abs(q_fast - q_full).max() < 1e-3, (q_fast, q_full)
     with pytest.raises(rdsim.Error, match="joint_row_warm_start must be in"):
         rdsim.sim.World(joint_row_warm_start=2.0)
+    with pytest.raises(rdsim.Error, match="warmstarting_factor must be in"):
+        rdsim.sim.World(contact_warm_start=-0.5)
+    with pytest.raises(rdsim.Error, match="contact_warm_start: expected None or a number"):
+        rdsim.sim.World(contact_warm_start="all")
 
 
 def test_recipe_speed_runs():
