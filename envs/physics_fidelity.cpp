@@ -16,6 +16,7 @@ void original_solver_work(ReachTaskSpec& spec) {
   spec.world.sparse_joint_rows = false;
   spec.world.joint_row_warm_start = 0.0;
   spec.world.joint_block_solve = false;
+  spec.world.mass_matrix_responses = false;
   spec.world.skip_separated_pairs = false;
   spec.world.warmstarting_factor = pybullet_solver(spec.world).warmstarting_factor;
   spec.robot.weld_held_joints = false;

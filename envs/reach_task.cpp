@@ -92,6 +92,7 @@ void apply_env_config(const EnvConfig& env, ReachTaskSpec& spec) {
   spec.world.solver_residual_threshold = motors ? kResidualThreshold : 0.0;
   spec.world.joint_row_warm_start = motors ? 1.0 : 0.0;
   spec.world.joint_block_solve = motors;
+  spec.world.mass_matrix_responses = motors;
   if (motors) spec.world.warmstarting_factor = kContactWarmStart;
   spec.robot.weld_held_joints = motors;
   spec.robot.position_gain = static_cast<float>(config.position_gain);

@@ -222,7 +222,7 @@ public:
   // residual_threshold: None = the default (0, or pybullet's 1e-7 with pybullet_solver); a number wins.
   PyWorld(double time_step, int solver_iterations, const py::handle& gravity, const py::object& residual_threshold,
           bool pybullet_solver_settings, const py::object& contact_warm_start, double joint_row_warm_start,
-          bool joint_block_solve, bool skip_separated_pairs)
+          bool joint_block_solve, bool mass_matrix_responses, bool skip_separated_pairs)
       : data_(std::make_shared<WorldData>()) {
     WorldSettings s;
     s.time_step = time_step;
@@ -240,6 +240,7 @@ public:
     if (!contact_warm_start.is_none()) s.warmstarting_factor = read_number(contact_warm_start, "contact_warm_start");
     s.joint_row_warm_start = joint_row_warm_start;  // PhysicsWorld checks the ranges
     s.joint_block_solve = joint_block_solve;
+    s.mass_matrix_responses = mass_matrix_responses;
     s.skip_separated_pairs = skip_separated_pairs;
     data_->world = std::make_unique<PhysicsWorld>(s);
   }
@@ -335,11 +336,13 @@ void bind_sim(py::module_& parent) {
       .def("null_space_ik", &PyRobot::null_space_ik, py::arg("link"), py::arg("target"), py::arg("start") = py::none(),
            py::arg("rest") = py::none(), py::arg("iterations") = 20, py::arg("residual_threshold") = 1e-4);
   py::class_<PyWorld>(m, "World", "A Bullet multibody world (sim::PhysicsWorld).")
-      .def(py::init<double, int, const py::handle&, const py::object&, bool, const py::object&, double, bool, bool>(),
+      .def(py::init<double, int, const py::handle&, const py::object&, bool, const py::object&, double, bool, bool,
+                    bool>(),
            py::arg("time_step") = 1.0 / 240.0, py::arg("solver_iterations") = 50,
            py::arg("gravity") = py::make_tuple(0.0, 0.0, -9.8), py::arg("solver_residual_threshold") = py::none(),
            py::arg("pybullet_solver") = false, py::arg("contact_warm_start") = py::none(), py::arg("joint_row_warm_start") = 0.0,
-           py::arg("joint_block_solve") = false, py::arg("skip_separated_pairs") = true)
+           py::arg("joint_block_solve") = false, py::arg("mass_matrix_responses") = false,
+           py::arg("skip_separated_pairs") = true)
       .def("add_robot", &PyWorld::add_robot, py::arg("urdf"), py::arg("position") = py::make_tuple(0.0, 0.0, 0.0),
            py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0), py::arg("drive") = "position_motor",
            py::arg("position_gain") = 1.0, py::arg("velocity_gain") = 1.0, py::arg("limit_constraints") = true,

@@ -34,7 +34,16 @@ JointDynamics::JointDynamics(const RobotModel& model, const std::vector<Inertial
     b.prismatic = j.type == JointType::Prismatic;
     if (j.movable()) b.dof = dof_++;
   }
-  composite_.resize(model.links.size());
+  // Each link alone as a composite (about its origin), where composite_inertia() starts from.
+  own_.resize(model.links.size());
+  for (size_t i = 0; i < bodies_.size(); ++i) {
+    const Body& b = bodies_[i];
+    Composite& c = own_[i];
+    c.mass = b.mass;
+    c.first_moment = b.mass * b.com;
+    c.inertia = b.inertia + b.mass * (b.com.squaredNorm() * Eigen::Matrix3d::Identity() - b.com * b.com.transpose());
+  }
+  composite_ = own_;
   unit_ = Eigen::VectorXd::Zero(dof_);
 }
 
@@ -104,13 +113,22 @@ void JointDynamics::inverse_dynamics(const Eigen::VectorXd& q, const Eigen::Vect
 void JointDynamics::mass_matrix_and_bias(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                          const Eigen::Vector3d& gravity, Eigen::MatrixXd& mass,
                                          Eigen::VectorXd& bias) {
-  mass.setZero(dof_, dof_);  // joints on different branches do not couple
   bias.resize(dof_);
   kinematics(q);
   unit_.setZero();
   newton_euler(&qd, unit_, gravity, bias);
   composite_inertia();
+  assemble_mass(mass);
+}
 
+void JointDynamics::mass_matrix(const Eigen::VectorXd& q, Eigen::MatrixXd& mass) {
+  kinematics(q);
+  composite_inertia();
+  assemble_mass(mass);
+}
+
+void JointDynamics::assemble_mass(Eigen::MatrixXd& mass) const {
+  mass.setZero(dof_, dof_);  // joints on different branches do not couple
   // Composite-rigid-body algorithm: the force that a unit acceleration of joint j (from rest)
   // needs is the composite inertia of j's subtree times the joint's motion; carried up the
   // tree it gives column j of M at every ancestor joint.
@@ -141,13 +159,7 @@ void JointDynamics::mass_matrix_and_bias(const Eigen::VectorXd& q, const Eigen::
 }
 
 void JointDynamics::composite_inertia() {
-  for (size_t i = 0; i < bodies_.size(); ++i) {
-    const Body& b = bodies_[i];
-    Composite& c = composite_[i];
-    c.mass = b.mass;
-    c.first_moment = b.mass * b.com;
-    c.inertia = b.inertia + b.mass * (b.com.squaredNorm() * Eigen::Matrix3d::Identity() - b.com * b.com.transpose());
-  }
+  composite_ = own_;
   for (size_t i = bodies_.size() - 1; i >= 1; --i) {
     const int parent = bodies_[i].parent;
     if (parent < 1) continue;  // the fixed root's composite is never needed

@@ -12,7 +12,14 @@ struct SideSlots {
   int jacobian = 0, velocity = 0;
 };
 
-SideSlots add_side(btMultiBody* body, const btScalar* jacobian, btMultiBodyJacobianData& data) {
+// Where a joint row takes its responses from: Bullet's pass, or column `dof` of `responses`.
+struct ResponseSource {
+  const JointResponses* responses = nullptr;
+  int dof = -1;
+};
+
+SideSlots add_side(btMultiBody* body, const btScalar* jacobian, btMultiBodyJacobianData& data,
+                   const ResponseSource& source) {
   const int n = body->getNumDofs() + 6;
   SideSlots s;
   s.velocity = body->getCompanionId();
@@ -29,9 +36,23 @@ SideSlots add_side(btMultiBody* body, const btScalar* jacobian, btMultiBodyJacob
     data.m_jacobians[s.jacobian + i] = jacobian[i];
     zero &= jacobian[i] == btScalar(0);
   }
-  if (!zero)
-    body->calcAccelerationDeltasMultiDof(&data.m_jacobians[s.jacobian], &data.m_deltaVelocitiesUnitImpulse[s.jacobian],
-                                         data.scratch_r, data.scratch_v);
+  if (zero) return s;
+  btScalar* response = &data.m_deltaVelocitiesUnitImpulse[s.jacobian];
+  const JointResponses* r = source.responses;
+  if (r && r->valid && source.dof >= 0 && static_cast<int>(r->velocity_index.size()) == n - 6) {
+    // A Jacobian of one joint's entry alone (a motor's or limit's side): that entry times the
+    // joint's column of M^-1; the fixed base does not move.
+    const int own = r->velocity_index[static_cast<size_t>(source.dof)];
+    bool one_joint = true;
+    for (int i = 0; i < n; ++i) one_joint &= i == own || jacobian[i] == btScalar(0);
+    if (one_joint) {
+      const double value = jacobian[own];
+      for (int j = 0; j < n - 6; ++j)
+        response[r->velocity_index[static_cast<size_t>(j)]] = static_cast<btScalar>(value * r->inverse(j, source.dof));
+      return s;
+    }
+  }
+  body->calcAccelerationDeltasMultiDof(&data.m_jacobians[s.jacobian], response, data.scratch_r, data.scratch_v);
   return s;
 }
 
@@ -44,14 +65,15 @@ btScalar add_dot(btScalar sum, const btScalar* a, const btScalar* b, int n) {
 // What fillMultiBodyConstraint does for a joint row (one degree of freedom, both sides
 // multibodies, no position error): Jacobians and responses, the effective mass 1 / (J M^-1 J^T)
 // (0 for a row nothing responds to), bounds, and a right-hand side that asks for
-// `desired_velocity`. Returns the row's velocity J v.
+// `desired_velocity`. Returns the row's velocity J v. Responses from `source` when it has them.
 btScalar fill_joint_row(btMultiBodySolverConstraint& c, btMultiBodyJacobianData& data, const btScalar* jacobian_a,
-                        const btScalar* jacobian_b, btScalar lower, btScalar upper, btScalar desired_velocity) {
+                        const btScalar* jacobian_b, btScalar lower, btScalar upper, btScalar desired_velocity,
+                        const ResponseSource& source) {
   btMultiBody* body_a = c.m_multiBodyA;
   btMultiBody* body_b = c.m_multiBodyB;
   const int na = body_a->getNumDofs() + 6, nb = body_b->getNumDofs() + 6;
-  const SideSlots a = add_side(body_a, jacobian_a, data);
-  const SideSlots b = add_side(body_b, jacobian_b, data);
+  const SideSlots a = add_side(body_a, jacobian_a, data, source);
+  const SideSlots b = add_side(body_b, jacobian_b, data, source);
   c.m_deltaVelAindex = a.velocity;
   c.m_jacAindex = a.jacobian;
   c.m_deltaVelBindex = b.velocity;
@@ -132,7 +154,8 @@ void JointMotor::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiB
   c.m_multiBodyB = m_bodyB;
   c.m_linkA = m_linkA;
   c.m_linkB = m_linkB;
-  fill_joint_row(c, data, jacobianA(0), jacobianB(0), -m_maxAppliedImpulse, m_maxAppliedImpulse, target_velocity(info));
+  fill_joint_row(c, data, jacobianA(0), jacobianB(0), -m_maxAppliedImpulse, m_maxAppliedImpulse, target_velocity(info),
+                 {responses_, dof_});
   c.m_orgConstraint = this;
   c.m_orgDofIndex = 0;
   record_axis(c, m_bodyA->getLink(m_linkA), 1);
@@ -157,7 +180,8 @@ void JointLimit::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiB
     c.m_multiBodyB = m_bodyB;
     c.m_linkA = m_linkA;
     c.m_linkB = m_linkB;
-    const btScalar velocity = fill_joint_row(c, data, jacobianA(row), jacobianB(row), 0, m_maxAppliedImpulse, 0);
+    const btScalar velocity =
+        fill_joint_row(c, data, jacobianA(row), jacobianB(row), 0, m_maxAppliedImpulse, 0, {responses_, dof_});
     record_axis(c, m_bodyA->getLink(m_linkA), row ? btScalar(-1) : btScalar(1));
     // Bullet's limit law: stop the joint's motion into the limit and push back erp of the
     // penetration per step (split into a separate push when split impulses are on).

@@ -19,7 +19,21 @@
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 
+#include <Eigen/Core>
+#include <vector>
+
 namespace rdsim {
+
+// A robot's joint-space response to a unit impulse on each joint, M(q)^-1 from rdsim's own mass
+// matrix (composite rigid bodies, double precision), computed by the robot before each physics
+// step (WorldSettings::mass_matrix_responses). A joint row whose Jacobian is one joint's takes its
+// response from here instead of a Bullet articulated-body pass of its own: one factorisation per
+// step against one pass per row. Not bit-exact: Bullet computes the passes in single precision.
+struct JointResponses {
+  bool valid = false;                // false: the rows use Bullet's passes (e.g. joints welded)
+  Eigen::MatrixXd inverse;           // M^-1, in the robot's dof order
+  std::vector<int> velocity_index;   // per dof: its entry in Bullet's velocity vector (6 + dof offset)
+};
 
 // A joint motor on a one-degree-of-freedom joint (Bullet's motor law and row).
 class JointMotor : public btMultiBodyJointMotor {
@@ -28,9 +42,16 @@ public:
 
   void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                             const btContactSolverInfo& info) override;
+  // This motor's joint is dof `dof` of `responses` (kept by its robot, which outlives it).
+  void use_responses(const JointResponses* responses, int dof) {
+    responses_ = responses;
+    dof_ = dof;
+  }
 
 private:
   btScalar target_velocity(const btContactSolverInfo& info) const;  // rad/s or m/s
+  const JointResponses* responses_ = nullptr;
+  int dof_ = -1;
 };
 
 // The two rows of a joint's limits, each present only while the joint is at or past that limit.
@@ -41,6 +62,14 @@ public:
 
   void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                             const btContactSolverInfo& info) override;
+  void use_responses(const JointResponses* responses, int dof) {
+    responses_ = responses;
+    dof_ = dof;
+  }
+
+private:
+  const JointResponses* responses_ = nullptr;
+  int dof_ = -1;
 };
 
 }  // namespace rdsim

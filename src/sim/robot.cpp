@@ -16,6 +16,7 @@
 #include "rdsim/sim/mesh_file.hpp"
 #include "rdsim/sim/physics_world.hpp"
 #include "physics_world_impl.hpp"
+#include "small_cholesky.hpp"
 #include "joint_rows.hpp"
 
 namespace rdsim {
@@ -129,6 +130,32 @@ bool welded_to_base(const RobotModel& model, int link) {
 }
 
 }  // namespace
+
+// The mass and inertia Bullet simulates each link with (in the link's frame), for rdsim's own
+// dynamics of the same robot.
+static std::vector<Inertial> simulated_inertials(const RobotModel& model, bool inertia_from_shapes) {
+  std::vector<Inertial> simulated(model.links.size());
+  for (size_t i = 0; i < model.links.size(); ++i) {
+    const BodyFrame f = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), inertia_from_shapes);
+    simulated[i].mass = f.mass;
+    simulated[i].inertia = f.moments.asDiagonal();
+    simulated[i].origin = f.in_link;
+  }
+  return simulated;
+}
+
+struct Robot::MassResponses {
+  JointDynamics dynamics;
+  JointResponses out;  // what the joint rows read
+  Eigen::VectorXd q;
+  Eigen::MatrixXd mass;  // M(q), then its Cholesky factor
+
+  MassResponses(const RobotModel& model, const std::vector<Inertial>& inertials, int dof)
+      : dynamics(model, inertials), q(dof), mass(dof, dof) {
+    out.inverse.resize(dof, dof);
+    out.velocity_index.assign(static_cast<size_t>(dof), -1);
+  }
+};
 
 struct Robot::TorqueDrive {
   JointDynamics dynamics;
@@ -254,15 +281,11 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     d.damping = static_cast<float>(j.damping);
     dofs_.push_back(d);
   }
+  if (options.drive == JointDrive::ConstraintMotor && world.settings().mass_matrix_responses)
+    responses_ = std::make_unique<MassResponses>(model, simulated_inertials(model, options.inertia_from_shapes), dof());
   build();
   if (options.drive == JointDrive::ComputedTorque) {
-    std::vector<Inertial> simulated(model.links.size());  // what Bullet gets, for the drive's dynamics
-    for (size_t i = 0; i < model.links.size(); ++i) {
-      const BodyFrame f = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), options.inertia_from_shapes);
-      simulated[i].mass = f.mass;
-      simulated[i].inertia = f.moments.asDiagonal();
-      simulated[i].origin = f.in_link;
-    }
+    const std::vector<Inertial> simulated = simulated_inertials(model, options.inertia_from_shapes);
     const auto dt = static_cast<btScalar>(world.settings().time_step);  // as Bullet's motors get it
     drive_ = std::make_unique<TorqueDrive>(model, simulated, dof());
     drive_->gravity = base_pose.linear().cast<double>().transpose() * world.settings().gravity.cast<double>();
@@ -366,14 +389,23 @@ void Robot::build() {
   // rdsim's joint constraints set their rows up without the work that yields zeros
   // (src/sim/joint_rows.hpp); Bullet's own go with the reference solver the tests compare them with.
   const bool own_rows = world_.settings().sparse_joint_rows;
+  const JointResponses* responses = responses_ ? &responses_->out : nullptr;
   for (Dof& d : dofs_) {
     d.motor = nullptr;
+    const int dof = static_cast<int>(&d - dofs_.data());
+    if (responses_)
+      responses_->out.velocity_index[static_cast<size_t>(dof)] = d.welded ? -1 : 6 + multibody_->getLink(d.bullet_link).m_dofOffset;
     if (d.welded) continue;
     const Joint& j = model.joints[static_cast<size_t>(d.joint)];
     if (options_.drive == JointDrive::ConstraintMotor) {
       const auto max_impulse = static_cast<btScalar>(j.effort) * dt;
-      d.motor = own_rows ? new JointMotor(multibody_, d.bullet_link, max_impulse)
-                         : new btMultiBodyJointMotor(multibody_, d.bullet_link, 0, 0, max_impulse);
+      if (own_rows) {
+        auto* motor = new JointMotor(multibody_, d.bullet_link, max_impulse);
+        motor->use_responses(responses, dof);
+        d.motor = motor;
+      } else {
+        d.motor = new btMultiBodyJointMotor(multibody_, d.bullet_link, 0, 0, max_impulse);
+      }
       d.motor->setPositionTarget(d.target, position_gain_);
       d.motor->setVelocityTarget(0, velocity_gain_);
       d.motor->setErp(1);
@@ -382,8 +414,14 @@ void Robot::build() {
     }
     if (options_.limit_constraints && j.type != JointType::Continuous) {
       const auto lower = static_cast<btScalar>(j.lower), upper = static_cast<btScalar>(j.upper);
-      auto* limit = own_rows ? new JointLimit(multibody_, d.bullet_link, lower, upper)
-                             : new btMultiBodyJointLimitConstraint(multibody_, d.bullet_link, lower, upper);
+      btMultiBodyJointLimitConstraint* limit = nullptr;
+      if (own_rows) {
+        auto* own = new JointLimit(multibody_, d.bullet_link, lower, upper);
+        own->use_responses(responses, dof);
+        limit = own;
+      } else {
+        limit = new btMultiBodyJointLimitConstraint(multibody_, d.bullet_link, lower, upper);
+      }
       impl.world.addMultiBodyConstraint(limit);
       limits_.push_back(limit);
     }
@@ -627,6 +665,7 @@ void Robot::before_step() {
       if (d.damping > 0.0f && !d.welded)
         multibody_->addJointTorque(d.bullet_link, -d.damping * multibody_->getJointVel(d.bullet_link));
   }
+  if (responses_) update_responses();
   if (!drive_) return;
   TorqueDrive& t = *drive_;
   const double dt = world_.settings().time_step;
@@ -643,6 +682,21 @@ void Robot::before_step() {
   t.solve_impulses(dt);
   for (int i = 0; i < dof(); ++i)
     multibody_->addJointTorque(dofs_[static_cast<size_t>(i)].bullet_link, static_cast<btScalar>(t.impulse[i] / dt));
+}
+
+void Robot::update_responses() {
+  MassResponses& r = *responses_;
+  r.out.valid = false;  // welded joints: Bullet's multibody has fewer dofs than the model
+  if (std::any_of(dofs_.begin(), dofs_.end(), [](const Dof& d) { return d.welded; })) return;
+  for (int i = 0; i < dof(); ++i) r.q[i] = multibody_->getJointPos(dofs_[static_cast<size_t>(i)].bullet_link);
+  r.dynamics.mass_matrix(r.q, r.mass);
+  if (!cholesky(r.mass, dof())) return;  // M = L L^T, in place
+  r.out.inverse.setIdentity();
+  for (int k = 0; k < dof(); ++k) {
+    auto column = r.out.inverse.col(k);
+    cholesky_solve(r.mass, dof(), column);
+  }
+  r.out.valid = r.out.inverse.allFinite();
 }
 
 Robot::LinkInertia Robot::link_inertia(int link) const {

@@ -1,8 +1,11 @@
 #include "sparse_row_solver.hpp"
 
+#include "small_cholesky.hpp"
+
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace rdsim {
 
@@ -124,22 +127,19 @@ void SparseRowSolver::block_solve_rows() {
   }
 }
 
-// LDLT of a free block. Dependent rows (a motor and a limit row on one joint, both free) make
-// it singular: they ask one velocity for two values, and the answer is one of them at its bound.
-// A diagonal of 1e-9 of the largest entry lets the solve say which: it sends the pair's impulses
-// far apart, past their bounds, and the next active-set round clamps them.
+// Cholesky factor of a free block (symmetric positive definite: J M^-1 J^T plus the rows' CFM).
+// Dependent rows (a motor and a limit row on one joint, both free) make it singular: they ask one
+// velocity for two values, and the answer is one of them at its bound. A diagonal of 1e-9 of the
+// largest entry lets the solve say which: it sends the pair's impulses far apart, past their
+// bounds, and the next active-set round clamps them.
 bool SparseRowSolver::factor(BlockMatrix& sub) {
+  const int m = static_cast<int>(sub.rows());
   Block& k = block_;
-  auto regular = [&] {
-    if (k.ldlt.info() != Eigen::Success) return false;
-    const auto pivots = k.ldlt.vectorD().cwiseAbs();
-    return pivots.minCoeff() > 1e-12 * pivots.maxCoeff();
-  };
-  k.ldlt.compute(sub);
-  if (regular()) return true;
-  sub.diagonal().array() += 1e-9 * sub.diagonal().cwiseAbs().maxCoeff();
-  k.ldlt.compute(sub);
-  return regular();
+  k.factor = sub;
+  if (cholesky(k.factor, m)) return true;
+  k.factor = sub;
+  k.factor.diagonal().array() += 1e-9 * sub.diagonal().cwiseAbs().maxCoeff();
+  return cholesky(k.factor, m);
 }
 
 // The active-set rounds of block_solve_rows on block_; false when they find no answer.
@@ -164,7 +164,7 @@ bool SparseRowSolver::solve_block(int n) {
         for (int q = 0; q < m; ++q) k.sub(p, q) = k.matrix(i, k.free[static_cast<size_t>(q)]);
       }
       if (!factor(k.sub)) return false;
-      k.ldlt.solveInPlace(k.sub_rhs);
+      cholesky_solve(k.factor, m, k.sub_rhs);
       for (int p = 0; p < m; ++p) k.x(k.free[static_cast<size_t>(p)]) = k.sub_rhs(p);
     }
     if (!k.x.allFinite()) return false;

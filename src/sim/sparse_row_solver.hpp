@@ -100,10 +100,9 @@ private:
   std::vector<Impulse> last_;
   // block_solve_rows' system and scratch, kept between steps.
   struct Block {
-    BlockMatrix matrix, sub;
+    BlockMatrix matrix, sub, factor;  // factor: the free block's Cholesky factor (lower triangle)
     BlockVector rhs, x, sub_rhs;
     std::vector<int> state, free;  // per row: -1 at its lower bound, +1 at its upper, 0 free
-    Eigen::LDLT<BlockMatrix> ldlt;
   };
   Block block_;
   std::vector<Row> rows_;     // per m_multiBodyNonContactConstraints entry

@@ -277,6 +277,47 @@ TEST_CASE("The joint rows' block solve lands where Bullet's iterations converge,
   CHECK(2 * block_iterations < iterations);
 }
 
+TEST_CASE("Joint rows' responses from rdsim's mass matrix keep Bullet's simulation to its tolerance", "[physics]") {
+  // The presets' solver (150 iterations at most, early exit, warm starts, block solve), position
+  // motors and joint limits (the base joint driven past its limit), arm pushed onto the table:
+  // the rows' responses from M(q)^-1 (double) instead of Bullet's single-precision passes.
+  auto run = [](bool mass_matrix, double threshold = 1e-9) {
+    WorldSettings settings = pybullet_solver({});
+    settings.solver_iterations = 150;
+    settings.solver_residual_threshold = threshold;
+    settings.joint_row_warm_start = 1.0;
+    settings.joint_block_solve = true;
+    settings.mass_matrix_responses = mass_matrix;
+    Scene s(JointDrive::ConstraintMotor, settings);
+    s.robot->set_gains(0.1f, 1.0f);
+    Eigen::VectorXf target = home();
+    std::vector<float> trace;
+    for (int k = 0; k < 400; ++k) {
+      if (k % 50 == 0) {
+        target[0] += 1.0f;
+        target[1] -= 0.2f;
+        target[3] += 0.15f;
+        s.robot->set_position_targets(target);
+      }
+      s.world.step();
+      for (int i = 0; i < 6; ++i) trace.push_back(s.robot->joint_position(i));
+    }
+    CHECK(s.world.touching({s.robot->body(), -1}, {s.table, -1}));
+    return trace;
+  };
+  auto largest_difference = [](const std::vector<float>& x, const std::vector<float>& y) {
+    float largest = 0.0f;
+    for (size_t i = 0; i < x.size(); ++i) largest = std::max(largest, std::abs(x[i] - y[i]));
+    return largest;
+  };
+  const std::vector<float> bullet = run(false);
+  const float responses = largest_difference(run(true), bullet);
+  const float tolerance = largest_difference(run(false, 1e-10), bullet);  // the solver's own spread
+  INFO("largest joint difference " << responses << " rad; with a 10x tighter residual threshold " << tolerance);
+  CHECK(responses > 0.0f);  // the responses did change (rounding)
+  CHECK(responses < 0.1f * tolerance);  // a tenth of what the solver's own tolerance moves (0.04 rad here)
+}
+
 TEST_CASE("Welded held joints stay at their targets and are freed by anything that moves them", "[physics]") {
   WorldSettings settings;
   settings.solver_iterations = 150;

@@ -27,6 +27,8 @@ public:
   // M(q) (dof x dof) and the bias c(q, qd) + g(q), sharing one kinematics pass.
   void mass_matrix_and_bias(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::Vector3d& gravity,
                             Eigen::MatrixXd& mass, Eigen::VectorXd& bias);
+  // M(q) alone.
+  void mass_matrix(const Eigen::VectorXd& q, Eigen::MatrixXd& mass);
 
 private:
   struct Body {
@@ -56,6 +58,8 @@ private:
 
   void kinematics(const Eigen::VectorXd& q);
   void composite_inertia();
+  // M from the kinematics and composite inertias of the last kinematics() / composite_inertia().
+  void assemble_mass(Eigen::MatrixXd& mass) const;
   // One Newton-Euler pass over links [1, n) with the kinematics from kinematics().
   void newton_euler(const Eigen::VectorXd* qd, const Eigen::VectorXd& qdd, const Eigen::Vector3d& gravity,
                     Eigen::VectorXd& tau);
@@ -63,7 +67,7 @@ private:
   int dof_ = 0;
   std::vector<Body> bodies_;
   std::vector<State> state_;
-  std::vector<Composite> composite_;
+  std::vector<Composite> own_, composite_;  // own_: each link alone
   Eigen::VectorXd unit_;  // scratch: zero accelerations
 };
 

@@ -50,6 +50,11 @@ struct WorldSettings {
   // the solver's tolerance of where the iterations converge. Skipped (Bullet's iterations alone)
   // when the rows span several bodies or are linearly dependent.
   bool joint_block_solve = false;
+  // The unit-impulse responses of a robot's joint rows (motors, joint limits) from rdsim's own mass
+  // matrix, M(q)^-1 by composite rigid bodies in double precision once per physics step, instead
+  // of one Bullet articulated-body pass per row (src/sim/joint_rows.hpp). Not bit-exact: Bullet
+  // computes its passes in single precision. Robots with welded joints keep Bullet's passes.
+  bool mass_matrix_responses = false;
   // Skip Bullet's narrow phase for a box and a convex shape whose broadphase boxes overlap but
   // which are provably farther apart than the contact-breaking threshold, and have no contact
   // points to refresh. Exact: the same simulation bit for bit (src/sim/separated_pairs.hpp);

@@ -166,8 +166,12 @@ private:
   float position_gain_, velocity_gain_;
   struct TorqueDrive;  // scratch of the ComputedTorque drive (robot.cpp)
   std::unique_ptr<TorqueDrive> drive_;
+  struct MassResponses;  // the joint rows' responses, WorldSettings::mass_matrix_responses (robot.cpp)
+  std::unique_ptr<MassResponses> responses_;
 
   void update_transforms();
+  // M(q)^-1 for the joint rows, before a step (WorldSettings::mass_matrix_responses).
+  void update_responses();
   // The Bullet objects for the current dofs_ (welded ones as fixed joints), and their removal.
   void build();
   void tear_down();
