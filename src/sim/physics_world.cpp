@@ -66,6 +66,7 @@ PhysicsWorld::PhysicsWorld(const WorldSettings& settings) : settings_(settings),
   impl_->solver.set_warm_start(settings.joint_row_warm_start);
   impl_->solver.set_block_solve(settings.joint_block_solve);
   if (settings.skip_separated_pairs) impl_->dispatcher.setNearCallback(skip_separated_pairs);
+  impl_->broadphase.set_filter_first(settings.skip_separated_pairs);
 }
 
 WorldSettings pybullet_solver(WorldSettings base) {

@@ -1,6 +1,5 @@
 #pragma once
 // Bullet objects behind PhysicsWorld and Robot; only src/sim includes this.
-#include <BulletCollision/BroadphaseCollision/btSimpleBroadphase.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <btBulletDynamicsCommon.h>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "rdsim/sim/physics_world.hpp"
+#include "filtered_broadphase.hpp"
 #include "separated_pairs.hpp"
 #include "sparse_row_solver.hpp"
 
@@ -55,7 +55,7 @@ public:
 struct PhysicsWorld::Impl {
   btDefaultCollisionConfiguration config;
   PairDispatcher dispatcher{&config};
-  btSimpleBroadphase broadphase;
+  FilteredBroadphase broadphase;
   SparseRowSolver solver;
   MultiBodyWorld world{&dispatcher, &broadphase, &solver, &config};
 

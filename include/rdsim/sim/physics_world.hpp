@@ -57,8 +57,10 @@ struct WorldSettings {
   bool mass_matrix_responses = false;
   // Skip Bullet's narrow phase for a box and a convex shape whose broadphase boxes overlap but
   // which are provably farther apart than the contact-breaking threshold, and have no contact
-  // points to refresh. Exact: the same simulation bit for bit (src/sim/separated_pairs.hpp);
-  // false = Bullet's own collision pass, kept for the tests that show the two agree.
+  // points to refresh; and skip the broadphase's pair-cache lookups for pairs the collision filter
+  // rules out. Exact: the same simulation bit for bit (src/sim/separated_pairs.hpp,
+  // src/sim/filtered_broadphase.hpp); false = Bullet's own collision pass, kept for the tests that
+  // show the two agree.
   bool skip_separated_pairs = true;
 };
 
