@@ -9,8 +9,10 @@
 
 namespace rdsim {
 
-// Cholesky factor L (lower triangle, in place) of the leading m x m block of `a`, symmetric
-// positive definite; false when a pivot is not clearly positive (a singular matrix).
+// Cholesky factor L of the leading m x m block of `a` (symmetric positive definite), in place:
+// L's strictly lower triangle, and 1 / L(j, j) on the diagonal (the solves multiply by it: a
+// division's latency, a dozen cycles, chained through every row, was most of their time). False
+// when a pivot is not clearly positive (a singular matrix).
 inline bool cholesky(Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> a, int m) {
   double largest = 0;
   for (int i = 0; i < m; ++i) largest = std::max(largest, std::abs(a(i, i)));
@@ -18,12 +20,12 @@ inline bool cholesky(Eigen::Ref<Eigen::MatrixXd, 0, Eigen::OuterStride<>> a, int
     double d = a(j, j);
     for (int k = 0; k < j; ++k) d -= a(j, k) * a(j, k);
     if (!(d > 1e-12 * largest)) return false;
-    d = std::sqrt(d);
-    a(j, j) = d;
+    const double inverse = 1.0 / std::sqrt(d);
+    a(j, j) = inverse;
     for (int i = j + 1; i < m; ++i) {
       double v = a(i, j);
       for (int k = 0; k < j; ++k) v -= a(i, k) * a(j, k);
-      a(i, j) = v / d;
+      a(i, j) = v * inverse;
     }
   }
   return true;
@@ -35,12 +37,12 @@ inline void cholesky_solve(const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::Out
   for (int i = 0; i < m; ++i) {
     double v = b(i);
     for (int k = 0; k < i; ++k) v -= l(i, k) * b(k);
-    b(i) = v / l(i, i);
+    b(i) = v * l(i, i);
   }
   for (int i = m - 1; i >= 0; --i) {
     double v = b(i);
     for (int k = i + 1; k < m; ++k) v -= l(k, i) * b(k);
-    b(i) = v / l(i, i);
+    b(i) = v * l(i, i);
   }
 }
 
