@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "rdsim/core/error.hpp"
+#include "sin_cos.hpp"
 
 namespace rdsim {
 namespace {
@@ -97,6 +98,14 @@ Eigen::Isometry3d KinematicChain::forward(const JointVector& q, ChainJacobian& j
 }
 
 Eigen::Vector3d KinematicChain::tip_position(const JointVector& q, PositionJacobian& jacobian) const {
+  // Every revolute joint's turn (about its frame axis, sign included, or its own axis), sines and
+  // cosines in one batch: whole vectors of 8, the padding zeros.
+  alignas(64) std::array<double, kMaxChainDof> turn{}, sines, cosines;
+  for (int i = 0; i < dof_; ++i) {
+    const Step& s = steps_[static_cast<size_t>(i)];
+    turn[static_cast<size_t>(i)] = s.frame_axis >= 0 ? s.axis_sign * q[i] : q[i];
+  }
+  sin_cos(turn.data(), sines.data(), cosines.data(), (dof_ + 7) / 8 * 8);
   std::array<Eigen::Vector3d, kMaxChainDof> axis_world, origin_world;
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();  // the frame's rotation and origin (root frame)
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
@@ -112,13 +121,20 @@ Eigen::Vector3d KinematicChain::tip_position(const JointVector& q, PositionJacob
     } else if (s.frame_axis >= 0) {
       // Rotation about frame axis a by angle t: the other two columns (b, c), in cyclic order,
       // turn in their plane: b' = cos t b + sin t c, c' = -sin t b + cos t c.
-      const double t = s.axis_sign * q[i], c = std::cos(t), sn = std::sin(t);
+      const double c = cosines[static_cast<size_t>(i)], sn = sines[static_cast<size_t>(i)];
       const int b_col = (s.frame_axis + 1) % 3, c_col = (s.frame_axis + 2) % 3;
       const Eigen::Vector3d b0 = r.col(b_col), c0 = r.col(c_col);
       r.col(b_col) = c * b0 + sn * c0;
       r.col(c_col) = c * c0 - sn * b0;
-    } else {
-      r = r * Eigen::AngleAxisd(q[i], s.axis).toRotationMatrix();
+    } else {  // Rodrigues: cos t I + sin t [a]x + (1 - cos t) a a^T
+      const double c = cosines[static_cast<size_t>(i)], sn = sines[static_cast<size_t>(i)];
+      const Eigen::Vector3d& a = s.axis;
+      Eigen::Matrix3d turn_matrix = (1.0 - c) * a * a.transpose();
+      turn_matrix.diagonal().array() += c;
+      turn_matrix(0, 1) -= sn * a.z(), turn_matrix(1, 0) += sn * a.z();
+      turn_matrix(0, 2) += sn * a.y(), turn_matrix(2, 0) -= sn * a.y();
+      turn_matrix(1, 2) -= sn * a.x(), turn_matrix(2, 1) += sn * a.x();
+      r = r * turn_matrix;
     }
   }
   const Eigen::Vector3d tip = p + r * tip_offset_.translation();
