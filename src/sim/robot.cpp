@@ -149,9 +149,10 @@ struct Robot::MassResponses {
   JointResponses out;  // what the joint rows read
   Eigen::VectorXd q;
   Eigen::MatrixXd mass;  // M(q), then its Cholesky factor
+  RowMajorMatrix inverse;
 
   MassResponses(const RobotModel& model, const std::vector<Inertial>& inertials, int dof)
-      : dynamics(model, inertials), q(dof), mass(dof, dof) {
+      : dynamics(model, inertials), q(dof), mass(dof, dof), inverse(dof, dof) {
     out.inverse.resize(dof, dof);
     out.velocity_index.assign(static_cast<size_t>(dof), -1);
   }
@@ -691,11 +692,8 @@ void Robot::update_responses() {
   for (int i = 0; i < dof(); ++i) r.q[i] = multibody_->getJointPos(dofs_[static_cast<size_t>(i)].bullet_link);
   r.dynamics.mass_matrix(r.q, r.mass);
   if (!cholesky(r.mass, dof())) return;  // M = L L^T, in place
-  r.out.inverse.setIdentity();
-  for (int k = 0; k < dof(); ++k) {
-    auto column = r.out.inverse.col(k);
-    cholesky_solve(r.mass, dof(), column);
-  }
+  cholesky_inverse(r.mass, dof(), r.inverse);
+  r.out.inverse = r.inverse;
   r.out.valid = r.out.inverse.allFinite();
 }
 
