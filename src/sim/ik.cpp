@@ -166,10 +166,16 @@ JointVector null_space_ik(const KinematicChain& chain, const Eigen::Vector3d& ta
     }
     // J^T A^-1 e + (I - J^T A^-1 J) p  =  J^T A^-1 (e - J p) + p,  A = J J^T + damping^2 I: the DLS
     // step towards what the pull p leaves of the error, plus the pull.
-    const Eigen::Vector3d rest_error = error - j * pull;
-    JointVector dq = j.transpose() * damped_solve(j, rest_error, o.damping) + pull;
+    // (Column by column: Eigen's general matrix-vector kernels cost more than a 3 x 6 product.)
+    Eigen::Vector3d rest_error = error;
+    for (int i = 0; i < q.size(); ++i) rest_error -= j.col(i) * pull[i];
+    const Eigen::Vector3d y = damped_solve(j, rest_error, o.damping);
+    JointVector dq(q.size());
     double largest = 0.0;  // a plain loop, as in solve() (GCC 12 and Eigen's maxCoeff)
-    for (int i = 0; i < dq.size(); ++i) largest = std::max(largest, std::abs(dq[i]));
+    for (int i = 0; i < q.size(); ++i) {
+      dq[i] = j.col(i).dot(y) + pull[i];
+      largest = std::max(largest, std::abs(dq[i]));
+    }
     if (largest > o.max_joint_step) dq *= o.max_joint_step / largest;
     q += dq;
   }
