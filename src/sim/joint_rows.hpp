@@ -15,7 +15,7 @@
 // Bullet call or left at the zeros its storage starts with when its Jacobian is all zeros, and
 // the sums over both sides in Bullet's order (adding exact zeros changes no sum). tests/sim: a
 // world with these constraints steps bit for bit as one with Bullet's
-// (WorldSettings::sparse_joint_rows).
+// (WorldSettings::sparse_joint_rows). Not so when the robot hands its rows JointResponses (below).
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 
