@@ -12,12 +12,6 @@ struct SideSlots {
   int jacobian = 0, velocity = 0;
 };
 
-// Where a joint row takes its responses from: Bullet's pass, or column `dof` of `responses`.
-struct ResponseSource {
-  const JointResponses* responses = nullptr;
-  int dof = -1;
-};
-
 SideSlots add_side(btMultiBody* body, const btScalar* jacobian, btMultiBodyJacobianData& data,
                    const ResponseSource& source) {
   const int n = body->getNumDofs() + 6;
@@ -155,7 +149,7 @@ void JointMotor::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiB
   c.m_linkA = m_linkA;
   c.m_linkB = m_linkB;
   fill_joint_row(c, data, jacobianA(0), jacobianB(0), -m_maxAppliedImpulse, m_maxAppliedImpulse, target_velocity(info),
-                 {responses_, dof_});
+                 source_);
   c.m_orgConstraint = this;
   c.m_orgDofIndex = 0;
   record_axis(c, m_bodyA->getLink(m_linkA), 1);
@@ -181,7 +175,7 @@ void JointLimit::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiB
     c.m_linkA = m_linkA;
     c.m_linkB = m_linkB;
     const btScalar velocity =
-        fill_joint_row(c, data, jacobianA(row), jacobianB(row), 0, m_maxAppliedImpulse, 0, {responses_, dof_});
+        fill_joint_row(c, data, jacobianA(row), jacobianB(row), 0, m_maxAppliedImpulse, 0, source_);
     record_axis(c, m_bodyA->getLink(m_linkA), row ? btScalar(-1) : btScalar(1));
     // Bullet's limit law: stop the joint's motion into the limit and push back erp of the
     // penetration per step (split into a separate push when split impulses are on).

@@ -35,6 +35,13 @@ struct JointResponses {
   std::vector<int> velocity_index;   // per dof: its entry in Bullet's velocity vector (6 + dof offset)
 };
 
+// Where a joint row takes its responses from: column `dof` of `responses` (kept by the robot,
+// which outlives its rows), or Bullet's passes while there is none.
+struct ResponseSource {
+  const JointResponses* responses = nullptr;
+  int dof = -1;
+};
+
 // A joint motor on a one-degree-of-freedom joint (Bullet's motor law and row).
 class JointMotor : public btMultiBodyJointMotor {
 public:
@@ -42,16 +49,11 @@ public:
 
   void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                             const btContactSolverInfo& info) override;
-  // This motor's joint is dof `dof` of `responses` (kept by its robot, which outlives it).
-  void use_responses(const JointResponses* responses, int dof) {
-    responses_ = responses;
-    dof_ = dof;
-  }
+  void use_responses(const ResponseSource& source) { source_ = source; }
 
 private:
   btScalar target_velocity(const btContactSolverInfo& info) const;  // rad/s or m/s
-  const JointResponses* responses_ = nullptr;
-  int dof_ = -1;
+  ResponseSource source_;
 };
 
 // The two rows of a joint's limits, each present only while the joint is at or past that limit.
@@ -62,14 +64,10 @@ public:
 
   void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
                             const btContactSolverInfo& info) override;
-  void use_responses(const JointResponses* responses, int dof) {
-    responses_ = responses;
-    dof_ = dof;
-  }
+  void use_responses(const ResponseSource& source) { source_ = source; }
 
 private:
-  const JointResponses* responses_ = nullptr;
-  int dof_ = -1;
+  ResponseSource source_;
 };
 
 }  // namespace rdsim

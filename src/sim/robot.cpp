@@ -402,7 +402,7 @@ void Robot::build() {
       const auto max_impulse = static_cast<btScalar>(j.effort) * dt;
       if (own_rows) {
         auto* motor = new JointMotor(multibody_, d.bullet_link, max_impulse);
-        motor->use_responses(responses, dof);
+        motor->use_responses({responses, dof});
         d.motor = motor;
       } else {
         d.motor = new btMultiBodyJointMotor(multibody_, d.bullet_link, 0, 0, max_impulse);
@@ -418,7 +418,7 @@ void Robot::build() {
       btMultiBodyJointLimitConstraint* limit = nullptr;
       if (own_rows) {
         auto* own = new JointLimit(multibody_, d.bullet_link, lower, upper);
-        own->use_responses(responses, dof);
+        own->use_responses({responses, dof});
         limit = own;
       } else {
         limit = new btMultiBodyJointLimitConstraint(multibody_, d.bullet_link, lower, upper);
