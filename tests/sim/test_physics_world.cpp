@@ -39,6 +39,17 @@ struct Scene {
   }
 };
 
+
+// Every 50 steps, moves the targets that press the arm down onto the table and, after a few
+// rounds, the base joint past its limit (contact and limit rows for the solver tests).
+void press_onto_table(Scene& s, Eigen::VectorXf& target, int step) {
+  if (step % 50 != 0) return;
+  target[0] += 1.0f;
+  target[1] -= 0.2f;
+  target[3] += 0.15f;
+  s.robot->set_position_targets(target);
+}
+
 }  // namespace
 
 TEST_CASE("Position control moves every joint to its target", "[physics]") {
@@ -183,12 +194,7 @@ TEST_CASE("Sparse joint rows give Bullet's dense rows' simulation bit for bit", 
     Eigen::VectorXf target = home();
     std::vector<float> trace;
     for (int k = 0; k < 400; ++k) {
-      if (k % 50 == 0) {
-        target[1] -= 0.2f;
-        target[3] += 0.15f;
-        target[0] += 1.0f;  // past the base joint's limit after a few rounds
-        s.robot->set_position_targets(target);
-      }
+      press_onto_table(s, target, k);
       s.world.step();
       for (int i = 0; i < 6; ++i) trace.push_back(s.robot->joint_position(i));
       for (int i = 0; i < 6; ++i) trace.push_back(s.robot->joint_velocity(i));
@@ -293,12 +299,7 @@ TEST_CASE("Joint rows' responses from rdsim's mass matrix keep Bullet's simulati
     Eigen::VectorXf target = home();
     std::vector<float> trace;
     for (int k = 0; k < 400; ++k) {
-      if (k % 50 == 0) {
-        target[0] += 1.0f;
-        target[1] -= 0.2f;
-        target[3] += 0.15f;
-        s.robot->set_position_targets(target);
-      }
+      press_onto_table(s, target, k);
       s.world.step();
       for (int i = 0; i < 6; ++i) trace.push_back(s.robot->joint_position(i));
     }
