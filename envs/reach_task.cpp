@@ -13,6 +13,9 @@ namespace rdsim {
 namespace {
 
 constexpr double kIkDamping = 0.02;  // m: keeps the step bounded near singular poses
+// Metres of position error one radian of orientation error counts as, when moves hold the end
+// effector's orientation (ReachTaskSpec::effector_orientation): solve_ik's default.
+constexpr double kOrientationWeight = 0.2;
 constexpr float kPybulletLinkDamping = 0.04f;  // 1/s: Bullet's btMultiBody default, which pybullet keeps
 // The position-motor presets stop iterating once no row changes a velocity by more than about
 // 0.03 mm/s (or mrad/s): a hundredth of pybullet's 1e-7 (its physics server's setting), which let
@@ -219,6 +222,8 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
     NullSpaceIkOptions options;
     options.iterations = spec_.ik_iterations;
     solution = null_space_ik(*chain_, goal_root, q, rest_chain_, options);
+  } else if (spec_.effector_orientation) {
+    solution = pose_steps(goal_root, solution);
   } else {
     // Damped least squares steps, each one FK + Jacobian (solve_ik's accept/reject test would cost a
     // second FK per iteration; a move of a centimetre or two is well inside the linear regime).
@@ -242,11 +247,47 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
     robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(q[i] + dq[i]));
 }
 
+JointVector ReachTask::pose_steps(const Eigen::Vector3d& goal_root, JointVector q) const {
+  const Eigen::Matrix3d orientation = root_orientation();
+  for (int it = 0; it < spec_.ik_iterations; ++it) {
+    ChainJacobian jacobian;
+    const Eigen::Isometry3d tip = chain_->forward(q, jacobian);
+    Eigen::Matrix<double, 6, 1> error;
+    error.head<3>() = goal_root - tip.translation();
+    const Eigen::AngleAxisd turn(orientation * tip.linear().transpose());  // tip -> wanted, root frame
+    error.tail<3>() = kOrientationWeight * turn.angle() * turn.axis();
+    jacobian.bottomRows<3>() *= kOrientationWeight;
+    q = chain_->clamp(q + damped_least_squares_step(jacobian, error, kIkDamping));
+  }
+  return q;
+}
+
+Eigen::Matrix3d ReachTask::root_orientation() const {
+  return (base_inverse_.linear() * spec_.effector_orientation->toRotationMatrix()).cast<double>();
+}
+
+Eigen::Vector3f ReachTask::ee_velocity() const {
+  JointVector q(chain_->dof()), qdot(chain_->dof());
+  for (int i = 0; i < chain_->dof(); ++i) {
+    q[i] = robot_->joint_position(chain_dofs_[static_cast<size_t>(i)]);
+    qdot[i] = robot_->joint_velocity(chain_dofs_[static_cast<size_t>(i)]);
+  }
+  PositionJacobian jacobian;
+  chain_->tip_position(q, jacobian);
+  return spec_.base_pose.linear() * (jacobian * qdot).cast<float>();
+}
+
 void ReachTask::apply_effector_target(const Eigen::Vector3f& goal) {
   const Eigen::Vector3f clipped = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
   JointVector q(chain_->dof());
   for (int i = 0; i < chain_->dof(); ++i) q[i] = robot_->joint_position(chain_dofs_[static_cast<size_t>(i)]);
-  const IkResult ik = solve_ik(*chain_, (base_inverse_ * clipped).cast<double>(), q);
+  const Eigen::Vector3d goal_root = (base_inverse_ * clipped).cast<double>();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  if (spec_.effector_orientation) {
+    pose.linear() = root_orientation();
+    pose.translation() = goal_root;
+  }
+  const IkResult ik = spec_.effector_orientation ? solve_ik(*chain_, pose, q) : solve_ik(*chain_, goal_root, q);
   for (int i = 0; i < chain_->dof(); ++i)
     robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(ik.q[i]));
 }

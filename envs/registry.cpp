@@ -9,6 +9,7 @@
 #include "rdsim/envs/inmoov_tomato.hpp"
 #include "rdsim/envs/jaka_button.hpp"
 #include "rdsim/envs/jaka_obstacle.hpp"
+#include "rdsim/envs/manipulation/manipulation_env.hpp"
 #include "rdsim/envs/pendulum.hpp"
 #include "rdsim/envs/reach_arm.hpp"
 
@@ -63,6 +64,14 @@ const std::vector<EnvEntry>& env_registry() {
        true, inmoov_tomato_defaults, make_inmoov_tomato},
       {"reach", "Any arm (env.urdf; the repo's Jaka by default) moves its effector link to a target point by IK moves",
        true, reach_arm_defaults, make_reach_arm},
+      {"reach_goal", "An arm with a gripper (the JAKA's by default) moves its effector to a goal point; goal-conditioned, Box(3)",
+       true, reach_goal_defaults, make_reach_goal, false},
+      {"push", "An arm with a closed gripper pushes a 4 cm cube to a goal on the table; goal-conditioned, Box(3)", true,
+       push_defaults, make_push, false},
+      {"pick_and_place", "An arm with a gripper picks a 4 cm cube and places it at a goal, in the air half of the time; Box(4)",
+       true, pick_and_place_defaults, make_pick_and_place, false},
+      {"stack", "An arm with a gripper stacks two 4 cm cubes at a goal on the table; goal-conditioned, Box(4)", true,
+       stack_defaults, make_stack, false},
   };
   return entries;
 }
@@ -139,6 +148,9 @@ EnvConfig read_env_config(ConfigReader& r) {
   r.finish();
   if (c.observation == ObservationMode::RawPixels && !entry->supports_pixels)
     r.fail("observation", name + " has no camera: expected \"ground_truth\"");
+  if (c.observation == ObservationMode::RawPixels && !entry->observes_pixels())
+    r.fail("observation", name + " observes vectors only (its goals are points; camera images with goals are not "
+                                 "available yet): expected \"ground_truth\"");
   // Image options only matter when something is drawn.
   const bool pixels = c.observation == ObservationMode::RawPixels, frames = c.render_mode == RenderMode::RgbArray;
   if (!pixels && c.image_width != defaults.image_width)

@@ -53,15 +53,17 @@ __all__ = [
 
 
 def envs() -> list[dict]:
-    """Every registered env: id, name, description, whether it has cameras, and its default options."""
+    """Every registered env: id, name, description, whether it has cameras (``supports_pixels``: it can
+    draw, ``render_mode="rgb_array"``), whether the agent may observe them (``pixel_observations``), and
+    its default options."""
     import json
 
     from ._ids import env_id
 
     return [
         {"id": env_id(name), "name": name, "description": description, "supports_pixels": pixels,
-         "defaults": json.loads(defaults)}
-        for name, description, pixels, defaults in _rdsim.registry()
+         "pixel_observations": pixel_observations, "defaults": json.loads(defaults)}
+        for name, description, pixels, pixel_observations, defaults in _rdsim.registry()
     ]
 
 

@@ -8,6 +8,10 @@ IDS: dict[str, str] = {
     "rdsim/JakaObstacle-v0": "jaka_obstacle",
     "rdsim/InMoovTomato-v0": "inmoov_tomato",
     "rdsim/Reach-v0": "reach",
+    "rdsim/JakaReachGoal-v0": "reach_goal",
+    "rdsim/JakaPush-v0": "push",
+    "rdsim/JakaPickAndPlace-v0": "pick_and_place",
+    "rdsim/JakaStack-v0": "stack",
     "rdsim/CartPole-v1": "cartpole",
     "rdsim/Pendulum-v1": "pendulum",
 }

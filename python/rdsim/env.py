@@ -11,7 +11,7 @@ import numpy as np
 from . import _rdsim
 from ._ids import env_id as _env_id
 from ._ids import env_name
-from .spaces import action_space, observation_space, render_fps
+from .spaces import action_space, goal_dict, observation_space, render_fps
 
 
 class RdsimEnv(gymnasium.Env):
@@ -29,6 +29,10 @@ class RdsimEnv(gymnasium.Env):
       classic-control envs). ``truncated`` comes from the env's own ``max_steps``.
     - ``render()`` returns an RGB array (``render_height`` x ``render_width`` x 3) when made with
       ``render_mode="rgb_array"`` (robot envs only), else ``None``.
+    - Goal envs (the manipulation tasks: ``rdsim/JakaPush-v0`` ...) follow Gymnasium-Robotics' GoalEnv:
+      observations are dicts of ``observation``, ``achieved_goal`` and ``desired_goal``, ``info`` also
+      holds ``is_success``, and ``compute_reward(achieved_goal, desired_goal, info)`` gives the reward
+      ``step`` would for any goals, batched over leading axes (what hindsight experience replay needs).
     """
 
     metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 30}
@@ -43,6 +47,11 @@ class RdsimEnv(gymnasium.Env):
         self._env = _rdsim.Env(name, options, self._where)
         spec = self._env.spec
         self.observation_space = observation_space(spec)
+        #: A goal env's layout and reward (``None`` for other envs).
+        self.goal: Optional[dict] = spec["goal"]
+        if self.goal is not None:
+            # Only goal envs have compute_reward (checkers such as SB3's take it to mean a GoalEnv).
+            self.compute_reward = self._compute_reward
         self.action_space = action_space(spec)
         self.render_mode = render_mode
         #: The resolved env config: every key the env reads, with the value it uses.
@@ -62,13 +71,25 @@ class RdsimEnv(gymnasium.Env):
         if seed is not None:
             _rdsim_seed_check(self._where, seed)
         super().reset(seed=seed)
-        return self._env.reset(seed), {}
+        return self._observation(self._env.reset(seed)), {}
 
     def step(self, action):
         """One control step; ``action`` is an int (Discrete) or a float array (Box)."""
         obs, reward, terminated, truncated, success, collision, out_of_bounds, distance = self._env.step(action)
         info = {"success": success, "collision": collision, "out_of_bounds": out_of_bounds, "distance": distance}
-        return obs, float(reward), terminated, truncated, info
+        if self.goal is not None:
+            info["is_success"] = success
+        return self._observation(obs), float(reward), terminated, truncated, info
+
+    def _compute_reward(self, achieved_goal, desired_goal, info=None):
+        """A goal env's reward for ``achieved_goal`` / ``desired_goal`` (arrays whose last axis holds the
+        goal's points, 3 values each), batched over the leading axes; equal to what ``step`` returns.
+        ``info`` is accepted for Gymnasium-Robotics' signature and not read."""
+        reward = _rdsim.compute_reward(self.goal, np.asarray(achieved_goal), np.asarray(desired_goal))
+        return float(reward) if reward.ndim == 0 else reward
+
+    def _observation(self, flat):
+        return flat if self.goal is None else goal_dict(self.goal, flat, copy=False)
 
     def render(self) -> Optional[np.ndarray]:
         """An RGB frame (``render_mode="rgb_array"``), else ``None``."""

@@ -55,6 +55,10 @@ class SB3VecEnv(VecEnv):
         raise AttributeError(f"rdsim's vector env has no per-env attribute {attr_name!r} to set")
 
     def env_method(self, method_name: str, *method_args, indices=None, **method_kwargs) -> list[Any]:
+        # compute_reward is the env class's (the same for every env), what SB3's HerReplayBuffer calls.
+        if method_name == "compute_reward" and hasattr(self.venv, "compute_reward"):
+            reward = self.venv.compute_reward(*method_args, **method_kwargs)
+            return [reward] * len(self._get_indices(indices))
         raise AttributeError(f"rdsim's vector env has no per-env method {method_name!r}")
 
     def env_is_wrapped(self, wrapper_class, indices=None) -> list[bool]:

@@ -14,7 +14,7 @@ from . import _rdsim
 from ._ids import env_id as _env_id
 from ._ids import env_name
 from .env import _check_reset_options, _rdsim_seed_check
-from .spaces import action_space, observation_space
+from .spaces import action_space, goal_dict, observation_space
 
 _INFO_KEYS = ("success", "collision", "out_of_bounds", "distance")
 
@@ -72,6 +72,11 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         spec = self._vec.spec
         self.num_envs = int(num_envs)
         self.single_observation_space = observation_space(spec)
+        #: A goal env's layout and reward (``None`` for other envs): observations are dicts of
+        #: ``observation``, ``achieved_goal`` and ``desired_goal`` arrays, one row per env.
+        self.goal: Optional[dict] = spec["goal"]
+        if self.goal is not None:
+            self.compute_reward = self._compute_reward  # goal envs only (as rdsim.make's)
         self.single_action_space = action_space(spec)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
@@ -97,7 +102,7 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         else:
             vec_seed = int(self.np_random.integers(0, 2**63))
         self._vec.reset(vec_seed)
-        return self._out(self._observations), {}
+        return self._observation_out(self._observations), {}
 
     def step(self, actions):
         """Steps every env; ``actions`` is an integer array (num_envs,) or a float array (num_envs, dim)."""
@@ -140,12 +145,23 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         """Env steps taken so far, all envs together."""
         return self._vec.timesteps
 
+    def _compute_reward(self, achieved_goal, desired_goal, info=None):
+        """A goal env's rewards for goal pairs (last axis: the goal's points, 3 values each), batched
+        over the leading axes: what ``step`` gives (:meth:`rdsim.RdsimEnv.compute_reward`)."""
+        reward = _rdsim.compute_reward(self.goal, np.asarray(achieved_goal), np.asarray(desired_goal))
+        return float(reward) if reward.ndim == 0 else reward
+
     def __repr__(self) -> str:
         return f"RdsimVectorEnv({_env_id(self.config.get('name', '?'))}, num_envs={self.num_envs})"
 
     # --- internals -------------------------------------------------------------------------------
     def _out(self, array: np.ndarray) -> np.ndarray:
         return array.copy() if self.copy else array
+
+    def _observation_out(self, flat: np.ndarray):
+        if self.goal is None:
+            return self._out(flat)
+        return goal_dict(self.goal, flat, copy=self.copy)
 
     def _results(self):
         v = self._vec
@@ -160,14 +176,16 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
             finals = v.final_observations
             final_info: dict[str, Any] = {}
             for i in np.flatnonzero(mask):
-                final_obs[i] = finals[i].copy()
+                final_obs[i] = finals[i].copy() if self.goal is None else goal_dict(self.goal, finals[i])
             for key in _INFO_KEYS:
                 final_info[key] = infos[key].copy()
                 final_info["_" + key] = mask
             infos["final_obs"], infos["_final_obs"] = final_obs, mask
             infos["final_info"], infos["_final_info"] = final_info, mask
+        if self.goal is not None:
+            infos["is_success"], infos["_is_success"] = infos["success"], self._ones
         return (
-            self._out(self._observations),
+            self._observation_out(self._observations),
             self._out(v.rewards),
             self._out(v.terminations),
             self._out(v.truncations),

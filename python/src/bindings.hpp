@@ -34,6 +34,9 @@ std::optional<std::uint64_t> read_seed(const py::object& seed, const std::string
 
 // The Spec as a dict: observation dtype/shape/low/high, action kind/n/low/high, max_episode_steps, control_dt.
 py::dict spec_dict(const Spec& spec);
+// A goal env's layout and reward (core/goal_layout.hpp) as the dict spec_dict's "goal" holds; None
+// for other envs.
+py::object goal_dict(const GoalLayout& goal);
 
 // Empty NumPy array shaped like one observation (`batch` > 0: batch x observation).
 py::array observation_array(const ObservationSpace& space, int batch = 0);

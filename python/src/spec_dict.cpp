@@ -33,7 +33,18 @@ py::dict spec_dict(const Spec& spec) {
   d["action_high"] = float_array(spec.action.high);
   d["max_episode_steps"] = spec.max_episode_steps;
   d["control_dt"] = spec.control_dt;
+  d["goal"] = goal_dict(spec.goal);
   return d;
+}
+
+py::object goal_dict(const GoalLayout& goal) {
+  if (!goal.active()) return py::none();
+  py::dict g;
+  g["observation"] = goal.observation;
+  g["points"] = goal.points;
+  g["distance_threshold"] = goal.distance_threshold;
+  g["reward"] = to_string(goal.reward);
+  return g;
 }
 
 py::array observation_array(const ObservationSpace& space, int batch) {

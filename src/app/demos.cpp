@@ -11,7 +11,7 @@
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
-#include "rdsim/envs/reach_expert.hpp"
+#include "rdsim/envs/scripted_expert.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/training/train_config.hpp"
@@ -47,11 +47,13 @@ int demos_record_command(const DemosRecordOptions& o) {
     env_config = read_train_config(o.config_path).env;
   } else {
     env_config = default_env_config(o.env);
-    if (auto* reach = env_config.find<ReachOptions>()) reach->random_target = !o.fixed_target;
-    env_config.is_discrete = !o.continuous;
+    if (auto* reach = env_config.find<ReachOptions>()) {
+      reach->random_target = !o.fixed_target;
+      env_config.is_discrete = !o.continuous;  // the manipulation tasks' actions are Box only
+    }
   }
   auto env = make_env(env_config);
-  ReachExpert expert(*env);
+  const std::unique_ptr<ScriptedExpert> expert = make_expert(*env);
   DemoWriter writer(o.out_path, to_json(env_config), env->spec(), o.append);
   int written = 0, successes = 0;
   const long long max_attempts = o.only_successes ? 10LL * o.episodes : o.episodes;
@@ -62,9 +64,9 @@ int demos_record_command(const DemosRecordOptions& o) {
     episode.seed = seed;
     episode.env_config = to_json(env_config);
     episode.start(env->reset(seed));
-    expert.reset();
+    expert->reset();
     while (!episode.ended()) {
-      const Action a = expert.act();
+      const Action a = expert->act();
       episode.add(a, env->step(a));
     }
     const bool success = episode.success();

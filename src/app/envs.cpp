@@ -13,7 +13,9 @@ namespace rdsim {
 int envs_command() {
   std::printf("%-16s %-7s %s\n", "name", "pixels", "description");
   for (const auto& e : env_registry()) {
-    std::printf("%-16s %-7s %s\n", e.name.c_str(), e.supports_pixels ? "yes" : "no", e.description.c_str());
+    // pixels: camera images as observations; "frames": drawn for people only (render_mode).
+    const char* pixels = e.observes_pixels() ? "yes" : e.supports_pixels ? "frames" : "no";
+    std::printf("%-16s %-7s %s\n", e.name.c_str(), pixels, e.description.c_str());
   }
   return 0;
 }

@@ -14,10 +14,33 @@
 
 namespace rdsim {
 
+namespace {
+
+// An env that draws for people but observes vectors (the manipulation tasks): its render_mode frame.
+int render_frame(const RenderOptions& o) {
+  if (o.view != 1) throw Error("render: env \"" + o.env + "\" draws its main camera only (--view 1)");
+  EnvConfig config = default_env_config(o.env);
+  config.render_mode = RenderMode::RgbArray;
+  config.render_width = o.width;
+  config.render_height = o.height;
+  const std::unique_ptr<Env> env = make_env(config);
+  env->reset(o.seed);
+  Image frame;
+  if (!env->render(frame)) throw Error("render: env \"" + o.env + "\" drew no frame");
+  write_png(o.out_path, frame.width, frame.height, 3, frame.rgb.data());
+  std::printf("wrote %s (%s, %dx%d, seed %llu)\n", o.out_path.c_str(), o.env.c_str(), frame.width, frame.height,
+              static_cast<unsigned long long>(o.seed));
+  return 0;
+}
+
+}  // namespace
+
 int render_command(const RenderOptions& o) {
   if (o.view != 1 && o.view != 2) throw Error("render: --view must be 1 or 2, got " + std::to_string(o.view));
-  if (!env_entry(o.env).supports_pixels)  // rdsim::Error listing the names when unknown
-    throw Error("render: env \"" + o.env + "\" has no raw-pixel observations (see `rdsim envs`)");
+  const EnvEntry& entry = env_entry(o.env);  // rdsim::Error listing the names when unknown
+  if (!entry.supports_pixels)
+    throw Error("render: env \"" + o.env + "\" has no camera to draw pixels with (see `rdsim envs`)");
+  if (!entry.observes_pixels()) return render_frame(o);
   EnvConfig config = default_env_config(o.env);
   config.observation = ObservationMode::RawPixels;
   config.multi_view = o.view == 2;
@@ -44,7 +67,7 @@ int render_command(const RenderOptions& o) {
 }
 
 Command render_command_entry() {
-  return {"render", "Write the raw-pixel observation an env gives after reset as a PNG",
+  return {"render", "Write the raw-pixel observation an env gives after reset as a PNG (the goal tasks: their frame)",
           [](CLI::App& cmd) -> std::function<int()> {
             struct Line {
               RenderOptions o;

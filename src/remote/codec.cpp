@@ -77,6 +77,11 @@ void put_spec(Message& m, const Spec& spec) {
                       {"action", action},
                       {"max_episode_steps", spec.max_episode_steps},
                       {"control_dt", spec.control_dt}};
+  if (spec.goal.active())  // a goal env: the observation's slices and its reward (core/goal_layout.hpp)
+    m.header["spec"]["goal"] = {{"observation", spec.goal.observation},
+                                {"points", spec.goal.points},
+                                {"distance_threshold", spec.goal.distance_threshold},
+                                {"reward", to_string(spec.goal.reward)}};
   if (o.type == ObsType::Float32) {
     put_floats(m, "observation_low", o.low);
     put_floats(m, "observation_high", o.high);
@@ -120,6 +125,17 @@ Spec get_spec(const Message& m) {
   }
   spec.max_episode_steps = static_cast<int>(get_integer(s, "max_episode_steps", 0, std::numeric_limits<int>::max()));
   spec.control_dt = get_number(s, "control_dt");
+  if (s.contains("goal")) {
+    const json& g = member(s, "goal");
+    spec.goal.observation = static_cast<int>(get_integer(g, "observation", 0, count));
+    spec.goal.points = static_cast<int>(get_integer(g, "points", 1, 1024));
+    spec.goal.distance_threshold = static_cast<float>(get_number(g, "distance_threshold"));
+    const std::string reward = get_string(g, "reward");
+    if (reward != "sparse" && reward != "dense") bad("spec.goal.reward: expected sparse or dense");
+    spec.goal.reward = reward == "dense" ? GoalReward::Dense : GoalReward::Sparse;
+    if (spec.observation.type != ObsType::Float32 || spec.goal.size() != count || !(spec.goal.distance_threshold > 0.0f))
+      bad("spec.goal: expected a float32 observation of observation + 6 x points values and a threshold > 0");
+  }
   return spec;
 }
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "rdsim/core/error.hpp"
@@ -195,6 +196,14 @@ FreeBodyState PhysicsWorld::free_body_state(int body) const {
   s.linear = from_bt(free->getLinearVelocity());
   s.angular = from_bt(free->getAngularVelocity());
   return s;
+}
+
+void PhysicsWorld::set_free_body_friction(int body, float friction) {
+  btRigidBody* free = free_body_of(*impl_, body);
+  if (!(friction >= 0.0f) || !std::isfinite(friction))
+    throw Error("physics: friction must be a finite number >= 0, got " + std::to_string(friction));
+  free->setFriction(friction);
+  free->setCollisionFlags(free->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
 }
 
 void PhysicsWorld::set_free_body_state(int body, const FreeBodyState& state) {

@@ -1,5 +1,6 @@
 #include "rdsim/sim/robot.hpp"
 
+#include <BulletDynamics/Featherstone/btMultiBodyGearConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
@@ -24,6 +25,10 @@ namespace {
 
 constexpr double kMovableMinMass = 1e-3;  // kg, for massless links on movable joints
 constexpr double kMinMoment = 1e-8;       // kg m^2, smallest principal moment of a massive link
+constexpr float kDefaultFriction = 0.5f;  // Bullet's btCollisionObject default
+// RobotOptions::coupled_dofs: in Bullet's gear convention a ratio of -1 keeps the two joints equal
+constexpr btScalar kCouplingRatio = -1;
+constexpr btScalar kCouplingErp = 0.2;  // share of a position difference corrected per step
 
 // The frame Bullet simulates a link in: its centre of mass with principal axes.
 struct BodyFrame {
@@ -269,6 +274,8 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     : world_(world), body_(body), model_(model), base_pose_(base_pose), options_(options),
       position_gain_(options.position_gain), velocity_gain_(options.velocity_gain) {
   if (model.links.empty()) throw Error(model.source + ": a robot needs at least one link");
+  link_friction_.assign(model.links.size(), kDefaultFriction);
+  link_anchored_.assign(model.links.size(), false);
   for (size_t i = 1; i < model.links.size(); ++i) {
     const Joint& j = model.joints[i - 1];
     if (!j.movable()) continue;
@@ -290,7 +297,8 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     const auto dt = static_cast<btScalar>(world.settings().time_step);  // as Bullet's motors get it
     drive_ = std::make_unique<TorqueDrive>(model, simulated, dof());
     drive_->gravity = base_pose.linear().cast<double>().transpose() * world.settings().gravity.cast<double>();
-    for (int i = 0; i < dof(); ++i) drive_->limit[i] = static_cast<double>(dofs_[static_cast<size_t>(i)].effort) * dt;
+    for (int i = 0; i < dof(); ++i)  // the motor dofs get no torque from the drive
+      drive_->limit[i] = has_motor(i) ? 0.0 : static_cast<double>(dofs_[static_cast<size_t>(i)].effort) * dt;
   }
   // Start at q = 0, or the nearest in-limit position.
   Eigen::VectorXf q0 = Eigen::VectorXf::Zero(dof());
@@ -368,6 +376,8 @@ void Robot::build() {
     if (!shape) continue;
     auto* collider = new btMultiBodyLinkCollider(multibody_, static_cast<int>(i) - 1);
     collider->setCollisionShape(shape);
+    collider->setFriction(link_friction_[i]);
+    if (link_anchored_[i]) collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
     collider->setUserIndex(body_);
     collider->setUserIndex2(static_cast<int>(i));
     const bool on_base = welded_to_base(model, static_cast<int>(i));
@@ -398,7 +408,7 @@ void Robot::build() {
       responses_->out.velocity_index[static_cast<size_t>(dof)] = d.welded ? -1 : 6 + multibody_->getLink(d.bullet_link).m_dofOffset;
     if (d.welded) continue;
     const Joint& j = model.joints[static_cast<size_t>(d.joint)];
-    if (options_.drive == JointDrive::ConstraintMotor) {
+    if (options_.drive == JointDrive::ConstraintMotor || has_motor(dof)) {
       const auto max_impulse = static_cast<btScalar>(j.effort) * dt;
       if (own_rows) {
         auto* motor = new JointMotor(multibody_, d.bullet_link, max_impulse);
@@ -426,6 +436,18 @@ void Robot::build() {
       impl.world.addMultiBodyConstraint(limit);
       limits_.push_back(limit);
     }
+  }
+  for (const auto& [a, b] : options_.coupled_dofs) {
+    const Dof& da = dofs_[static_cast<size_t>(a)];
+    const Dof& db = dofs_[static_cast<size_t>(b)];
+    if (da.welded || db.welded) continue;
+    auto* gear = new btMultiBodyGearConstraint(multibody_, da.bullet_link, multibody_, db.bullet_link, btVector3(0, 0, 0),
+                                               btVector3(0, 0, 0), btMatrix3x3::getIdentity(), btMatrix3x3::getIdentity());
+    gear->setGearRatio(kCouplingRatio);
+    gear->setErp(kCouplingErp);
+    gear->setMaxAppliedImpulse(static_cast<btScalar>(2.0f * std::max(da.effort, db.effort)) * dt);
+    impl.world.addMultiBodyConstraint(gear);
+    limits_.push_back(gear);
   }
 }
 
@@ -704,6 +726,25 @@ Robot::LinkInertia Robot::link_inertia(int link) const {
   const size_t l = static_cast<size_t>(link);
   const BodyFrame f = body_frame(model_.links[l], l > 0 && model_.joints[l - 1].movable(), options_.inertia_from_shapes);
   return {f.mass, f.moments};
+}
+
+bool Robot::has_motor(int dof) const {
+  return std::find(options_.motor_dofs.begin(), options_.motor_dofs.end(), dof) != options_.motor_dofs.end();
+}
+
+void Robot::set_link_friction(int link, float friction) {
+  if (link < 0 || static_cast<size_t>(link) >= model_.links.size())
+    throw Error(model_.source + ": no link " + std::to_string(link) + " to set the friction of");
+  if (!(friction >= 0.0f) || !std::isfinite(friction))
+    throw Error(model_.source + ": link " + model_.links[static_cast<size_t>(link)].name +
+                ": friction must be a finite number >= 0, got " + std::to_string(friction));
+  link_friction_[static_cast<size_t>(link)] = friction;
+  link_anchored_[static_cast<size_t>(link)] = true;
+  for (btMultiBodyLinkCollider* c : colliders_)
+    if (c->getUserIndex2() == link) {
+      c->setFriction(friction);
+      c->setCollisionFlags(c->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
+    }
 }
 
 Eigen::Isometry3f Robot::link_pose(int link) const {

@@ -44,6 +44,17 @@ TEST_CASE("rdsim render writes the agent's view as a valid PNG", "[render_cli]")
   o.out_path = (dir / "view2.png").string();
   REQUIRE(rdsim::render_command(o) == 0);
   CHECK(rdsim::read_file(o.out_path) != png);
+
+  // A goal task observes vectors: render draws its frame (the main camera) at the size asked.
+  o.env = "push";
+  o.view = 1;
+  o.out_path = (dir / "push.png").string();
+  REQUIRE(rdsim::render_command(o) == 0);
+  const std::string frame = rdsim::read_file(o.out_path);
+  CHECK(be32(frame, 16) == 40u);
+  CHECK(be32(frame, 20) == 30u);
+  o.view = 2;
+  CHECK_THROWS_WITH(rdsim::render_command(o), Catch::Contains("main camera only"));
   fs::remove_all(dir);
 }
 

@@ -14,6 +14,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/envs/manipulation/manipulation_options.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
@@ -34,8 +35,10 @@ std::vector<Case> contract_cases() {
   for (const EnvEntry& entry : env_registry()) {
     EnvConfig c = default_env_config(entry.name);
     if (auto* reach = c.find<ReachOptions>()) reach->random_target = true;
+    // Goal tasks end on success: a goal no random walk reaches keeps every episode its full length.
+    if (auto* goal = c.find<ManipulationOptions>()) goal->distance_threshold = 1e-3;
     cases.push_back({entry.name + ", ground_truth", c});
-    if (!entry.supports_pixels) continue;
+    if (!entry.supports_pixels || !entry.pixel_observations) continue;
     c.observation = ObservationMode::RawPixels;
     c.image_width = 24;
     c.image_height = 16;
@@ -231,7 +234,7 @@ TEST_CASE("env contract: render draws frames with render_mode rgb_array, and onl
     const auto [lo, hi] = std::minmax_element(frame.rgb.begin(), frame.rgb.end());
     CHECK(*hi - *lo > 50);  // a scene, not a blank frame
     const std::vector<std::uint8_t> before = frame.rgb;
-    for (int k = 0; k < 10; ++k) drawn->step(Action::discrete(drawn->spec().action.n - 1));
+    for (int k = 0; k < 10; ++k) drawn->step(back_and_forth(drawn->spec().action, 1));
     REQUIRE(drawn->render(frame));
     CHECK(frame.rgb != before);  // frames follow the simulation
   }
@@ -253,6 +256,11 @@ TEST_CASE("env contract: each env publishes the spec its header documents", "[en
       {"inmoov_tomato", 6, 6, 400, 1.0 / 240.0},
       {"pendulum", 3, 1, 200, 0.05, false},
       {"reach", 6, 6, 200, 1.0 / 240.0},
+      // Goal tasks: observation + achieved goal + desired goal (envs/manipulation/manipulation_env.hpp).
+      {"reach_goal", 6 + 3 + 3, 3, 50, 0.04, false},
+      {"push", 6 + 16 + 3 + 3, 3, 50, 0.04, false},
+      {"pick_and_place", 7 + 16 + 3 + 3, 4, 50, 0.04, false},
+      {"stack", 7 + 2 * 16 + 6 + 6, 4, 50, 0.04, false},
   };
   CHECK(std::size(table) == env_registry().size());  // a new env adds its row
   for (const Published& p : table) {

@@ -14,6 +14,7 @@
 #include "rdsim/core/config_fields.hpp"
 #include "rdsim/envs/arm_options.hpp"
 #include "rdsim/envs/button_options.hpp"
+#include "rdsim/envs/manipulation/manipulation_options.hpp"
 #include "rdsim/envs/obstacle_options.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -69,8 +70,10 @@ TEST_CASE("every env option key is declared exactly once", "[config][envs]") {
     INFO(key);
     CHECK(count == 1);
   }
-  // The groups are the reaching tasks', the Jaka's button, the obstacle's and reach's arm (a new group shows up here).
-  CHECK(groups == std::set<std::type_index>{typeid(ReachOptions), typeid(ButtonOptions), typeid(ObstacleOptions), typeid(ArmOptions)});
+  // The groups are the reaching tasks', the Jaka's button, the obstacle's, the arm (reach's and the
+  // manipulation tasks') and the manipulation tasks' (a new group shows up here).
+  CHECK(groups == std::set<std::type_index>{typeid(ReachOptions), typeid(ButtonOptions), typeid(ObstacleOptions),
+                                            typeid(ArmOptions), typeid(ManipulationOptions)});
 }
 
 TEST_CASE("the registry accepts for each env exactly the union of the descriptions it uses", "[config][envs]") {
@@ -81,6 +84,11 @@ TEST_CASE("the registry accepts for each env exactly the union of the descriptio
     s.insert(more.begin(), more.end());
     return s;
   };
+  // The manipulation tasks read the arm's keys without reach's target (ArmOptions::has_target).
+  std::vector<std::string> arm = group<ArmOptions>();
+  std::erase(arm, "target_centre");
+  std::erase(arm, "target_half_range");
+  const std::set<std::string> manipulation = with(with(pixel_core, group<ManipulationOptions>()), arm);
   const std::map<std::string, std::set<std::string>> expected = {
       {"cartpole", core},
       {"pendulum", core},
@@ -88,6 +96,10 @@ TEST_CASE("the registry accepts for each env exactly the union of the descriptio
       {"jaka_obstacle", with(with(with(pixel_core, group<ReachOptions>()), group<ButtonOptions>()), group<ObstacleOptions>())},
       {"inmoov_tomato", with(pixel_core, group<ReachOptions>())},
       {"reach", with(with(pixel_core, group<ReachOptions>()), group<ArmOptions>())},
+      {"reach_goal", manipulation},
+      {"push", manipulation},
+      {"pick_and_place", manipulation},
+      {"stack", manipulation},
   };
   std::set<std::string> every;
   for (const EnvEntry& e : env_registry()) {

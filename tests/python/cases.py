@@ -23,7 +23,7 @@ def env_cases():
     for env in rdsim.envs():
         for discrete in action_kinds(env["id"]):
             cases.append((env["id"], {"is_discrete": discrete}))
-            if env["supports_pixels"]:
+            if env["pixel_observations"]:
                 cases.append((env["id"], {"is_discrete": discrete, **PIXELS}))
     return cases
 

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/core/goal_layout.hpp"
+
 // The one interface between environments and everything that drives them (algorithms, replay,
 // benchmarks, the demonstration link). Gymnasium semantics: reset(seed) -> observation,
 // step(action) -> {observation, reward, terminated, truncated, info}.
@@ -51,6 +53,9 @@ struct Spec {
   ActionSpace action;
   int max_episode_steps = 0;   // truncation limit
   double control_dt = 0.0;     // simulated seconds per env step (0 when not a physics env)
+  // Goal-conditioned envs (core/goal_layout.hpp): how the Float32 observation splits into
+  // observation / achieved_goal / desired_goal, and the reward of any pair. Inactive otherwise.
+  GoalLayout goal{};
 };
 
 struct Action {

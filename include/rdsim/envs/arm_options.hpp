@@ -4,10 +4,12 @@
 
 #include "rdsim/core/config_fields.hpp"
 
-// The options of the generic reach env ("reach", envs/reach_arm.hpp): which arm runs the reaching
-// task and where. One option group (core/env_options.hpp) in reach's defaults, beside ReachOptions
-// (the task's rules, shared with the other reaching envs). The defaults describe the repo's Jaka
-// Zu 7, the example arm: a user's arm sets at least urdf, effector_link, home_pose and the boxes.
+// Which arm runs a task and where: the options of the envs that take any arm, the generic reach env
+// ("reach", envs/reach_arm.hpp) and the manipulation tasks (envs/manipulation/manipulation_env.hpp).
+// One option group (core/env_options.hpp) in their defaults, beside the task's own rules
+// (ReachOptions; ManipulationOptions). The defaults describe the repo's Jaka Zu 7 (the manipulation
+// tasks: with rdsim's gripper), the example arm: a user's arm sets at least urdf, effector_link,
+// home_pose and the boxes.
 namespace rdsim {
 
 struct ArmOptions {
@@ -21,6 +23,9 @@ struct ArmOptions {
   std::vector<double> workspace_max{0.85, 0.5, 0.55};                    // m, world
   std::vector<double> target_centre{0.5, 0.0, 0.15};                     // m, world
   std::vector<double> target_half_range{0.15, 0.3, 0.1};                 // m, per axis
+  // Not a key: whether the task has reach's target point, so that target_centre and
+  // target_half_range are keys (reach) or not (the manipulation tasks draw their goals themselves).
+  bool has_target = true;
 };
 
 // Whether the three-number lists hold three numbers, workspace_min lies below workspace_max on every
@@ -35,6 +40,7 @@ inline bool arm_workspace_ordered(const ArmOptions& c) {
   return true;
 }
 inline bool arm_targets_inside(const ArmOptions& c) {
+  if (!c.has_target) return true;
   for (size_t i = 0; i < 3; ++i)
     if (c.target_centre[i] - c.target_half_range[i] < c.workspace_min[i] ||
         c.target_centre[i] + c.target_half_range[i] > c.workspace_max[i])
@@ -48,29 +54,36 @@ void describe(V& v, C& c) {
   constexpr double big = 1e3;  // m: any box a robot arm works in
   v.field("urdf", c.urdf,
           "the robot's URDF file; a relative path in a config file is relative to that file's folder (in code "
-          "or Python: to the current directory); empty = the repo's Jaka Zu 7, the arm the other defaults fit");
+          "or Python: to the current directory); empty = the repo's Jaka Zu 7 (with rdsim's 85 mm parallel gripper "
+          "in the manipulation tasks), the arm the other defaults fit");
   v.field("package_paths", c.package_paths,
           "folders searched for the URDF's package:// and relative mesh paths, in order (relative ones as urdf)");
-  v.field("effector_link", c.effector_link, "the link moved to the target (its frame origin)");
+  v.field("effector_link", c.effector_link,
+          "the link the actions move (its frame origin): to the target in reach; the point between the finger pads "
+          "in the manipulation tasks");
   v.field("joints", c.joints,
           "the joints the IK moves (names, each on the path from the root link to effector_link); empty = every "
           "movable joint on that path. Other movable joints hold their home value");
   v.field("home_pose", c.home_pose, config::Range{-big, big},
           "rad (m for prismatic joints): where episodes start, one value per controlled joint in the order of "
-          "joints (empty joints: root to effector); movable joints not controlled hold 0 clamped into their limits");
+          "joints (empty joints: root to effector); movable joints not controlled hold 0 clamped into their limits "
+          "(the manipulation tasks' fingers start open, and the gripper keeps this pose's orientation)");
   v.field("base_position", c.base_position, config::Range{-big, big}, "m: the robot's root link in the world (x, y, z)");
   v.field("workspace_min", c.workspace_min, config::Range{-big, big},
-          "m: lower corner (x, y, z) of the box move goals are clipped into (the floor is the plane z = 0)");
+          "m: lower corner (x, y, z) of the box move goals are clipped into (reach: the floor is the plane z = 0; "
+          "the manipulation tasks: the table top)");
   v.field("workspace_max", c.workspace_max, config::Range{-big, big}, "m: its upper corner (x, y, z)");
-  v.field("target_centre", c.target_centre, config::Range{-big, big},
-          "m: the target (x, y, z); random_target draws around it");
-  v.field("target_half_range", c.target_half_range, config::Range{0.0, big},
-          "m: random_target adds U(-1, 1) x this per axis; the whole range must lie in the workspace box");
+  if (c.has_target) {
+    v.field("target_centre", c.target_centre, config::Range{-big, big},
+            "m: the target (x, y, z); random_target draws around it");
+    v.field("target_half_range", c.target_half_range, config::Range{0.0, big},
+            "m: random_target adds U(-1, 1) x this per axis; the whole range must lie in the workspace box");
+  }
   v.check(c.base_position.size() == 3, "base_position", "expected 3 numbers (x, y, z)");
   v.check(c.workspace_min.size() == 3, "workspace_min", "expected 3 numbers (x, y, z)");
   v.check(c.workspace_max.size() == 3, "workspace_max", "expected 3 numbers (x, y, z)");
-  v.check(c.target_centre.size() == 3, "target_centre", "expected 3 numbers (x, y, z)");
-  v.check(c.target_half_range.size() == 3, "target_half_range", "expected 3 numbers (x, y, z)");
+  v.check(!c.has_target || c.target_centre.size() == 3, "target_centre", "expected 3 numbers (x, y, z)");
+  v.check(!c.has_target || c.target_half_range.size() == 3, "target_half_range", "expected 3 numbers (x, y, z)");
   v.check(!arm_boxes_sized(c) || arm_workspace_ordered(c), "workspace_max",
           "expected each value above workspace_min's");
   v.check(!arm_boxes_sized(c) || arm_targets_inside(c), "target_centre",

@@ -2,6 +2,7 @@
 #include <Eigen/Core>
 
 #include "rdsim/core/env.hpp"
+#include "rdsim/envs/scripted_expert.hpp"
 #include "rdsim/envs/reach_env.hpp"
 
 // The scripted expert of the reaching envs (`rdsim demos record --expert`): a planner that reads the
@@ -18,15 +19,15 @@
 //                its direction kept, divided by action_step when closer than one move.
 namespace rdsim {
 
-class ReachExpert {
+class ReachExpert : public ScriptedExpert {
 public:
   // rdsim::Error naming the env when it is not a reaching env (only those have an expert).
   explicit ReachExpert(Env& env);
 
   // Call after each env reset: starts the route again.
-  void reset();
+  void reset() override;
   // The action for the env's current state.
-  Action act();
+  Action act() override;
 
   // Where the expert is heading now (world frame).
   Eigen::Vector3f aim() const;

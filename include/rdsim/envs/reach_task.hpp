@@ -63,6 +63,10 @@ struct ReachTaskSpec {
   // random_target draws around this point instead of nominal_target when set.
   std::optional<Eigen::Vector3f> random_centre;
   Eigen::AlignedBox3f workspace;  // move targets are clipped into it; the ee leaving it ends an episode
+  // When set, every move also holds the end effector at this orientation (world frame): the IK
+  // solves position and orientation together (6 rows, damped least squares; a gripper kept pointing
+  // down). Unset: position only, the orientation is whatever the IK leaves.
+  std::optional<Eigen::Quaternionf> effector_orientation;
 
   // Task numbers, from the env's EnvConfig (apply_env_config; envs/reach_options.hpp says what each does):
   bool discrete = true;           // actions: Discrete(6) moves, else a continuous Box(3)
@@ -140,6 +144,9 @@ public:
   void step_physics();
 
   const Eigen::Vector3f& ee_position() const { return ee_; }  // world frame, as of the last step/reset
+  // The end effector's linear velocity (m/s, world frame) now: the chain's Jacobian times its joint
+  // speeds.
+  Eigen::Vector3f ee_velocity() const;
   const Eigen::Vector3f& target() const { return target_; }
   float distance() const { return (ee_ - target_).norm(); }
   bool reached() const { return distance() < spec_.success_threshold; }
@@ -171,6 +178,11 @@ public:
   const Eigen::VectorXf& reset_pose() const { return spec_.reset_to_rest ? spec_.rest : spec_.home; }
 
 private:
+  // ik_iterations damped-least-squares steps on position and orientation (effector_orientation)
+  // from `q` towards `goal_root` (root frame).
+  JointVector pose_steps(const Eigen::Vector3d& goal_root, JointVector q) const;
+  Eigen::Matrix3d root_orientation() const;  // effector_orientation in the root frame
+
   ReachTaskSpec spec_;
   std::unique_ptr<PhysicsWorld> world_;
   Robot* robot_ = nullptr;

@@ -113,6 +113,10 @@ public:
   // A free body's motion between steps, exactly as Bullet holds it (for saved env states: a pose
   // through static_pose would round). rdsim::Error for a body that is not free.
   FreeBodyState free_body_state(int body) const;
+  // A free body's Coulomb friction coefficient (Bullet's default 0.5; a contact's is the product of
+  // its two sides'), with friction anchors (Robot::set_link_friction says why). rdsim::Error for a
+  // body that is not free or a negative or non-finite value.
+  void set_free_body_friction(int body, float friction);
   // Puts a free body back in a state free_body_state gave (bit for bit) and forgets its contacts.
   void set_free_body_state(int body, const FreeBodyState& state);
 

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rdsim/sim/robot_model.hpp"
@@ -74,6 +75,14 @@ struct RobotOptions {
   // the contact could push it), and by any target, reset or state that moves it; reset_joints
   // welds the held joints again. ConstraintMotor drive only.
   bool weld_held_joints = false;
+  // Dofs driven by Bullet joint motors whatever `drive` says (a gripper's fingers): a motor is solved
+  // together with the contacts, so fingers closed on an object squeeze it with up to their URDF
+  // effort; the ComputedTorque drive, blind to contacts, would press with only the force that moves
+  // the free finger. The ComputedTorque drive leaves these dofs alone.
+  std::vector<int> motor_dofs{};
+  // Pairs of dofs held at equal positions by a Bullet gear constraint (a gripper's two fingers: the
+  // mimic joint of a real gripper's linkage), so a squeezed object stays centred between them.
+  std::vector<std::pair<int, int>> coupled_dofs{};
 };
 
 // Everything a Robot simulates between steps, per dof, as Bullet holds it (floats): joint
@@ -136,6 +145,16 @@ public:
   };
   LinkInertia link_inertia(int link) const;
 
+  // Coulomb friction coefficient of a link's collision shapes (Bullet's default 0.5). Bullet
+  // combines the two sides of a contact by their product (a gripper's pads at 1.0 on a cube at 1.0
+  // hold with 1.0). The link's contacts also keep friction anchors (Bullet's
+  // CF_HAS_FRICTION_ANCHOR: friction holds each contact where it started instead of only damping
+  // its sliding, so a held object does not creep out of the fingers). Kept across the multibody's
+  // rebuilds (weld_held_joints). rdsim::Error for a link index out of range or a negative or
+  // non-finite coefficient.
+  void set_link_friction(int link, float friction);
+  float link_friction(int link) const { return link_friction_[static_cast<size_t>(link)]; }
+
   // Called by PhysicsWorld::step before Bullet's step: applies the ComputedTorque drive.
   void before_step();
 
@@ -160,7 +179,9 @@ private:
   btMultiBody* multibody_ = nullptr;
   std::vector<Dof> dofs_;
   std::vector<btMultiBodyLinkCollider*> colliders_;
-  std::vector<btMultiBodyConstraint*> limits_;
+  std::vector<float> link_friction_;  // per model link (set_link_friction)
+  std::vector<bool> link_anchored_;   // per model link: friction anchors on (set_link_friction)
+  std::vector<btMultiBodyConstraint*> limits_;  // joint limits and couplings (coupled_dofs)
   // Per model link: its URDF frame in the frame Bullet simulates (principal axes at the centre of mass).
   std::vector<Eigen::Isometry3f> body_to_link_;
   float position_gain_, velocity_gain_;
@@ -170,6 +191,7 @@ private:
   std::unique_ptr<MassResponses> responses_;
 
   void update_transforms();
+  bool has_motor(int dof) const;  // named by RobotOptions::motor_dofs
   // M(q)^-1 for the joint rows, before a step (WorldSettings::mass_matrix_responses).
   void update_responses();
   // The Bullet objects for the current dofs_ (welded ones as fixed joints), and their removal.

@@ -1,0 +1,301 @@
+#include "rdsim/envs/manipulation/manipulation_env.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "rdsim/core/binary_io.hpp"
+#include "rdsim/core/error.hpp"
+#include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/envs/manipulation/gripper_arm.hpp"
+#include "rdsim/envs/arm_options.hpp"
+#include "rdsim/envs/reach_arm.hpp"
+
+namespace rdsim {
+namespace {
+
+constexpr int kPerCube = 16;  // position 3, quaternion 4, linear 3, angular 3, relative position 3
+constexpr float kMaxSpeed = 10.0f;  // m/s: bound of the velocities observed
+constexpr float kMaxSpin = 100.0f;  // rad/s
+constexpr float kReach = 1.0f;      // m: positions are bounded by the workspace box grown by this
+constexpr std::uint32_t kStateTag = 0x4d4e4452;  // "RDNM"
+
+void set3(ObservationSpace& s, int at, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
+  s.low.segment<3>(at) = lo;
+  s.high.segment<3>(at) = hi;
+}
+
+// The Float32 bounds of the layout in the header.
+ObservationSpace observation_space(const Eigen::AlignedBox3f& workspace, bool blocked, int cubes, int points, float stroke) {
+  const Eigen::Vector3f lo = workspace.min() - Eigen::Vector3f::Constant(kReach);
+  const Eigen::Vector3f hi = workspace.max() + Eigen::Vector3f::Constant(kReach);
+  const Eigen::Vector3f span = hi - lo;
+  const Eigen::Vector3f speed = Eigen::Vector3f::Constant(kMaxSpeed), spin = Eigen::Vector3f::Constant(kMaxSpin);
+  const int observed = 6 + (blocked ? 0 : 1) + kPerCube * cubes;
+  ObservationSpace s;
+  s.type = ObsType::Float32;
+  s.shape = {observed + 6 * points};
+  s.low.resize(s.shape[0]);
+  s.high.resize(s.shape[0]);
+  int at = 0;
+  set3(s, at, lo, hi);
+  set3(s, at + 3, -speed, speed);
+  at += 6;
+  if (!blocked) {
+    s.low[at] = 0.0f;
+    s.high[at] = stroke;
+    ++at;
+  }
+  for (int k = 0; k < cubes; ++k, at += kPerCube) {
+    set3(s, at, lo, hi);
+    s.low.segment<4>(at + 3).setConstant(-1.0f);
+    s.high.segment<4>(at + 3).setConstant(1.0f);
+    set3(s, at + 7, -speed, speed);
+    set3(s, at + 10, -spin, spin);
+    set3(s, at + 13, -span, span);
+  }
+  for (int p = 0; p < 2 * points; ++p, at += 3) set3(s, at, lo, hi);
+  return s;
+}
+
+void put3(float* at, const Eigen::Vector3f& v) { std::copy_n(v.data(), 3, at); }
+
+float clipped(float v) { return std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f; }
+
+}  // namespace
+
+EnvConfig manipulation_env_config(const std::string& name, ManipulationOptions options) {
+  EnvConfig c{.name = name, .is_discrete = false, .max_steps = 50};
+  // The repo's JAKA with its gripper: the effector (between the pads) 15 cm above the task area's
+  // centre, the gripper pointing straight down, its fingers closing along the world's y axis (the
+  // IK's solution for that pose, to 0.1 mm and 1 mrad).
+  ArmOptions arm{.effector_link = "gripper_tcp",
+                 .home_pose = {-0.2561, 1.4791, -1.7509, 1.8426, 1.5708, 1.3147},
+                 .workspace_min = {0.2, -0.35, 0.025},
+                 .workspace_max = {0.75, 0.35, 0.35}};
+  arm.has_target = false;
+  c.options = {EnvOptions(std::move(options)), EnvOptions(std::move(arm))};
+  return c;
+}
+
+ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& config) : task_(task) {
+  if (config.is_discrete)
+    throw Error("env.is_discrete: " + config.name + " has Box actions only (effector moves and the fingers' opening): expected false");
+  const ManipulationOptions& o = config.get<ManipulationOptions>();
+  GripperArmScene scene = gripper_arm_scene(config, task);
+  area_ = scene.area;
+  finger_dofs_ = scene.finger_dofs;
+  finger_lower_ = scene.finger_lower;
+  for (size_t f = 0; f < finger_dofs_.size(); ++f) stroke_ += scene.finger_upper[f] - scene.finger_lower[f];
+  for (size_t f = 0; f < finger_dofs_.size(); ++f) finger_share_.push_back((scene.finger_upper[f] - scene.finger_lower[f]) / stroke_);
+  blocked_ = o.block_gripper;
+  effector_step_ = static_cast<float>(o.effector_step);
+  world_ = std::make_unique<ReachTask>(std::move(scene.spec));
+  for (int k = 0; k < task_.cubes; ++k)
+    world_->world().set_free_body_friction(world_->static_body(first_cube_index + k), static_cast<float>(o.object_friction));
+  for (int link = 0; link < static_cast<int>(world_->robot_model().links.size()); ++link) {
+    const int joint = world_->robot_model().links[static_cast<size_t>(link)].parent_joint;
+    const int dof = joint >= 0 ? world_->robot().dof_of_joint(joint) : -1;
+    if (std::find(finger_dofs_.begin(), finger_dofs_.end(), dof) != finger_dofs_.end())
+      world_->robot().set_link_friction(link, static_cast<float>(o.finger_friction));
+  }
+
+  const int points = std::max(task_.cubes, 1);
+  spec_.env_name = config.name;
+  spec_.action.discrete = false;
+  spec_.action.low = Eigen::VectorXf::Constant(blocked_ ? 3 : 4, -1.0f);
+  spec_.action.high = Eigen::VectorXf::Constant(blocked_ ? 3 : 4, 1.0f);
+  spec_.max_episode_steps = config.max_steps;
+  spec_.control_dt = o.physics_step * o.substeps;
+  spec_.observation = observation_space(world_->spec().workspace, blocked_, task_.cubes, points, stroke_);
+  spec_.goal.observation = spec_.observation.size() - 6 * points;
+  spec_.goal.points = points;
+  spec_.goal.distance_threshold = static_cast<float>(o.distance_threshold);
+  spec_.goal.reward = o.reward_type;
+  scratch_.resize(static_cast<size_t>(spec_.observation.size()));
+  goals_.assign(static_cast<size_t>(points), Eigen::Vector3f::Zero());
+  if (config.render_mode == RenderMode::RgbArray) {
+    EnvConfig view = config;
+    view.image_width = config.render_width;
+    view.image_height = config.render_height;
+    view.multi_view = false;
+    const Eigen::AlignedBox3f& w = world_->spec().workspace;
+    viewer_ = std::make_unique<PixelView>(*world_, view, arm_main_view(w), arm_second_view(w));
+  }
+}
+
+ManipulationEnv::~ManipulationEnv() = default;
+
+Eigen::Vector3f ManipulationEnv::cube_position(int cube) const {
+  return world_->world().static_pose(world_->static_body(first_cube_index + cube)).translation();
+}
+
+float ManipulationEnv::finger_opening() const {
+  float opening = 0.0f;
+  for (size_t f = 0; f < finger_dofs_.size(); ++f) opening += world_->robot().joint_position(finger_dofs_[f]) - finger_lower_[f];
+  return opening;
+}
+
+void ManipulationEnv::set_opening(float opening) {
+  for (size_t f = 0; f < finger_dofs_.size(); ++f)
+    world_->robot().set_position_target(finger_dofs_[f], finger_lower_[f] + finger_share_[f] * opening);
+}
+
+void ManipulationEnv::achieved_goal(float* out) const {
+  if (task_.cubes == 0) {
+    put3(out, world_->ee_position());
+    return;
+  }
+  for (int k = 0; k < task_.cubes; ++k) put3(out + 3 * k, cube_position(k));
+}
+
+void ManipulationEnv::observe(ObservationOut out) const {
+  float* o = out.values;
+  const Eigen::Vector3f& ee = world_->ee_position();
+  put3(o, ee);
+  put3(o + 3, world_->ee_velocity());
+  int at = 6;
+  if (!blocked_) o[at++] = finger_opening();
+  const PhysicsWorld& physics = world_->world();
+  for (int k = 0; k < task_.cubes; ++k, at += kPerCube) {
+    const int body = world_->static_body(first_cube_index + k);
+    const Eigen::Isometry3f pose = physics.static_pose(body);
+    Eigen::Quaternionf q(pose.linear());
+    if (q.w() < 0.0f) q.coeffs() = -q.coeffs();
+    const FreeBodyState motion = physics.free_body_state(body);
+    put3(o + at, pose.translation());
+    std::copy_n(q.coeffs().data(), 4, o + at + 3);  // x, y, z, w
+    put3(o + at + 7, motion.linear);
+    put3(o + at + 10, motion.angular);
+    put3(o + at + 13, pose.translation() - ee);
+  }
+  achieved_goal(o + at);
+  at += spec_.goal.goal_size();
+  for (const Eigen::Vector3f& g : goals_) {
+    put3(o + at, g);
+    at += 3;
+  }
+  const ObservationSpace& s = spec_.observation;
+  Eigen::Map<Eigen::VectorXf> all(o, s.size());
+  all = all.cwiseMax(s.low).cwiseMin(s.high);
+}
+
+void ManipulationEnv::judge(const float* observation, StepOutcome& r) const {
+  const GoalLayout& g = spec_.goal;
+  const float* achieved = observation + g.achieved_offset();
+  const float* desired = observation + g.desired_offset();
+  float d2 = 0.0f;
+  for (int i = 0; i < g.goal_size(); ++i) d2 += (achieved[i] - desired[i]) * (achieved[i] - desired[i]);
+  r.info.distance = std::sqrt(d2);
+  r.info.success = g.is_success(achieved, desired);
+  r.reward = g.reward_of(achieved, desired);
+  r.terminated = r.info.success;
+  r.truncated = !r.terminated && steps_ >= spec_.max_episode_steps;
+}
+
+void ManipulationEnv::place(const Placement& placement) {
+  if (static_cast<int>(placement.cubes.size()) != task_.cubes || placement.goals.size() != goals_.size())
+    throw Error(spec_.env_name + ": the task drew " + std::to_string(placement.cubes.size()) + " cubes and " +
+                std::to_string(placement.goals.size()) + " goals");  // a task's bug, not the user's
+  PhysicsWorld& physics = world_->world();
+  for (int k = 0; k < task_.cubes; ++k)
+    physics.set_static_pose(world_->static_body(first_cube_index + k),
+                            Eigen::Isometry3f(Eigen::Translation3f(placement.cubes[static_cast<size_t>(k)])));
+  goals_ = placement.goals;
+  const int first_marker = first_cube_index + task_.cubes;
+  for (size_t p = 0; p < goals_.size(); ++p)
+    physics.set_static_pose(world_->static_body(first_marker + static_cast<int>(p)), Eigen::Isometry3f(Eigen::Translation3f(goals_[p])));
+}
+
+Observation ManipulationEnv::reset(std::optional<std::uint64_t> seed) { return reset_through_into(*this, seed); }
+
+StepResult ManipulationEnv::step(const Action& action) { return step_through_into(*this, action); }
+
+void ManipulationEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
+  if (seed) rng_.reseed(*seed);
+  world_->reset(rng_, false);
+  place(task_.draw(area_, rng_));
+  steps_ = 0;
+  done_ = false;
+  observe(out);
+}
+
+StepOutcome ManipulationEnv::step_into(const Action& action, ObservationOut out) {
+  const int n = spec_.action.dim();
+  if (action.values.size() != n)
+    throw Error(spec_.env_name + ": expected an action of " + std::to_string(n) + " values (dx, dy, dz" +
+                (blocked_ ? "" : ", fingers") + "), got " + std::to_string(action.values.size()));
+  StepOutcome r;
+  if (done_) {
+    observe(out);
+    r.terminated = true;
+    return r;
+  }
+  const Eigen::Vector3f move(clipped(action.values[0]), clipped(action.values[1]), clipped(action.values[2]));
+  world_->apply_move(move * effector_step_, rng_);
+  if (!blocked_) set_opening((clipped(action.values[3]) + 1.0f) / 2.0f * stroke_);
+  world_->step_physics();
+  ++steps_;
+  observe(out);
+  judge(out.values, r);
+  done_ = r.terminated || r.truncated;
+  return r;
+}
+
+bool ManipulationEnv::step_physics_only() {
+  world_->step_physics();
+  return true;
+}
+
+bool ManipulationEnv::render(Image& frame) {
+  if (!viewer_) return false;
+  viewer_->render(*world_, frame.rgb);
+  frame.width = static_cast<int>(viewer_->space().shape[1]);
+  frame.height = static_cast<int>(viewer_->space().shape[0]);
+  return true;
+}
+
+std::string ManipulationEnv::save_state() const {
+  std::ostringstream out(std::ios::binary);
+  write_u32(out, kStateTag);
+  write_string(out, spec_.env_name);
+  write_string(out, rng_to_bytes(rng_));
+  write_u32(out, static_cast<std::uint32_t>(steps_));
+  write_u32(out, done_ ? 1 : 0);
+  for (const Eigen::Vector3f& g : goals_)
+    for (int i = 0; i < 3; ++i) write_f32(out, g[i]);
+  world_->save_state(out);
+  return std::move(out).str();
+}
+
+void ManipulationEnv::load_state(const std::string& bytes, const std::string& source) {
+  std::istringstream in(bytes, std::ios::binary);
+  if (read_u32(in, source) != kStateTag) throw Error(source + ": env state is not a manipulation env's");
+  const std::string name = read_string(in, source);
+  if (name != spec_.env_name)
+    throw Error(source + ": env state is of " + one_line(name, 40) + ", this env is " + spec_.env_name);
+  const Rng rng = rng_from_bytes(read_string(in, source), source);
+  const auto steps = static_cast<int>(read_u32(in, source));
+  const std::uint32_t done = read_u32(in, source);
+  if (steps < 0 || steps > spec_.max_episode_steps || done > 1)
+    throw Error(source + ": env state of " + spec_.env_name + " is damaged (counters out of range)");
+  Placement placement;
+  for (size_t p = 0; p < goals_.size(); ++p) {
+    Eigen::Vector3f g;
+    for (int i = 0; i < 3; ++i) g[i] = read_f32(in, source);
+    if (!g.allFinite()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (a goal is not finite)");
+    placement.goals.push_back(g);
+  }
+  world_->load_state(in, source);
+  if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
+  rng_ = rng;
+  steps_ = steps;
+  done_ = done != 0;
+  goals_ = placement.goals;
+  const int first_marker = first_cube_index + task_.cubes;
+  for (size_t p = 0; p < goals_.size(); ++p)
+    world_->world().set_static_pose(world_->static_body(first_marker + static_cast<int>(p)),
+                                    Eigen::Isometry3f(Eigen::Translation3f(goals_[p])));
+}
+
+}  // namespace rdsim

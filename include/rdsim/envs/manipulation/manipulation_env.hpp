@@ -1,0 +1,117 @@
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rdsim/core/env.hpp"
+#include "rdsim/core/env_config.hpp"
+#include "rdsim/core/env_state.hpp"
+#include "rdsim/core/rng.hpp"
+#include "rdsim/envs/manipulation/manipulation_options.hpp"
+#include "rdsim/envs/manipulation/manipulation_task.hpp"
+#include "rdsim/envs/pixel_view.hpp"
+#include "rdsim/envs/reach_task.hpp"
+
+// A goal-conditioned manipulation env (Gymnasium-Robotics' GoalEnv, panda-gym's conventions): an
+// arm with a gripper (ArmOptions, ManipulationOptions::finger_joints), a table, the task's 4 cm cubes, and a goal each episode
+// (ManipulationTask). Spec::goal declares the observation's three slices and the reward.
+//
+// Scene (world frame, z up, metres): the table top is the plane z = 0 (assets/objects/table.urdf,
+// 1.2 m square, centred 0.35 m in front of the origin), a floor 0.75 m below catches what falls off;
+// the robot's root at base_position; cubes (assets/objects/cube_blue.urdf, cube_green.urdf: 4 cm,
+// 0.1 kg) are free bodies; goals are drawn as spheres nothing collides with.
+//
+// Actions: Box(4) in [-1, 1]: dx, dy, dz (times effector_step, metres: the effector's goal for this
+// step, reached by two IK steps that also hold the home pose's gripper orientation, goals
+// clipped into the workspace box) and the fingers' opening (-1 closed, 1 fully open: each finger's
+// target is the matching share of its stroke; the fingers close with at most their URDF effort, so
+// the grip force is the effort). block_gripper: Box(3), the fingers held closed. Non-finite values
+// count as 0, others are clipped to [-1, 1].
+//
+// Observation (Float32, ground truth), in this order:
+//   observation: effector position (3), effector velocity (3, m/s), finger opening (1, m; without
+//                block_gripper), then per cube: position (3), orientation (4: quaternion x, y, z, w
+//                with w >= 0), linear velocity (3), angular velocity (3), position - effector (3);
+//   achieved_goal: each cube's position (3 each; reach_goal: the effector's);
+//   desired_goal: the goal points (as many).
+// Every value is clipped into the space's bounds (a cube fallen to the floor still fits).
+// Reward and success: Spec::goal (core/goal_layout.hpp) with reward_type and distance_threshold;
+// info.success = every goal point within distance_threshold; info.distance = |achieved - desired|.
+// Episodes: max_steps (50) steps; success ends one (terminated, panda-gym's rule).
+namespace rdsim {
+
+class ManipulationEnv : public Env, public EnvState {
+public:
+  // rdsim::Error naming the URDF file and key for a robot that does not fit (see gripper_arm.hpp).
+  ManipulationEnv(const ManipulationTask& task, const EnvConfig& config);
+  ~ManipulationEnv() override;
+
+  const Spec& spec() const override { return spec_; }
+  Observation reset(std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepResult step(const Action& action) override;
+  void reset_into(ObservationOut out, std::optional<std::uint64_t> seed = std::nullopt) override;
+  StepOutcome step_into(const Action& action, ObservationOut out) override;
+  bool step_physics_only() override;
+  bool render(Image& frame) override;
+  bool steps_on_any_thread() const override { return !viewer_; }
+
+  std::string save_state() const override;
+  void load_state(const std::string& bytes, const std::string& source) override;
+  void drop_caches() override { world_->drop_caches(); }
+
+  // For the scripted expert and tests: privileged state.
+  const ManipulationTask& task() const { return task_; }
+  const ReachTask& world() const { return *world_; }
+  ReachTask& world() { return *world_; }
+  int cubes() const { return task_.cubes; }
+  Eigen::Vector3f cube_position(int cube) const;
+  const std::vector<Eigen::Vector3f>& goals() const { return goals_; }
+  float finger_opening() const;        // m
+  float finger_stroke() const { return stroke_; }  // m: the widest opening
+  bool gripper_blocked() const { return blocked_; }
+  float effector_step() const { return effector_step_; }
+  int steps() const { return steps_; }
+
+  // Where the statics of the scene sit in ReachTaskSpec::statics.
+  static constexpr int table_index = 0, floor_index = 1, first_cube_index = 2;
+
+private:
+  void observe(ObservationOut out) const;
+  void achieved_goal(float* out) const;
+  void judge(const float* observation, StepOutcome& r) const;
+  void place(const Placement& placement);
+  void set_opening(float opening);  // finger targets for this opening (m)
+
+  const ManipulationTask& task_;
+  Spec spec_;
+  std::unique_ptr<ReachTask> world_;
+  std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
+  TaskArea area_;
+  std::vector<int> finger_dofs_;
+  std::vector<float> finger_lower_, finger_share_;  // per finger: lower limit, share of the stroke
+  float stroke_ = 0.0f;
+  bool blocked_ = false;
+  float effector_step_ = 0.05f;
+  std::vector<Eigen::Vector3f> goals_;
+  std::vector<float> scratch_;  // one observation, for judging a step written elsewhere
+  Rng rng_;
+  int steps_ = 0;
+  bool done_ = true;
+};
+
+// The registry's entries: each task's defaults and maker (envs/manipulation/<task>.cpp).
+EnvConfig push_defaults();
+EnvConfig pick_and_place_defaults();
+EnvConfig stack_defaults();
+EnvConfig reach_goal_defaults();
+std::unique_ptr<Env> make_push(const EnvConfig& config);
+std::unique_ptr<Env> make_pick_and_place(const EnvConfig& config);
+std::unique_ptr<Env> make_stack(const EnvConfig& config);
+std::unique_ptr<Env> make_reach_goal(const EnvConfig& config);
+
+// The defaults every manipulation task starts from (50 steps, Box actions, both option groups) with
+// the task's own ManipulationOptions.
+EnvConfig manipulation_env_config(const std::string& name, ManipulationOptions options);
+
+}  // namespace rdsim

@@ -1,0 +1,84 @@
+"""The goal-conditioned manipulation tasks from Python: Gymnasium-Robotics' GoalEnv layout (Dict
+observations, compute_reward, is_success) through make and make_vec, and Stable-Baselines3's SAC with
+its HerReplayBuffer on rdsim/JakaPush-v0 through make_vec."""
+import gymnasium
+import numpy as np
+import pytest
+
+import rdsim
+
+GOAL_IDS = ["rdsim/JakaReachGoal-v0", "rdsim/JakaPush-v0", "rdsim/JakaPickAndPlace-v0", "rdsim/JakaStack-v0"]
+KEYS = {"observation", "achieved_goal", "desired_goal"}
+
+
+@pytest.mark.parametrize("env_id", GOAL_IDS)
+def test_dict_observations_and_compute_reward_match_step(env_id):
+    env = rdsim.make(env_id)
+    assert isinstance(env.observation_space, gymnasium.spaces.Dict) and set(env.observation_space.spaces) == KEYS
+    obs, _ = env.reset(seed=3)
+    assert env.observation_space.contains(obs)
+    env.action_space.seed(3)
+    achieved, desired, rewards = [], [], []
+    for _ in range(20):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        assert info["is_success"] == info["success"] and isinstance(reward, float)
+        assert env.compute_reward(obs["achieved_goal"], obs["desired_goal"], info) == reward
+        achieved.append(obs["achieved_goal"])
+        desired.append(obs["desired_goal"])
+        rewards.append(reward)
+        if terminated or truncated:
+            break
+    batch = env.compute_reward(np.stack(achieved), np.stack(desired), None)
+    assert batch.dtype == np.float32 and batch.shape == (len(rewards),)
+    np.testing.assert_array_equal(batch, np.asarray(rewards, dtype=np.float32))
+    # Relabelled: the achieved goal as the desired one is a success.
+    assert env.compute_reward(obs["achieved_goal"], obs["achieved_goal"], None) == 0.0
+    env.close()
+
+
+def test_dense_reward_is_minus_the_distance():
+    env = rdsim.make("rdsim/JakaPush-v0", reward_type="dense")
+    a, d = np.array([0.1, 0.2, 0.02], np.float32), np.array([0.1, 0.5, 0.06], np.float32)
+    assert env.compute_reward(a, d, None) == pytest.approx(-np.linalg.norm(a - d), rel=1e-6)
+    env.close()
+
+
+def test_non_goal_envs_have_no_compute_reward():
+    env = rdsim.make("rdsim/JakaButton-v0")
+    assert not hasattr(env, "compute_reward") and env.goal is None
+    env.close()
+
+
+def test_make_vec_gives_batched_dicts_and_final_observations():
+    venv = rdsim.make_vec("rdsim/JakaPush-v0", 3, num_threads=2, max_steps=4)
+    assert isinstance(venv.single_observation_space, gymnasium.spaces.Dict)
+    obs, _ = venv.reset(seed=5)
+    assert set(obs) == KEYS and obs["desired_goal"].shape == (3, 3)
+    assert venv.observation_space.contains(obs)
+    for _ in range(4):
+        obs, reward, terminated, truncated, info = venv.step(np.zeros((3, 3), np.float32))
+    assert (terminated | truncated).all()
+    final = info["final_obs"][0]
+    assert set(final) == KEYS
+    np.testing.assert_array_equal(
+        venv.compute_reward(np.stack([info["final_obs"][i]["achieved_goal"] for i in range(3)]),
+                            np.stack([info["final_obs"][i]["desired_goal"] for i in range(3)]), None),
+        reward)
+    venv.close()
+
+
+def test_sb3_sac_with_her_trains_on_jaka_push_through_make_vec():
+    torch = pytest.importorskip("torch")
+    from stable_baselines3 import SAC, HerReplayBuffer
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    from rdsim.sb3 import SB3VecEnv
+
+    torch.set_num_threads(1)
+    venv = VecMonitor(SB3VecEnv(rdsim.make_vec("rdsim/JakaPush-v0", 2, num_threads=1, seed=0)))
+    model = SAC("MultiInputPolicy", venv, replay_buffer_class=HerReplayBuffer,
+                replay_buffer_kwargs={"n_sampled_goal": 4, "goal_selection_strategy": "future"},
+                learning_starts=100, batch_size=64, policy_kwargs={"net_arch": [32, 32]}, seed=0, verbose=0)
+    model.learn(total_timesteps=300)
+    assert model.replay_buffer.size() > 0 and model.num_timesteps >= 300
+    venv.close()
