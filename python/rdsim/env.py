@@ -40,9 +40,12 @@ class RdsimEnv(gymnasium.Env):
     def __init__(self, env_id: str, render_mode: Optional[str] = None, **options: Any) -> None:
         name = env_name(env_id)
         self._where = f'rdsim.make("{_env_id(name)}")'
+        if render_mode == "none":  # the env config's word for None (env.config, a model's config["env"])
+            render_mode = None
         if render_mode is not None:
             if render_mode != "rgb_array":
-                raise _rdsim.Error(f'{self._where}: render_mode: expected None or "rgb_array", got {render_mode!r}')
+                raise _rdsim.Error(
+                    f'{self._where}: render_mode: expected None, "none" or "rgb_array", got {render_mode!r}')
             options["render_mode"] = render_mode
         self._env = _rdsim.Env(name, options, self._where)
         spec = self._env.spec

@@ -37,6 +37,13 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
     overwrites (as ``SyncVectorEnv(copy=False)``). Rewards, terminations and truncations come the
     same way.
 
+    **Processes**: the worker threads live in the process that made the vector env and do not survive
+    ``fork()``; used in a forked child (``multiprocessing``'s default start method on Linux), every
+    step or reset raises :class:`rdsim.Error` at once instead of waiting for them (with one thread
+    and no worker processes there is nothing to wait for, and it works). Make the vector env in the
+    process that steps it, or start children with ``spawn``. Single envs (``rdsim.make``) work in
+    forked children.
+
     **Seeds**: ``reset(seed=s)`` seeds env ``i`` with ``rdsim.env_seed(s, i)`` (the C++ VecEnv's
     derivation); later episodes continue each env's own stream. ``reset()`` without a seed draws one.
     """

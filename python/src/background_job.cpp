@@ -1,8 +1,19 @@
 #include "background_job.hpp"
 
+#include <new>
+
 namespace rdsim::python {
 
 BackgroundJob::~BackgroundJob() {
+  if (thread_.joinable() && !owner_.here()) {  // a fork: the thread is not in this process
+    new std::thread(std::move(thread_));        // leaked on purpose: never joined
+    // Fresh synchronisation objects: the copies still count the parent's waiting thread (see
+    // WorkerPool's destructor).
+    new (&mutex_) std::mutex();
+    new (&wake_) std::condition_variable();
+    new (&done_) std::condition_variable();
+    return;
+  }
   {
     std::lock_guard<std::mutex> lock(mutex_);
     quit_ = true;
@@ -12,6 +23,7 @@ BackgroundJob::~BackgroundJob() {
 }
 
 void BackgroundJob::start(std::function<void()> job) {
+  owner_.require("a vector env's step_async helper thread");
   if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
   {
     std::lock_guard<std::mutex> lock(mutex_);

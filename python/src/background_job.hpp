@@ -9,6 +9,8 @@
 #include <thread>
 #include <utility>
 
+#include "rdsim/core/process_owner.hpp"
+
 namespace rdsim::python {
 
 class BackgroundJob {
@@ -33,6 +35,7 @@ private:
   std::function<void()> job_;
   std::exception_ptr error_;
   bool has_job_ = false, quit_ = false, busy_ = false;
+  ProcessOwner owner_;  // a forked copy neither starts jobs nor joins the parent's thread
 };
 
 }  // namespace rdsim::python

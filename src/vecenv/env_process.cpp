@@ -202,7 +202,7 @@ EnvProcess::EnvProcess(std::vector<std::unique_ptr<Env>> envs, const Spec& spec,
 }
 
 EnvProcess::~EnvProcess() {
-  if (pid_ > 0) {
+  if (pid_ > 0 && owner_.here()) {  // in a fork of the parent the child is the parent's to stop
     // A command still running (the caller's own envs threw meanwhile) may finish first; a child
     // that answers nothing within 5 s, or does not quit within 5 s more, is killed: a destructor
     // must end.
@@ -237,6 +237,7 @@ std::uint8_t* EnvProcess::slot(int i) const {
 }
 
 void EnvProcess::start(std::uint32_t command) {
+  owner_.require(what_envs());
   RDSIM_ASSERT(!busy_, "EnvProcess: a command is still running");
   shared_->command = command;
   busy_ = true;

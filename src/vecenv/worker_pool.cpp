@@ -1,6 +1,7 @@
 #include "rdsim/vecenv/worker_pool.hpp"
 
 #include <chrono>
+#include <new>
 #include <sched.h>
 
 #include "rdsim/core/error.hpp"
@@ -16,6 +17,17 @@ WorkerPool::WorkerPool(int threads) {
 
 WorkerPool::~WorkerPool() {
   if (threads_.empty()) return;
+  if (!owner_.here()) {
+    // A fork: the threads are not in this process, so nothing is joined, and the copies of the
+    // mutex and condition variables, which still count the parent's waiting workers (glibc's
+    // pthread_cond_destroy would wait for them forever), are replaced by fresh ones before the
+    // members' destructors run (reusing their storage ends the copies' lifetime).
+    new std::vector<std::thread>(std::move(threads_));  // leaked on purpose: no thread to end
+    new (&mutex_) std::mutex();
+    new (&job_ready_) std::condition_variable();
+    new (&job_done_) std::condition_variable();
+    return;
+  }
   stop_.store(true);
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -26,7 +38,7 @@ WorkerPool::~WorkerPool() {
 }
 
 void WorkerPool::run_erased(void (*call)(void*, int), void* job) {
-  if (threads_.empty()) {
+  if (threads_.empty()) {  // the calling thread alone: works in a fork too
     call(job, 0);
     return;
   }
@@ -40,6 +52,7 @@ void WorkerPool::run_erased(void (*call)(void*, int), void* job) {
 }
 
 void WorkerPool::start_erased(void (*call)(void*, int), void* job) {
+  owner_.require("a vector env's worker pool");
   if (threads_.empty()) return;
   start_.call = call;
   start_.job = job;

@@ -142,3 +142,11 @@ def test_envs_still_work_after_bad_calls():
     assert obs.shape == disc.observation_space.shape
     vdisc.reset(seed=1)
     vdisc.step(np.array([0, 1, 2]))
+
+
+def test_make_takes_its_own_resolved_config():
+    # env.config (and a model's config["env"]) holds render_mode "none": make accepts it back.
+    config = {key: value for key, value in rdsim.make(J).config.items() if key != "name"}
+    again = rdsim.make(J, **config)
+    assert again.render_mode is None and again.config == rdsim.make(J).config
+    again.close()

@@ -1,6 +1,12 @@
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <catch2/catch.hpp>
+#include <memory>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -100,4 +106,40 @@ TEST_CASE("available_cores counts the cores this process may use", "[pool]") {
   const int n = rdsim::available_cores();
   CHECK(n >= 1);
   CHECK(n <= static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+}
+
+// fork() copies a pool but not its threads: in the forked process a job is one clear error (never a
+// wait for threads that are not there), and destroying the copy leaves the parent's threads alone.
+TEST_CASE("WorkerPool in a forked process: a job is an error at once, destroying it does not wait", "[pool][fork]") {
+  auto pool = std::make_unique<WorkerPool>(3);
+  pool->run([](int) {});
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    int code = 1;
+    try {
+      pool->run([](int) {});
+    } catch (const rdsim::Error& e) {
+      code = std::string(e.what()).find("a fork of it") != std::string::npos ? 0 : 2;
+    }
+    pool.reset();  // must return: no join of the parent's threads
+    _exit(code);
+  }
+  int status = 0;
+  pid_t done = 0;
+  for (int waited_ms = 0; waited_ms < 20'000 && (done = waitpid(child, &status, WNOHANG)) == 0; waited_ms += 10)
+    usleep(10'000);
+  if (done == 0) {
+    kill(child, SIGKILL);
+    waitpid(child, &status, 0);
+    FAIL("the forked process hung");
+  }
+  REQUIRE(done == child);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 0);
+  int calls = 0;
+  pool->run([&](int w) {
+    if (w == 0) ++calls;
+  });
+  CHECK(calls == 1);  // the parent's pool still works
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rdsim/core/env.hpp"
+#include "rdsim/core/process_owner.hpp"
 
 // A block of a VecEnv's envs stepped in a child process of their own: what lets pixel envs use
 // several cores. Mesa's software rasteriser (llvmpipe, behind OSMesa and EGL) draws the frames of
@@ -71,6 +72,7 @@ private:
   int socket_ = -1;           // the parent's end (the child's end in the child)
   pid_t pid_ = -1;
   bool busy_ = false;         // a command was started and not finished
+  ProcessOwner owner_;        // a fork of the parent neither commands nor stops the parent's child
   std::vector<float> scratch_;  // the child's: where its envs write an observation
 };
 

@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include "rdsim/core/process_owner.hpp"
+
 // A persistent pool of threads that run one job at a time, every worker its own share of it:
 // what steps VecEnv's envs on several cores. Threads are started once, with the pool, never per
 // job; worker w is always the same thread, so work given to worker w by a fixed rule (env i ->
@@ -61,6 +63,7 @@ private:
 
   std::vector<std::thread> threads_;
   std::vector<std::exception_ptr> errors_;  // one slot per worker
+  ProcessOwner owner_;  // a forked copy neither runs jobs nor joins the parent's threads
 
   // What the caller writes to start a job, on a cache line of its own that the workers poll; the
   // count the workers write when done on another, that the caller polls: one line crosses from
