@@ -5,7 +5,7 @@
 
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/envs/episode_state.hpp"
 
 namespace rdsim {
 namespace {
@@ -330,11 +330,7 @@ constexpr std::uint32_t kReachStateTag = 0x45524452;  // "RDRE"
 
 std::string ReachEnv::save_state() const {
   std::ostringstream out(std::ios::binary);
-  write_u32(out, kReachStateTag);
-  write_string(out, spec_.env_name);
-  write_string(out, rng_to_bytes(rng_));
-  write_u32(out, static_cast<std::uint32_t>(steps_));
-  write_u32(out, done_ ? 1 : 0);
+  write_episode_header(out, kReachStateTag, spec_.env_name, rng_, steps_, done_);
   write_u32(out, static_cast<std::uint32_t>(target_index_));
   write_f32(out, walk_offset_.x());  // m, the walking body's offset from its place (0 without one)
   write_f32(out, walk_offset_.y());
@@ -344,29 +340,23 @@ std::string ReachEnv::save_state() const {
 
 void ReachEnv::load_state(const std::string& bytes, const std::string& source) {
   std::istringstream in(bytes, std::ios::binary);
-  if (read_u32(in, source) != kReachStateTag) throw Error(source + ": env state is not a reaching env's");
-  const std::string name = read_string(in, source);
-  if (name != spec_.env_name)
-    throw Error(source + ": env state is of " + one_line(name, 40) + ", this env is " + spec_.env_name);
-  const Rng rng = rng_from_bytes(read_string(in, source), source);
-  const auto steps = static_cast<int>(read_u32(in, source));
-  const std::uint32_t done = read_u32(in, source);
+  const EpisodeCounters header =
+      read_episode_header(in, kReachStateTag, "a reaching env's", spec_.env_name, spec_.max_episode_steps, source);
   const auto target_index = static_cast<int>(read_u32(in, source));
   const float walk_x = read_f32(in, source);  // two statements: argument order is unspecified
   const float walk_y = read_f32(in, source);
   const Eigen::Vector2f walk_offset(walk_x, walk_y);
   const int choices = static_cast<int>(terms_.target_choices.size());
-  if (steps < 0 || steps > spec_.max_episode_steps || done > 1 ||
-      (choices > 0 ? target_index < 0 || target_index >= choices : target_index != -1))
+  if (choices > 0 ? target_index < 0 || target_index >= choices : target_index != -1)
     throw Error(source + ": env state of " + spec_.env_name + " is damaged (counters out of range)");
   const float walk_range = terms_.walking_body >= 0 ? terms_.walk_range : 0.0f;
   if (!walk_offset.allFinite() || walk_offset.cwiseAbs().maxCoeff() > walk_range)
     throw Error(source + ": env state of " + spec_.env_name + " is damaged (walking body offset out of range)");
   task_->load_state(in, source);
   if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
-  rng_ = rng;
-  steps_ = steps;
-  done_ = done != 0;
+  rng_ = header.rng;
+  steps_ = header.steps;
+  done_ = header.done;
   target_index_ = target_index;
   walk_offset_ = walk_offset;
   if (terms_.walking_body >= 0) place_walking_body();

@@ -6,9 +6,9 @@
 
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/core/rng_bytes.hpp"
-#include "rdsim/envs/manipulation/gripper_arm.hpp"
 #include "rdsim/envs/arm_options.hpp"
+#include "rdsim/envs/episode_state.hpp"
+#include "rdsim/envs/manipulation/gripper_arm.hpp"
 #include "rdsim/envs/reach_arm.hpp"
 
 namespace rdsim {
@@ -257,11 +257,7 @@ bool ManipulationEnv::render(Image& frame) {
 
 std::string ManipulationEnv::save_state() const {
   std::ostringstream out(std::ios::binary);
-  write_u32(out, kStateTag);
-  write_string(out, spec_.env_name);
-  write_string(out, rng_to_bytes(rng_));
-  write_u32(out, static_cast<std::uint32_t>(steps_));
-  write_u32(out, done_ ? 1 : 0);
+  write_episode_header(out, kStateTag, spec_.env_name, rng_, steps_, done_);
   for (const Eigen::Vector3f& g : goals_)
     for (int i = 0; i < 3; ++i) write_f32(out, g[i]);
   world_->save_state(out);
@@ -270,15 +266,8 @@ std::string ManipulationEnv::save_state() const {
 
 void ManipulationEnv::load_state(const std::string& bytes, const std::string& source) {
   std::istringstream in(bytes, std::ios::binary);
-  if (read_u32(in, source) != kStateTag) throw Error(source + ": env state is not a manipulation env's");
-  const std::string name = read_string(in, source);
-  if (name != spec_.env_name)
-    throw Error(source + ": env state is of " + one_line(name, 40) + ", this env is " + spec_.env_name);
-  const Rng rng = rng_from_bytes(read_string(in, source), source);
-  const auto steps = static_cast<int>(read_u32(in, source));
-  const std::uint32_t done = read_u32(in, source);
-  if (steps < 0 || steps > spec_.max_episode_steps || done > 1)
-    throw Error(source + ": env state of " + spec_.env_name + " is damaged (counters out of range)");
+  const EpisodeCounters header =
+      read_episode_header(in, kStateTag, "a manipulation env's", spec_.env_name, spec_.max_episode_steps, source);
   Placement placement;
   for (size_t p = 0; p < goals_.size(); ++p) {
     Eigen::Vector3f g;
@@ -288,9 +277,9 @@ void ManipulationEnv::load_state(const std::string& bytes, const std::string& so
   }
   world_->load_state(in, source);
   if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
-  rng_ = rng;
-  steps_ = steps;
-  done_ = done != 0;
+  rng_ = header.rng;
+  steps_ = header.steps;
+  done_ = header.done;
   goals_ = placement.goals;
   const int first_marker = first_cube_index + task_.cubes;
   for (size_t p = 0; p < goals_.size(); ++p)

@@ -1,5 +1,5 @@
 """Type stubs of rdsim._rdsim, the compiled half of the package (use rdsim.make / make_vec / load_model / train)."""
-from typing import Any, Optional, Union
+from typing import Any, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -10,8 +10,12 @@ source_dir: str
 class Error(Exception):
     """Bad input (an option, an action, a seed, a model file, a call after close()): the CLI's one-line message."""
 
-def registry() -> list[tuple[str, str, bool, str]]:
-    """(name, description, supports_pixels, default options as JSON text) of every registered env."""
+def registry() -> list[tuple[str, str, bool, bool, str]]:
+    """(name, description, supports_pixels, pixel_observations, default options as JSON text) of every
+    registered env."""
+
+def compute_reward(goal: dict, achieved_goal: np.ndarray, desired_goal: np.ndarray) -> np.ndarray:
+    """A goal env's rewards for goal pairs (a spec's "goal" dict), batched over the leading axes."""
 
 def env_seed(seed: int, index: int) -> int:
     """The seed of env `index`'s first episode in a vector env reset with `seed`."""
@@ -107,6 +111,7 @@ class _SimRobot:
     def position_targets(self) -> np.ndarray: ...
     def state(self) -> tuple[list[float], list[float], list[float]]: ...
     def set_state(self, state: tuple[Any, Any, Any]) -> None: ...
+    def set_link_friction(self, link: str, friction: float) -> None: ...
     def link_index(self, link: Union[str, int]) -> int: ...
     def link_pose(self, link: Union[str, int]) -> _Pose: ...
     def link_position(self, link: Union[str, int]) -> np.ndarray: ...
@@ -123,7 +128,9 @@ class _SimWorld:
     def add_robot(self, urdf: str, position: _Vector = (0.0, 0.0, 0.0), orientation: _Vector = (0.0, 0.0, 0.0, 1.0),
                   drive: str = "position_motor", position_gain: float = 1.0, velocity_gain: float = 1.0,
                   limit_constraints: bool = True, speed_limits: bool = True, link_damping: float = 0.0,
-                  inertia_from_shapes: bool = False, joint_damping: bool = False) -> _SimRobot: ...
+                  inertia_from_shapes: bool = False, joint_damping: bool = False,
+                  motor_joints: Sequence[str] = (), coupled_joints: Sequence[Sequence[str]] = ()) -> _SimRobot: ...
+    def set_friction(self, body: int, friction: float) -> None: ...
     def add_static_body(self, urdf: str, position: _Vector = (0.0, 0.0, 0.0),
                         orientation: _Vector = (0.0, 0.0, 0.0, 1.0)) -> int: ...
     def add_free_body(self, urdf: str, position: _Vector = (0.0, 0.0, 0.0),

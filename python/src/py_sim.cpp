@@ -60,6 +60,17 @@ JointDrive read_drive(const std::string& drive) {
   throw Error("rdsim.sim.World.add_robot: drive: expected \"position_motor\" or \"computed_torque\", got \"" + drive + "\"");
 }
 
+// The robot dof (movable joints in model order) of joint `name`; rdsim::Error naming `key` otherwise.
+int dof_named(const RobotModel& model, const std::string& name, const char* key) {
+  const int joint = model.joint_index(name);
+  if (joint < 0 || !model.joints[static_cast<size_t>(joint)].movable())
+    throw Error(std::string("rdsim.sim.World.add_robot: ") + key + ": \"" + name + "\" is not a movable joint of " +
+                model.source);
+  int dof = 0;
+  for (int j = 0; j < joint; ++j) dof += model.joints[static_cast<size_t>(j)].movable() ? 1 : 0;
+  return dof;
+}
+
 struct WorldData {
   std::unique_ptr<PhysicsWorld> world;
 };
@@ -196,6 +207,11 @@ public:
     return a;
   }
 
+  // The friction coefficient of link `link` (Robot::set_link_friction), by name.
+  void set_link_friction(const std::string& link, double friction) {
+    robot().set_link_friction(robot().model().require_link(link), static_cast<float>(friction));
+  }
+
 private:
   const KinematicChain& chain_to(int tip) {
     auto it = chains_.find(tip);
@@ -247,7 +263,9 @@ public:
 
   PyRobot add_robot(const std::string& urdf, const py::handle& position, const py::handle& orientation,
                     const std::string& drive, double kp, double kd, bool limit_constraints, bool speed_limits,
-                    double link_damping, bool inertia_from_shapes, bool joint_damping) {
+                    double link_damping, bool inertia_from_shapes, bool joint_damping,
+                    const std::vector<std::string>& motor_joints,
+                    const std::vector<std::vector<std::string>>& coupled_joints) {
     RobotOptions o;
     o.drive = read_drive(drive);
     if (!std::isfinite(kp) || !std::isfinite(kd) || kp < 0.0 || kd < 0.0)
@@ -263,7 +281,17 @@ public:
     o.joint_damping = joint_damping;
     const Eigen::Isometry3f pose = read_pose(position, orientation, "rdsim.sim.World.add_robot");
     const RobotModel model = load_urdf(urdf);
+    for (const std::string& name : motor_joints) o.motor_dofs.push_back(dof_named(model, name, "motor_joints"));
+    for (const std::vector<std::string>& pair : coupled_joints) {
+      if (pair.size() != 2) throw Error("rdsim.sim.World.add_robot: coupled_joints: expected pairs of joint names");
+      o.coupled_dofs.emplace_back(dof_named(model, pair[0], "coupled_joints"), dof_named(model, pair[1], "coupled_joints"));
+    }
     return PyRobot(data_, data_->world->add_robot(model, pose, o).body());
+  }
+
+  // A free body's friction coefficient (PhysicsWorld::set_free_body_friction).
+  void set_friction(int body, double friction) {
+    data_->world->set_free_body_friction(body, static_cast<float>(friction));
   }
 
   int add_static_body(const std::string& urdf, const py::handle& position, const py::handle& orientation) {
@@ -328,6 +356,8 @@ void bind_sim(py::module_& parent) {
       .def("state", &PyRobot::state)
       .def("set_state", &PyRobot::set_state, py::arg("state"))
       .def("position_targets", &PyRobot::position_targets)
+      .def("set_link_friction", &PyRobot::set_link_friction, py::arg("link"), py::arg("friction"),
+           "A link's friction coefficient (with friction anchors).")
       .def("link_index", &PyRobot::link_index, py::arg("link"))
       .def("link_pose", &PyRobot::link_pose, py::arg("link"))
       .def("link_position", &PyRobot::link_position, py::arg("link"))
@@ -347,7 +377,10 @@ void bind_sim(py::module_& parent) {
            py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0), py::arg("drive") = "position_motor",
            py::arg("position_gain") = 1.0, py::arg("velocity_gain") = 1.0, py::arg("limit_constraints") = true,
            py::arg("speed_limits") = true, py::arg("link_damping") = 0.0, py::arg("inertia_from_shapes") = false,
-           py::arg("joint_damping") = false)
+           py::arg("joint_damping") = false, py::arg("motor_joints") = std::vector<std::string>{},
+           py::arg("coupled_joints") = std::vector<std::vector<std::string>>{})
+      .def("set_friction", &PyWorld::set_friction, py::arg("body"), py::arg("friction"),
+           "A free body's friction coefficient (with friction anchors).")
       .def("add_static_body", &PyWorld::add_static_body, py::arg("urdf"),
            py::arg("position") = py::make_tuple(0.0, 0.0, 0.0), py::arg("orientation") = py::make_tuple(0.0, 0.0, 0.0, 1.0))
       .def("add_free_body", &PyWorld::add_free_body, py::arg("urdf"),

@@ -2,6 +2,7 @@
 // reward, the scripted expert's success on both arms (the JAKA with rdsim's gripper, pybullet_data's
 // Panda), a held cube that does not slip, exact save/load, and one clear error per bad option.
 // The env contract (spaces, determinism, truncation, stepping after the end) is test_env_contract's.
+//   ./build/test_envs "[.demo]"   also writes docs/manipulation_panda_<task>.png (the docs' pictures).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <map>
@@ -15,6 +16,7 @@
 #include "rdsim/envs/manipulation/manipulation_env.hpp"
 #include "rdsim/envs/manipulation/manipulation_expert.hpp"
 #include "rdsim/envs/registry.hpp"
+#include "rdsim/render/png.hpp"
 
 using namespace rdsim;
 
@@ -220,4 +222,19 @@ TEST_CASE("Manipulation options that cannot work are one clear error naming the 
   auto env = make_env(default_env_config("pick_and_place"));
   env->reset(1);
   CHECK_THROWS_WITH(env->step(Action::continuous(Eigen::VectorXf::Zero(3))), Catch::Contains("expected an action of 4 values"));
+}
+
+TEST_CASE("Manipulation: the docs' pictures of the Panda's tasks", "[.demo]") {
+  REQUIRE_FALSE(pybullet_data().empty());
+  for (const char* name : kTasks) {
+    EnvConfig c = panda_config(name);
+    c.render_mode = RenderMode::RgbArray;
+    c.render_width = 320;
+    c.render_height = 240;
+    auto env = make_env(c);
+    env->reset(3);
+    Image frame;
+    REQUIRE(env->render(frame));
+    write_png(repo_root() + "/docs/manipulation_panda_" + name + ".png", frame.width, frame.height, 3, frame.rgb.data());
+  }
 }

@@ -135,3 +135,28 @@ def test_recipe_speed_runs():
     from fidelity.recipe_speed import run
     rate, ik, physics = run(20, seed=0)
     assert rate > 0 and ik > 0 and physics > 0
+
+
+def test_grasp_and_lift_agrees_with_pybullet():
+    # The manipulation tasks' grasp on the same scene (tools/fidelity/grasp.py; docs/fidelity.md runs
+    # 50 seeds): both simulators lift the cube, and it ends within 1 cm in the two.
+    from fidelity import grasp
+
+    r = grasp.compare(range(10))
+    assert r["lifted"] == {"pybullet": 10, "rdsim": 10}
+    assert len(r["gaps"]) == 10 and max(r["gaps"]) < 0.01
+
+
+def test_sim_grasp_bindings_reject_bad_arguments():
+    from fidelity import grasp
+
+    world = rdsim.sim.World()
+    with pytest.raises(rdsim.Error, match='motor_joints: "no_finger" is not a movable joint'):
+        world.add_robot(str(grasp.ARM), motor_joints=["no_finger"])
+    with pytest.raises(rdsim.Error, match="coupled_joints: expected pairs"):
+        world.add_robot(str(grasp.ARM), coupled_joints=[["finger_left_joint"]])
+    robot = world.add_robot(str(grasp.ARM), motor_joints=grasp.FINGERS, coupled_joints=[grasp.FINGERS])
+    with pytest.raises(rdsim.Error, match="friction must be a finite number >= 0"):
+        robot.set_link_friction("finger_left", -1.0)
+    with pytest.raises(rdsim.Error, match="not a free body"):
+        world.set_friction(robot.body, 1.0)
