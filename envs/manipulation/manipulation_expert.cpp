@@ -16,8 +16,9 @@ constexpr float kHeld = kCube + 0.015f;
 constexpr float kStopped = 0.0005f;  // m of closing in the last step
 constexpr float kFine = 0.5f;                       // the largest action near a cube (2.5 cm at 5 cm per unit)
 constexpr float kCentred = 0.006f;                  // m in x and y: close enough above a cube to go down
+constexpr float kDownSlack = 0.009f;                // m in x and y: still close enough once down
 constexpr float kSqueeze = -1.0f;                   // opening: close with the fingers' whole effort
-constexpr float kAbove = 0.05f;                     // m above a cube's centre before going down to it
+constexpr float kAbove = 0.06f;                     // m above a cube's centre before going down to it
 constexpr float kCarryHeight = 0.08f;               // m: cubes travel at least this high
 constexpr float kOnLine = 0.012f;                   // m: close enough to a waypoint in x and y
 // m from a pushed cube's centre to the effector behind it: half the cube, half the closed pads' width
@@ -96,7 +97,10 @@ Action ManipulationExpert::carry(int k, const Eigen::Vector3f& goal) {
   }
   const float grasp_z = std::max(cube.z(), low);
   const Eigen::Vector3f at_cube(cube.x(), cube.y(), grasp_z);
-  if (xy_distance(cube, ee) > kCentred) {
+  // Once down beside the cube, a few millimetres off (an arm that drifts as it descends) are
+  // corrected on the way down instead of by going back up.
+  const bool down = ee.z() < cube.z() + kCube && xy_distance(cube, ee) < kDownSlack;
+  if (xy_distance(cube, ee) > kCentred && !down) {
     // Above the cube first: up and over when low beside it, so the fingers never land on it.
     const Eigen::Vector3f above(cube.x(), cube.y(), cube.z() + kAbove);
     if (ee.z() < cube.z() + kCube) return action(Eigen::Vector3f(ee.x(), ee.y(), above.z()), kApproachOpening, kFine);

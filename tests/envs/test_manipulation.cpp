@@ -119,6 +119,8 @@ TEST_CASE("Goal rewards: sparse needs every point within the threshold, dense is
   CHECK(g.reward_of(half, desired) == Approx(-std::sqrt(0.03f * 0.03f + 0.06f * 0.06f)));
 }
 
+// Measured on seeds 1000-1199 (Intel Xeon, 2026-11-28): reach_goal 200, push 196, pick_and_place 200,
+// stack 196 of 200.
 TEST_CASE("The scripted expert solves every manipulation task with the JAKA and its gripper", "[envs][manipulation][expert]") {
   for (const char* name : kTasks) {
     const ExpertRun run = run_expert(default_env_config(name), 200);
@@ -132,10 +134,11 @@ TEST_CASE("The scripted expert solves every manipulation task with pybullet_data
     WARN("skipped: pybullet_data not found");
     return;
   }
-  // The acceptance goal is 95 % here too; measured (seeds 1000-1199): reach_goal and push meet it,
-  // pick_and_place and stack do not yet (the Panda overshoots its moves under rdsim's drive, and the
-  // expert's timing is tuned on the JAKA). These floors catch regressions until they do.
-  const std::map<std::string, int> floor = {{"reach_goal", 190}, {"push", 190}, {"pick_and_place", 155}, {"stack", 20}};
+  // Measured on seeds 1000-1199 (Intel Xeon, 2026-11-28): reach_goal 200, push 194, pick_and_place
+  // 198, stack 72 of 200. The floors leave a few episodes of margin (another CPU rounds differently
+  // and a grasp is chaotic); stack is far from the 95 % goal: the Panda overshoots its moves under
+  // rdsim's drive (a centimetre down on a descent) and the expert's timing is tuned on the JAKA.
+  const std::map<std::string, int> floor = {{"reach_goal", 190}, {"push", 185}, {"pick_and_place", 185}, {"stack", 55}};
   for (const char* name : kTasks) {
     const ExpertRun run = run_expert(panda_config(name), 200);
     INFO(name << ": " << run.successes << " of " << run.episodes);
