@@ -81,27 +81,6 @@ void check_static_index(const ReachTaskSpec& s, int index, const char* what) {
                 std::to_string(s.statics.size()) + " static bodies");
 }
 
-RobotInfo robot_info_of(const ReachTask& task) {
-  RobotInfo info;
-  const Robot& robot = task.robot();
-  info.robot = robot.model().name;
-  info.effector_link = task.spec().ee_link;
-  info.workspace = task.spec().workspace;
-  for (int dof = 0; dof < robot.dof(); ++dof) {
-    const Joint& j = robot.model().joints[static_cast<size_t>(robot.dof_joint(dof))];
-    JointInfo ji;
-    ji.name = j.name;
-    ji.kind = j.type == JointType::Prismatic ? JointKind::Prismatic
-              : j.type == JointType::Continuous ? JointKind::Continuous
-                                                : JointKind::Revolute;
-    ji.lower = static_cast<float>(j.lower);
-    ji.upper = static_cast<float>(j.upper);
-    ji.max_velocity = static_cast<float>(j.velocity);
-    info.joints.push_back(ji);
-  }
-  return info;
-}
-
 }  // namespace
 
 ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config) : terms_(std::move(terms)) {
@@ -142,7 +121,7 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
     viewer_ = std::make_unique<PixelView>(*task_, view, terms_.main_view, terms_.second_view);
   }
   renderer_backend_ = config.renderer;
-  robot_info_ = robot_info_of(*task_);
+  robot_info_ = task_->robot_info();
   // The task's first-person cameras, and the main view fixed in the world to watch the whole task.
   terms_.cameras.push_back(world_camera("scene", terms_.main_view));
   for (const CameraMount& m : terms_.cameras) {
@@ -280,15 +259,7 @@ StepResult ReachEnv::set_joint_targets(const Eigen::VectorXf& targets) {
 }
 
 RobotSnapshot ReachEnv::robot_state() {
-  const Robot& robot = task_->robot();
-  RobotSnapshot s;
-  s.joint_positions = robot.joint_positions();
-  s.joint_velocities = robot.joint_velocities();
-  s.joint_targets = robot.position_targets();
-  const Eigen::Isometry3f ee = robot.link_pose(task_->ee_link());
-  s.effector_position = ee.translation();
-  s.effector_orientation = Eigen::Quaternionf(ee.linear());
-  s.target = task_->target();
+  RobotSnapshot s = task_->robot_snapshot();
   s.steps = steps_;
   return s;
 }

@@ -266,6 +266,40 @@ Eigen::Matrix3d ReachTask::root_orientation() const {
   return (base_inverse_.linear() * spec_.effector_orientation->toRotationMatrix()).cast<double>();
 }
 
+RobotInfo ReachTask::robot_info() const {
+  RobotInfo info;
+  const Robot& robot = *robot_;
+  info.robot = robot.model().name;
+  info.effector_link = spec_.ee_link;
+  info.workspace = spec_.workspace;
+  for (int dof = 0; dof < robot.dof(); ++dof) {
+    const Joint& j = robot.model().joints[static_cast<size_t>(robot.dof_joint(dof))];
+    JointInfo ji;
+    ji.name = j.name;
+    ji.kind = j.type == JointType::Prismatic ? JointKind::Prismatic
+              : j.type == JointType::Continuous ? JointKind::Continuous
+                                                : JointKind::Revolute;
+    ji.lower = static_cast<float>(j.lower);
+    ji.upper = static_cast<float>(j.upper);
+    ji.max_velocity = static_cast<float>(j.velocity);
+    info.joints.push_back(ji);
+  }
+  return info;
+}
+
+RobotSnapshot ReachTask::robot_snapshot() const {
+  const Robot& robot = *robot_;
+  RobotSnapshot s;
+  s.joint_positions = robot.joint_positions();
+  s.joint_velocities = robot.joint_velocities();
+  s.joint_targets = robot.position_targets();
+  const Eigen::Isometry3f ee = robot.link_pose(ee_link_);
+  s.effector_position = ee.translation();
+  s.effector_orientation = Eigen::Quaternionf(ee.linear());
+  s.target = target_;
+  return s;
+}
+
 Eigen::Vector3f ReachTask::ee_velocity() const {
   JointVector q(chain_->dof()), qdot(chain_->dof());
   for (int i = 0; i < chain_->dof(); ++i) {

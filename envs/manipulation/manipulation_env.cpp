@@ -114,14 +114,18 @@ ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& 
   spec_.goal.reward = o.reward_type;
   scratch_.resize(static_cast<size_t>(spec_.observation.size()));
   goals_.assign(static_cast<size_t>(points), Eigen::Vector3f::Zero());
+  const Eigen::AlignedBox3f& w = world_->spec().workspace;
   if (config.render_mode == RenderMode::RgbArray) {
     EnvConfig view = config;
     view.image_width = config.render_width;
     view.image_height = config.render_height;
     view.multi_view = false;
-    const Eigen::AlignedBox3f& w = world_->spec().workspace;
     viewer_ = std::make_unique<PixelView>(*world_, view, arm_main_view(w), arm_second_view(w));
   }
+  renderer_backend_ = config.renderer;
+  camera_mounts_ = {world_camera("scene", arm_main_view(w))};
+  robot_info_ = world_->robot_info();
+  for (const CameraMount& m : camera_mounts_) robot_info_.cameras.push_back({m.name, m.link, m.fov_deg});
 }
 
 ManipulationEnv::~ManipulationEnv() = default;
@@ -222,24 +226,69 @@ void ManipulationEnv::reset_into(ObservationOut out, std::optional<std::uint64_t
 
 StepOutcome ManipulationEnv::step_into(const Action& action, ObservationOut out) {
   const int n = spec_.action.dim();
-  if (action.values.size() != n)
+  if (action.values.size() != n)  // an error even after the episode's end
     throw Error(spec_.env_name + ": expected an action of " + std::to_string(n) + " values (dx, dy, dz" +
                 (blocked_ ? "" : ", fingers") + "), got " + std::to_string(action.values.size()));
+  return control_step(out, [&] {
+    const Eigen::Vector3f move(clipped(action.values[0]), clipped(action.values[1]), clipped(action.values[2]));
+    world_->apply_move(move * effector_step_, rng_);
+    if (!blocked_) set_opening((clipped(action.values[3]) + 1.0f) / 2.0f * stroke_);
+  });
+}
+
+template <class SetTargets>
+StepOutcome ManipulationEnv::control_step(ObservationOut out, SetTargets&& set_targets) {
   StepOutcome r;
   if (done_) {
     observe(out);
     r.terminated = true;
     return r;
   }
-  const Eigen::Vector3f move(clipped(action.values[0]), clipped(action.values[1]), clipped(action.values[2]));
-  world_->apply_move(move * effector_step_, rng_);
-  if (!blocked_) set_opening((clipped(action.values[3]) + 1.0f) / 2.0f * stroke_);
+  set_targets();
   world_->step_physics();
   ++steps_;
   observe(out);
   judge(out.values, r);
   done_ = r.terminated || r.truncated;
   return r;
+}
+
+template <class SetTargets>
+StepResult ManipulationEnv::control_step_result(SetTargets&& set_targets) {
+  StepResult r;
+  r.observation = make_observation(spec_.observation);
+  const StepOutcome o = control_step(observation_out(r.observation), std::forward<SetTargets>(set_targets));
+  r.reward = o.reward;
+  r.terminated = o.terminated;
+  r.truncated = o.truncated;
+  r.info = o.info;
+  return r;
+}
+
+RobotSnapshot ManipulationEnv::robot_state() {
+  RobotSnapshot s = world_->robot_snapshot();
+  s.target = goals_.front();
+  s.steps = steps_;
+  return s;
+}
+
+StepResult ManipulationEnv::move_effector(const Eigen::Vector3f& position) {
+  if (!position.allFinite()) throw Error(spec_.env_name + ": effector position must be finite numbers (m)");
+  return control_step_result([&] { world_->apply_effector_target(position); });
+}
+
+StepResult ManipulationEnv::set_joint_targets(const Eigen::VectorXf& targets) {
+  Robot& robot = world_->robot();
+  if (targets.size() != robot.dof())
+    throw Error(spec_.env_name + ": expected " + std::to_string(robot.dof()) + " joint targets (one per joint, the "
+                "fingers too), got " + std::to_string(targets.size()));
+  if (!targets.allFinite()) throw Error(spec_.env_name + ": joint targets must be finite numbers");
+  return control_step_result([&] { robot.set_position_targets(targets); });
+}
+
+void ManipulationEnv::camera_image(int camera, int width, int height, Image& out) {
+  if (!cameras_) cameras_ = std::make_unique<RobotCameras>(*world_, camera_mounts_, renderer_backend_);
+  cameras_->render(*world_, camera, width, height, out);
 }
 
 bool ManipulationEnv::step_physics_only() {

@@ -31,8 +31,10 @@ int teleop_command(const TeleopOptions& o) {
     remote = train.remote;
   } else {
     config = default_env_config(o.env);
-    if (auto* reach = config.find<ReachOptions>()) reach->random_target = !o.fixed_target;
-    config.is_discrete = !o.continuous;
+    if (auto* reach = config.find<ReachOptions>()) {
+      reach->random_target = !o.fixed_target;
+      config.is_discrete = !o.continuous;  // the manipulation tasks' actions are Box only
+    }
   }
   if (!o.connect.empty()) {
     remote.remote = o.connect;

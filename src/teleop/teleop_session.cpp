@@ -24,15 +24,30 @@ std::string describe_end(const DemoEpisode& e) {
 
 }  // namespace
 
-Action move_action(Move move, const ActionSpace& space) {
+Action move_action(Move move, const ActionSpace& space, float gripper) {
   const int index = static_cast<int>(move);
   if (space.discrete && space.n == 6) return Action::discrete(index);
-  if (!space.discrete && space.dim() == 3) {
-    Eigen::VectorXf v = Eigen::VectorXf::Zero(3);
+  if (!space.discrete && (space.dim() == 3 || space.dim() == 4)) {
+    Eigen::VectorXf v = Eigen::VectorXf::Zero(space.dim());
     v[index / 2] = index % 2 ? 1.0f : -1.0f;
+    if (space.dim() == 4) v[3] = gripper;
     return Action::continuous(std::move(v));
   }
-  throw Error("the keyboard moves need Discrete(6) or Box(3) actions (the reaching envs')");
+  throw Error("the keyboard moves need Discrete(6), Box(3) or Box(4) actions (the reaching and manipulation envs')");
+}
+
+bool TeleopSession::act(Move move) {
+  return act(move_action(move, env_.spec().action, status_.gripper_open ? 1.0f : -1.0f));
+}
+
+bool TeleopSession::toggle_gripper() {
+  if (!status_.has_gripper)
+    throw Error("env " + env_.spec().env_name + " has no gripper in its actions (the manipulation tasks with Box(4) do)");
+  if (status_.ended) return false;
+  status_.gripper_open = !status_.gripper_open;
+  Eigen::VectorXf v = Eigen::VectorXf::Zero(4);
+  v[3] = status_.gripper_open ? 1.0f : -1.0f;
+  return act(Action::continuous(std::move(v)));
 }
 
 TeleopSession::TeleopSession(Env& env, std::uint64_t seed, DemoWriter* writer, nlohmann::json env_config)
@@ -53,6 +68,8 @@ void TeleopSession::reset() {
   const long long saved = status_.saved_episodes;
   status_ = TeleopStatus{};
   status_.saved_episodes = saved;
+  const ActionSpace& space = env_.spec().action;
+  status_.has_gripper = !space.discrete && space.dim() == 4;
   // The distance to the target from the start, before any step (the task's distance: effector to target).
   const RobotSnapshot start = control_.robot_state();
   status_.info.distance = (start.effector_position - start.target).norm();

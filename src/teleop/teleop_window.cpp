@@ -224,7 +224,14 @@ void TeleopUi::handle_keys() {
       mode_ = Mode::Keys;
       drive_steps_left_ = 0;
       bool stepped = false;
-      guarded([&] { stepped = session_.act(move_action(move, session_.env().spec().action)); });
+      guarded([&] { stepped = session_.act(move); });
+      if (stepped) refresh_state();
+    } else if (key == GLFW_KEY_G || key == GLFW_KEY_SPACE) {
+      if (!session_.status().has_gripper) continue;
+      mode_ = Mode::Keys;
+      drive_steps_left_ = 0;
+      bool stepped = false;
+      guarded([&] { stepped = session_.toggle_gripper(); });
       if (stepped) refresh_state();
     } else if (key == GLFW_KEY_R) {
       if (session_.can_record()) toggle_record();
@@ -328,6 +335,7 @@ void TeleopUi::draw_status() {
   ImGui::Text("env %s   actions %s", spec.env_name.c_str(), describe_action_space(spec.action).c_str());
   ImGui::Text("step %d / %d   reward %.3f   return %.2f", s.steps, spec.max_episode_steps, s.last_reward, s.episode_return);
   ImGui::Text("distance to target %.3f m", s.info.distance);
+  if (s.has_gripper) ImGui::Text("gripper %s (G or space)", s.gripper_open ? "open" : "closed");
   if (mirror_.target_item() >= 0) {  // a target among several alike (inmoov_tomato): say which the mark is
     const Eigen::Vector4f c = SceneMirror::target_colour();
     ImGui::SameLine();
@@ -377,7 +385,8 @@ void TeleopUi::draw_sliders() {
     effector_target_ = state_.effector_position;
     joint_targets_ = state_.joint_positions;
   }
-  ImGui::TextDisabled("W/S x  A/D y  Q/E z  (arrows, PageUp/Down)");
+  ImGui::TextDisabled(session_.status().has_gripper ? "W/S x  A/D y  Q/E z  (arrows, PageUp/Down)  G gripper"
+                                                    : "W/S x  A/D y  Q/E z  (arrows, PageUp/Down)");
   ImGui::Separator();
   ImGui::TextUnformatted("Effector target (m, world frame)");
   const char* axes[] = {"x", "y", "z"};

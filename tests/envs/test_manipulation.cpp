@@ -12,6 +12,7 @@
 #include "env_test_util.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/arm_options.hpp"
 #include "rdsim/envs/manipulation/manipulation_env.hpp"
 #include "rdsim/envs/manipulation/manipulation_expert.hpp"
@@ -240,4 +241,37 @@ TEST_CASE("Manipulation: the docs' pictures of the Panda's tasks", "[.demo]") {
     REQUIRE(env->render(frame));
     write_png(repo_root() + "/docs/manipulation_panda_" + name + ".png", frame.width, frame.height, 3, frame.rgb.data());
   }
+}
+
+TEST_CASE("Manipulation envs are driven by hand through RobotControl, the gripper by its joints", "[envs][manipulation][robot_control]") {
+  auto env = make_env(default_env_config("pick_and_place"));
+  auto& control = dynamic_cast<RobotControl&>(*env);
+  auto& m = dynamic_cast<ManipulationEnv&>(*env);
+  const RobotInfo& info = control.robot_info();
+  CHECK(info.robot == "jaka_zu7_gripper");
+  CHECK(info.effector_link == "gripper_tcp");
+  REQUIRE(info.joints.size() == 8);  // six arm joints and the two fingers
+  CHECK(info.joints[6].kind == JointKind::Prismatic);
+  REQUIRE(info.cameras.size() == 1);
+  CHECK(info.cameras[0].name == "scene");
+  env->reset(4);
+  const Eigen::Quaternionf down = control.robot_state().effector_orientation;
+  CHECK(control.robot_state().target == m.goals().front());
+  // The effector to a point over the cube by IK, the gripper's orientation held, one env step a call.
+  const Eigen::Vector3f over = m.cube_position(0) + Eigen::Vector3f(0.0f, 0.0f, 0.06f);
+  for (int t = 0; t < 15; ++t) control.move_effector(over);
+  const RobotSnapshot s = control.robot_state();
+  CHECK((s.effector_position - over).norm() < 0.005f);
+  CHECK(s.effector_orientation.angularDistance(down) < 0.02f);
+  CHECK(s.steps == 15);
+  // The fingers by their joint targets: closed.
+  Eigen::VectorXf q = s.joint_targets;
+  q[6] = q[7] = 0.0f;
+  for (int t = 0; t < 10; ++t) control.set_joint_targets(q);
+  CHECK(m.finger_opening() < 0.002f);
+  CHECK_THROWS_WITH(control.set_joint_targets(Eigen::VectorXf::Zero(6)), Catch::Contains("expected 8 joint targets"));
+  Image image;
+  control.camera_image(0, 32, 24, image);
+  CHECK(image.width == 32);
+  CHECK(image.rgb.size() == 32u * 24u * 3u);
 }

@@ -170,3 +170,33 @@ TEST_CASE("session: position, joints, state and cameras drive the robot", "[remo
   m = s.handle(request(R"({"id": 6, "request": "joints", "joints": [0, 1.44, -1.85, 1.98, 1.5708, 0]})"));
   CHECK(m.header["reply"] == "joints");
 }
+
+TEST_CASE("session: a goal env's layout and reward cross the link, its steps bit for bit", "[remote][session]") {
+  Session s(hello(R"({"name": "pick_and_place"})"));
+  const Message m = s.hello_reply(1);
+  const auto local = make_env(s.config());
+  const Spec spec = get_spec(m);
+  const GoalLayout& want = local->spec().goal;
+  CHECK(spec.goal.observation == want.observation);
+  CHECK(spec.goal.points == want.points);
+  CHECK(spec.goal.distance_threshold == want.distance_threshold);
+  CHECK(spec.goal.reward == want.reward);
+  const auto robot = get_robot_info(m);  // driven by hand too: the fingers are joints
+  REQUIRE(robot);
+  CHECK(robot->joints.size() == 8);
+  CHECK(local->reset(9).values ==
+        get_observation(s.handle(request(R"({"id": 2, "request": "reset", "seed": 9})")), spec).values);
+  for (int t = 0; t < 30; ++t) {
+    const std::vector<float> a{0.4f, -0.2f, -1.0f + 0.05f * static_cast<float>(t), t < 15 ? 1.0f : -1.0f};
+    const StepResult mine = local->step(Action::continuous(Eigen::Map<const Eigen::VectorXf>(a.data(), 4)));
+    const StepResult theirs = get_step_result(
+        s.handle(request(R"({"id": 3, "request": "step", "action": )" + nlohmann::json(a).dump() + "}")), spec);
+    REQUIRE(theirs.observation.values == mine.observation.values);
+    REQUIRE(theirs.reward == mine.reward);
+    if (mine.terminated || mine.truncated) break;
+  }
+  // A malformed goal layout in a reply is one clear error.
+  Message bad = m;
+  bad.header["spec"]["goal"]["points"] = 5;
+  CHECK_THROWS_WITH(get_spec(bad), Contains("spec.goal"));
+}

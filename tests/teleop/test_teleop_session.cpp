@@ -39,7 +39,42 @@ TEST_CASE("keyboard moves are the env's own actions", "[teleop]") {
   CHECK(move_action(Move::PlusX, box).values == Eigen::Vector3f(1.0f, 0.0f, 0.0f));
   ActionSpace two;
   two.n = 2;
-  CHECK_THROWS_WITH(move_action(Move::PlusX, two), Contains("Discrete(6) or Box(3)"));
+  CHECK_THROWS_WITH(move_action(Move::PlusX, two), Contains("Discrete(6), Box(3) or Box(4)"));
+  ActionSpace fingers = box;  // the manipulation tasks: moves and the fingers' opening
+  fingers.low = Eigen::VectorXf::Constant(4, -1.0f);
+  fingers.high = Eigen::VectorXf::Constant(4, 1.0f);
+  CHECK(move_action(Move::PlusZ, fingers, -1.0f).values == Eigen::Vector4f(0.0f, 0.0f, 1.0f, -1.0f));
+}
+
+TEST_CASE("the gripper key closes and opens the fingers, recorded as the env's own actions", "[teleop][demos]") {
+  test::ScratchDir dir("teleop_gripper");
+  const EnvConfig config = default_env_config("pick_and_place");
+  auto env = make_env(config);
+  const nlohmann::json env_json = to_json(config);
+  DemoWriter writer(dir / "g.demo", env_json, env->spec(), true);
+  TeleopSession session(*env, 7, &writer, env_json);
+  REQUIRE(session.status().has_gripper);
+  CHECK(session.status().gripper_open);
+  session.start_recording();
+  CHECK(session.act(Move::MinusZ));
+  CHECK(session.toggle_gripper());
+  CHECK_FALSE(session.status().gripper_open);
+  for (int k = 0; k < 8; ++k) session.act(Move::PlusX);  // moves keep the fingers closing
+  const RobotSnapshot s = session.control().robot_state();
+  CHECK(s.joint_positions[6] + s.joint_positions[7] < 0.005f);  // the fingers' opening, m
+  session.stop_recording();
+  const DemoFile file = read_demo_file(dir / "g.demo");
+  REQUIRE(file.episodes.size() == 1u);
+  const DemoEpisode& e = file.episodes[0];
+  REQUIRE(e.steps() == 10);
+  CHECK(e.actions[0].values[3] == 1.0f);   // open
+  CHECK(e.actions[1].values == Eigen::Vector4f(0.0f, 0.0f, 0.0f, -1.0f));  // the gripper key
+  CHECK(e.actions[9].values[3] == -1.0f);  // still closed
+  // An env without fingers in its actions: no gripper key.
+  auto button = make_env(button_config());
+  TeleopSession plain(*button, 1, nullptr, to_json(button_config()));
+  CHECK_FALSE(plain.status().has_gripper);
+  CHECK_THROWS_WITH(plain.toggle_gripper(), Contains("has no gripper"));
 }
 
 TEST_CASE("a teleop session records what the person did as a demonstration of the env's actions", "[teleop][demos]") {

@@ -10,6 +10,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/sim/kinematics.hpp"
 #include "rdsim/sim/physics_world.hpp"
@@ -143,6 +144,11 @@ public:
   // on a free target body).
   void step_physics();
 
+  // The robot as RobotControl describes it (core/robot_control.hpp): name, effector link, every
+  // movable joint with its limits, the workspace box; cameras are the env's to add.
+  RobotInfo robot_info() const;
+  // Its joints, targets and effector pose now, the target point (steps: the env's to fill in).
+  RobotSnapshot robot_snapshot() const;
   const Eigen::Vector3f& ee_position() const { return ee_; }  // world frame, as of the last step/reset
   // The end effector's linear velocity (m/s, world frame) now: the chain's Jacobian times its joint
   // speeds.

@@ -19,9 +19,10 @@ namespace rdsim {
 // The six moves of the reaching envs' Discrete(6) space, in its order: -x, +x, -y, +y, -z, +z.
 enum class Move { MinusX, PlusX, MinusY, PlusY, MinusZ, PlusZ };
 
-// The env action for a move: Discrete(6): its index; Box(3): a full step (1) along its axis.
-// rdsim::Error for other action spaces.
-Action move_action(Move move, const ActionSpace& space);
+// The env action for a move: Discrete(6): its index; Box(3): a full step (1) along its axis; Box(4)
+// (the manipulation tasks: moves and the fingers): that, with `gripper` as the fingers' value (-1
+// closed, 1 open). rdsim::Error for other action spaces.
+Action move_action(Move move, const ActionSpace& space, float gripper = 1.0f);
 
 struct TeleopStatus {
   int steps = 0;                 // env steps in this episode
@@ -35,6 +36,8 @@ struct TeleopStatus {
   int recorded_steps = 0;        // of the demonstration being recorded
   long long saved_episodes = 0;  // in the demonstration file (all of it, when appending)
   std::string message;           // what the last button did ("saved episode 3: 42 steps, success")
+  bool has_gripper = false;      // the actions hold the fingers' opening (Box(4))
+  bool gripper_open = true;      // what the keys ask of the fingers (each episode starts open)
 };
 
 class TeleopSession {
@@ -54,6 +57,11 @@ public:
   // One env step with an action of the env's own space: recorded while recording. Nothing
   // happens once the episode has ended (returns false).
   bool act(const Action& action);
+  // The key moves and the gripper key as env actions (the gripper as status().gripper_open says).
+  bool act(Move move);
+  // Opens a closed gripper or closes an open one: one env step without a move. False when the
+  // episode is over; rdsim::Error for an env whose actions have no fingers.
+  bool toggle_gripper();
   // One env step by RobotControl (the original's sliders). Not while recording: demonstrations
   // hold the env's own actions (rdsim::Error). Nothing happens once the episode has ended.
   bool move_effector(const Eigen::Vector3f& position);

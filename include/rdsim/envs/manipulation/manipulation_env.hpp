@@ -7,10 +7,12 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/env_state.hpp"
+#include "rdsim/core/robot_control.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/manipulation/manipulation_options.hpp"
 #include "rdsim/envs/manipulation/manipulation_task.hpp"
 #include "rdsim/envs/pixel_view.hpp"
+#include "rdsim/envs/robot_cameras.hpp"
 #include "rdsim/envs/reach_task.hpp"
 
 // A goal-conditioned manipulation env (Gymnasium-Robotics' GoalEnv, panda-gym's conventions): an
@@ -39,9 +41,12 @@
 // Reward and success: Spec::goal (core/goal_layout.hpp) with reward_type and distance_threshold;
 // info.success = every goal point within distance_threshold; info.distance = |achieved - desired|.
 // Episodes: max_steps (50) steps; success ends one (terminated, panda-gym's rule).
+// RobotControl (core/robot_control.hpp), as the reaching envs: move_effector (IK holding the gripper's
+// orientation; the fingers keep their targets), set_joint_targets (every joint, the fingers too: the
+// gripper by hand), the "scene" camera; robot_state's target is the first goal.
 namespace rdsim {
 
-class ManipulationEnv : public Env, public EnvState {
+class ManipulationEnv : public Env, public EnvState, public RobotControl {
 public:
   // rdsim::Error naming the URDF file and key for a robot that does not fit (see gripper_arm.hpp).
   ManipulationEnv(const ManipulationTask& task, const EnvConfig& config);
@@ -54,7 +59,13 @@ public:
   StepOutcome step_into(const Action& action, ObservationOut out) override;
   bool step_physics_only() override;
   bool render(Image& frame) override;
-  bool steps_on_any_thread() const override { return !viewer_; }
+  bool steps_on_any_thread() const override { return !viewer_ && !cameras_; }
+
+  const RobotInfo& robot_info() const override { return robot_info_; }
+  RobotSnapshot robot_state() override;
+  StepResult move_effector(const Eigen::Vector3f& position) override;
+  StepResult set_joint_targets(const Eigen::VectorXf& targets) override;
+  void camera_image(int camera, int width, int height, Image& out) override;
 
   std::string save_state() const override;
   void load_state(const std::string& bytes, const std::string& source) override;
@@ -77,6 +88,12 @@ public:
   static constexpr int table_index = 0, floor_index = 1, first_cube_index = 2;
 
 private:
+  // One env step: `set_targets` sets the joint targets, then physics, observation (into `out`) and
+  // judge(); after the episode's end nothing moves (core/env.hpp).
+  template <class SetTargets>
+  StepOutcome control_step(ObservationOut out, SetTargets&& set_targets);
+  template <class SetTargets>
+  StepResult control_step_result(SetTargets&& set_targets);
   void observe(ObservationOut out) const;
   void achieved_goal(float* out) const;
   void judge(const float* observation, StepOutcome& r) const;
@@ -87,6 +104,10 @@ private:
   Spec spec_;
   std::unique_ptr<ReachTask> world_;
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
+  std::vector<CameraMount> camera_mounts_;  // RobotControl's cameras: the scene camera
+  std::unique_ptr<RobotCameras> cameras_;   // made on the first camera_image
+  std::string renderer_backend_;
+  RobotInfo robot_info_;
   TaskArea area_;
   std::vector<int> finger_dofs_;
   std::vector<float> finger_lower_, finger_share_;  // per finger: lower limit, share of the stroke
