@@ -297,6 +297,10 @@ RobotSnapshot ReachTask::robot_snapshot() const {
   s.effector_position = ee.translation();
   s.effector_orientation = Eigen::Quaternionf(ee.linear());
   s.target = target_;
+  for (int body : static_ids_) {
+    const Eigen::Isometry3f pose = world_->static_pose(body);
+    s.bodies.push_back({pose.translation(), Eigen::Quaternionf(pose.linear())});
+  }
   return s;
 }
 

@@ -246,6 +246,13 @@ void put_robot_state(Message& m, const RobotSnapshot& s) {
   put_floats(m, "effector_position", s.effector_position);
   put_floats(m, "effector_orientation", s.effector_orientation.coeffs());  // x, y, z, w
   put_floats(m, "target", s.target);
+  m.header["bodies"] = s.bodies.size();
+  Eigen::VectorXf poses(7 * static_cast<Eigen::Index>(s.bodies.size()));  // x, y, z, qx, qy, qz, qw each
+  for (size_t b = 0; b < s.bodies.size(); ++b) {
+    poses.segment<3>(7 * static_cast<Eigen::Index>(b)) = s.bodies[b].position;
+    poses.segment<4>(7 * static_cast<Eigen::Index>(b) + 3) = s.bodies[b].orientation.coeffs();
+  }
+  put_floats(m, "body_poses", poses);
 }
 
 RobotSnapshot get_robot_state(const Message& m, int joints) {
@@ -258,6 +265,16 @@ RobotSnapshot get_robot_state(const Message& m, int joints) {
   s.effector_position = floats(m, "effector_position", 3);
   s.effector_orientation.coeffs() = floats(m, "effector_orientation", 4);
   s.target = floats(m, "target", 3);
+  if (m.header.contains("bodies")) {  // servers before body poses sent none
+    const auto bodies = static_cast<std::size_t>(get_integer(m.header, "bodies", 0, 1024));
+    const Eigen::VectorXf poses = floats(m, "body_poses", 7 * bodies);
+    for (std::size_t b = 0; b < bodies; ++b) {
+      const auto at = static_cast<Eigen::Index>(7 * b);
+      BodyPose pose{poses.segment<3>(at), Eigen::Quaternionf(poses[at + 6], poses[at + 3], poses[at + 4], poses[at + 5])};
+      if (!pose.position.allFinite() || !(std::abs(pose.orientation.norm() - 1.0f) < 1e-3f)) bad("body_poses: expected finite points and unit quaternions");
+      s.bodies.push_back(pose);
+    }
+  }
   return s;
 }
 

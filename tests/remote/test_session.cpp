@@ -195,6 +195,11 @@ TEST_CASE("session: a goal env's layout and reward cross the link, its steps bit
     REQUIRE(theirs.reward == mine.reward);
     if (mine.terminated || mine.truncated) break;
   }
+  // The robot state carries the other bodies (table, floor, cube, goal marker) as the env has them.
+  const RobotSnapshot state = get_robot_state(s.handle(request(R"({"id": 5, "request": "state"})")), 8);
+  const RobotSnapshot own = dynamic_cast<RobotControl&>(*local).robot_state();
+  REQUIRE(state.bodies.size() == 4u);
+  for (size_t b = 0; b < own.bodies.size(); ++b) CHECK(state.bodies[b].position == own.bodies[b].position);
   // A malformed goal layout in a reply is one clear error.
   Message bad = m;
   bad.header["spec"]["goal"]["points"] = 5;

@@ -6,6 +6,8 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
+#include "rdsim/envs/manipulation/manipulation_env.hpp"
+#include "rdsim/envs/manipulation/manipulation_expert.hpp"
 #include "rdsim/envs/reach_env.hpp"
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -180,6 +182,22 @@ TEST_CASE("the window's scene mirror poses the robot as the env has it", "[teleo
     for (size_t i = 0; i < own.scene.items.size(); ++i)
       CHECK(own.scene.items[i].pose.matrix().isApprox(mirror.scene().items[i].pose.matrix(), 1e-4f));
   }
+  // A manipulation task: the copy draws the cubes and goal markers where the env has them.
+  const EnvConfig stack = default_env_config("stack");
+  auto env = make_env(stack);
+  env->reset(5);
+  auto& m = dynamic_cast<ManipulationEnv&>(*env);
+  ManipulationExpert expert(*env);
+  expert.reset();
+  for (int k = 0; k < 20; ++k) env->step(expert.act());  // the first cube is carried away
+  SceneMirror mirror(stack);
+  mirror.update(m.robot_state());
+  RobotScene own;
+  add_task_bodies(own, m.world());
+  update_poses(own, m.world().world());
+  REQUIRE(own.scene.items.size() == mirror.scene().items.size());
+  for (size_t i = 0; i < own.scene.items.size(); ++i)
+    CHECK(own.scene.items[i].pose.matrix().isApprox(mirror.scene().items[i].pose.matrix(), 1e-4f));
   CHECK_THROWS_WITH(SceneMirror(default_env_config("cartpole")), Contains("env cartpole has no robot scene"));
 }
 

@@ -54,6 +54,11 @@ struct RobotInfo {
   Eigen::AlignedBox3f workspace;
 };
 
+struct BodyPose {
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();
+  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
+};
+
 // A snapshot of the robot, as of the last step or reset.
 struct RobotSnapshot {
   Eigen::VectorXf joint_positions;   // one per RobotInfo::joints
@@ -63,6 +68,9 @@ struct RobotSnapshot {
   Eigen::Quaternionf effector_orientation = Eigen::Quaternionf::Identity();
   Eigen::Vector3f target = Eigen::Vector3f::Zero();  // the task's target point
   int steps = 0;                                     // env steps in this episode
+  // Where the task's other bodies are (table, button, cubes, goal markers: the env's static and
+  // free bodies, in its order, world frame): what a copy of the scene needs to draw it.
+  std::vector<BodyPose> bodies;
 };
 
 class RobotControl {

@@ -1,6 +1,8 @@
 #pragma once
+#include <cstddef>
 #include <memory>
 
+#include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/robot_scene.hpp"
@@ -12,15 +14,16 @@
 // steps; it only holds poses. The same code serves in-process and remote envs.
 namespace rdsim {
 
-class ReachEnv;
+class ReachTask;
 
 class SceneMirror {
 public:
-  // rdsim::Error when `config` names an env without a robot scene (not a reaching env).
+  // rdsim::Error when `config` names an env without a robot scene (not a reaching or manipulation env).
   explicit SceneMirror(const EnvConfig& config);
   ~SceneMirror();
 
-  // Poses every part from the robot's joint positions and the task's target, and marks the
+  // Poses every part from the robot's joint positions, the task's target and its other bodies' poses
+  // (RobotSnapshot::bodies: cubes, goal markers), and marks the
   // target: the static body's item centred on it (inmoov_tomato's target tomato among the ~8 on
   // the tree) takes target_colour(), the others their URDF colours.
   void update(const RobotSnapshot& state);
@@ -38,7 +41,10 @@ public:
 private:
   void mark_target(const Eigen::Vector3f& target);
 
-  std::unique_ptr<ReachEnv> env_;
+  std::unique_ptr<Env> env_;  // a reaching or manipulation env, never stepped
+  ReachTask* task_ = nullptr;  // its world
+  OrbitView view_{};
+  std::size_t target_choices_ = 0;  // the reaching env's choice of targets (inmoov_tomato's tomatoes)
   RobotScene scene_;
   int target_item_ = -1;
   Eigen::Vector4f target_item_rgba_ = Eigen::Vector4f::Zero();  // its own colour, restored when the target moves
