@@ -232,30 +232,17 @@ StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {
   return control_step(out, [&] { task_->apply_move(move, rng_); });
 }
 
-template <class SetTargets>
-StepResult ReachEnv::control_step_result(SetTargets&& set_targets) {
-  StepResult r;
-  r.observation = make_observation(spec_.observation);
-  const StepOutcome o = control_step(observation_out(r.observation), std::forward<SetTargets>(set_targets));
-  r.reward = o.reward;
-  r.terminated = o.terminated;
-  r.truncated = o.truncated;
-  r.info = o.info;
-  return r;
-}
-
 StepResult ReachEnv::move_effector(const Eigen::Vector3f& position) {
-  if (!position.allFinite()) throw Error(spec_.env_name + ": effector position must be finite numbers (m)");
-  return control_step_result([&] { task_->apply_effector_target(position); });
+  ReachTask::check_effector_goal(position, spec_.env_name);
+  return step_result(spec_.observation,
+                     [&](ObservationOut out) { return control_step(out, [&] { task_->apply_effector_target(position); }); });
 }
 
 StepResult ReachEnv::set_joint_targets(const Eigen::VectorXf& targets) {
-  Robot& robot = task_->robot();
-  if (targets.size() != robot.dof())
-    throw Error(spec_.env_name + ": expected " + std::to_string(robot.dof()) + " joint targets (one per joint), got " +
-                std::to_string(targets.size()));
-  if (!targets.allFinite()) throw Error(spec_.env_name + ": joint targets must be finite numbers");
-  return control_step_result([&] { robot.set_position_targets(targets); });
+  task_->check_joint_targets(targets, spec_.env_name);
+  return step_result(spec_.observation, [&](ObservationOut out) {
+    return control_step(out, [&] { task_->robot().set_position_targets(targets); });
+  });
 }
 
 RobotSnapshot ReachEnv::robot_state() {

@@ -266,6 +266,17 @@ Eigen::Matrix3d ReachTask::root_orientation() const {
   return (base_inverse_.linear() * spec_.effector_orientation->toRotationMatrix()).cast<double>();
 }
 
+void ReachTask::check_effector_goal(const Eigen::Vector3f& position, const std::string& env) {
+  if (!position.allFinite()) throw Error(env + ": effector position must be finite numbers (m)");
+}
+
+void ReachTask::check_joint_targets(const Eigen::VectorXf& targets, const std::string& env) const {
+  if (targets.size() != robot_->dof())
+    throw Error(env + ": expected " + std::to_string(robot_->dof()) + " joint targets (one per joint, in the robot's "
+                "joint order), got " + std::to_string(targets.size()));
+  if (!targets.allFinite()) throw Error(env + ": joint targets must be finite numbers");
+}
+
 RobotInfo ReachTask::robot_info() const {
   RobotInfo info;
   const Robot& robot = *robot_;

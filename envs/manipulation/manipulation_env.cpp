@@ -253,18 +253,6 @@ StepOutcome ManipulationEnv::control_step(ObservationOut out, SetTargets&& set_t
   return r;
 }
 
-template <class SetTargets>
-StepResult ManipulationEnv::control_step_result(SetTargets&& set_targets) {
-  StepResult r;
-  r.observation = make_observation(spec_.observation);
-  const StepOutcome o = control_step(observation_out(r.observation), std::forward<SetTargets>(set_targets));
-  r.reward = o.reward;
-  r.terminated = o.terminated;
-  r.truncated = o.truncated;
-  r.info = o.info;
-  return r;
-}
-
 RobotSnapshot ManipulationEnv::robot_state() {
   RobotSnapshot s = world_->robot_snapshot();
   s.target = goals_.front();
@@ -273,17 +261,16 @@ RobotSnapshot ManipulationEnv::robot_state() {
 }
 
 StepResult ManipulationEnv::move_effector(const Eigen::Vector3f& position) {
-  if (!position.allFinite()) throw Error(spec_.env_name + ": effector position must be finite numbers (m)");
-  return control_step_result([&] { world_->apply_effector_target(position); });
+  ReachTask::check_effector_goal(position, spec_.env_name);
+  return step_result(spec_.observation,
+                     [&](ObservationOut out) { return control_step(out, [&] { world_->apply_effector_target(position); }); });
 }
 
 StepResult ManipulationEnv::set_joint_targets(const Eigen::VectorXf& targets) {
-  Robot& robot = world_->robot();
-  if (targets.size() != robot.dof())
-    throw Error(spec_.env_name + ": expected " + std::to_string(robot.dof()) + " joint targets (one per joint, the "
-                "fingers too), got " + std::to_string(targets.size()));
-  if (!targets.allFinite()) throw Error(spec_.env_name + ": joint targets must be finite numbers");
-  return control_step_result([&] { robot.set_position_targets(targets); });
+  world_->check_joint_targets(targets, spec_.env_name);
+  return step_result(spec_.observation, [&](ObservationOut out) {
+    return control_step(out, [&] { world_->robot().set_position_targets(targets); });
+  });
 }
 
 void ManipulationEnv::camera_image(int camera, int width, int height, Image& out) {

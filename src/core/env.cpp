@@ -57,14 +57,7 @@ Observation reset_through_into(Env& env, std::optional<std::uint64_t> seed) {
 }
 
 StepResult step_through_into(Env& env, const Action& action) {
-  StepResult r;
-  r.observation = make_observation(env.spec().observation);
-  const StepOutcome o = env.step_into(action, observation_out(r.observation));
-  r.reward = o.reward;
-  r.terminated = o.terminated;
-  r.truncated = o.truncated;
-  r.info = o.info;
-  return r;
+  return step_result(env.spec().observation, [&](ObservationOut out) { return env.step_into(action, out); });
 }
 
 }  // namespace rdsim

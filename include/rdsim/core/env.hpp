@@ -163,4 +163,19 @@ public:
 Observation reset_through_into(Env& env, std::optional<std::uint64_t> seed);
 StepResult step_through_into(Env& env, const Action& action);
 
+// Any step written "into" caller memory as a StepResult: `step_into(out)` returns the StepOutcome
+// and writes the observation into storage for `space` made here (step_through_into's body, also
+// what RobotControl's commands return).
+template <class StepInto>
+StepResult step_result(const ObservationSpace& space, StepInto&& step_into) {
+  StepResult r;
+  r.observation = make_observation(space);
+  const StepOutcome o = step_into(observation_out(r.observation));
+  r.reward = o.reward;
+  r.terminated = o.terminated;
+  r.truncated = o.truncated;
+  r.info = o.info;
+  return r;
+}
+
 }  // namespace rdsim

@@ -118,9 +118,6 @@ private:
   // and judge().
   template <class SetTargets>
   StepOutcome control_step(ObservationOut out, SetTargets&& set_targets);
-  // control_step() with the observation in a StepResult (RobotControl's steps).
-  template <class SetTargets>
-  StepResult control_step_result(SetTargets&& set_targets);
   void judge(StepOutcome& r) const;
   void walk();               // one random-walk step of the walking body
   void place_walking_body();  // puts it at its place + walk_offset_

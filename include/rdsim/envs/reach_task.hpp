@@ -144,6 +144,10 @@ public:
   // on a free target body).
   void step_physics();
 
+  // RobotControl's argument checks: rdsim::Error naming `env` for an effector goal that is not
+  // finite, or joint targets that are not one finite value per robot dof (RobotInfo::joints order).
+  static void check_effector_goal(const Eigen::Vector3f& position, const std::string& env);
+  void check_joint_targets(const Eigen::VectorXf& targets, const std::string& env) const;
   // The robot as RobotControl describes it (core/robot_control.hpp): name, effector link, every
   // movable joint with its limits, the workspace box; cameras are the env's to add.
   RobotInfo robot_info() const;

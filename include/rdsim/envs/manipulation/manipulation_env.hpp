@@ -92,8 +92,6 @@ private:
   // judge(); after the episode's end nothing moves (core/env.hpp).
   template <class SetTargets>
   StepOutcome control_step(ObservationOut out, SetTargets&& set_targets);
-  template <class SetTargets>
-  StepResult control_step_result(SetTargets&& set_targets);
   void observe(ObservationOut out) const;
   void achieved_goal(float* out) const;
   void judge(const float* observation, StepOutcome& r) const;
