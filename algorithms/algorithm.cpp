@@ -5,7 +5,7 @@
 namespace rdsim {
 
 std::vector<Metrics> Algorithm::learn_from_demonstrations(const DemoFile&, const DemonstrationsConfig&, Rng&, bool) {
-  throw Error("algorithm \"" + name() + "\" cannot learn from demonstrations (bc, ppo, a2c and dqn can)");
+  throw Error("algorithm \"" + name() + "\" cannot learn from demonstrations (bc, ppo, a2c, dqn, sac, td3 and ddpg can)");
 }
 
 }  // namespace rdsim

@@ -29,6 +29,8 @@ std::string known_names() {
 
 // Whether `algorithm` uses the "demonstrations" key `key` (demonstrations.hpp says who uses what).
 bool uses_demonstrations_key(const std::string& algorithm, const std::string& key) {
+  if (takes_her(algorithm))  // sac, td3, ddpg (off_policy.hpp)
+    return key == "file" || key == "bc_epochs" || key == "demo_fraction" || key == "bc_weight";
   if (key == "demo_fraction" || key == "large_margin" || key == "margin" || key == "margin_weight") return algorithm == "dqn";
   if (key == "fit_critic" || key == "bc_weight" || key == "bc_weight_decay") return algorithm != "dqn" && algorithm != "bc";
   return true;
@@ -48,7 +50,22 @@ void read_demonstrations(ConfigReader& r, const std::string& name, AlgorithmConf
   c.demonstrations = demos;
 }
 
+// "her": read when present, for the off-policy algorithms only (whether the env has goals is
+// checked when the algorithm meets the env's spec).
+void read_her(ConfigReader& r, const std::string& name, AlgorithmConfig& c) {
+  if (!r.has("her")) return;
+  if (!takes_her(name))
+    r.fail("her", "has no effect with \"algorithm\": \"" + name +
+                      "\" (hindsight experience replay relabels a replay buffer: sac, td3 or ddpg)");
+  ConfigReader section = r.child("her");
+  HerConfig her;
+  config::read_fields(section, her);
+  c.her = her;
+}
+
 }  // namespace
+
+bool takes_her(const std::string& algorithm) { return algorithm == "sac" || algorithm == "td3" || algorithm == "ddpg"; }
 
 std::string AlgorithmConfig::name() const { return kNames[params.index()]; }
 
@@ -79,6 +96,7 @@ AlgorithmConfig read_algorithm_config(ConfigReader& r) {
       r.fail(other, "has no effect with \"algorithm\": \"" + name + "\" (expected a \"" + name + "\" object, or none)");
   }
   read_demonstrations(r, name, c);
+  read_her(r, name, c);
   return c;
 }
 
@@ -93,6 +111,7 @@ void write_algorithm_config(const AlgorithmConfig& c, nlohmann::json& out) {
       if (uses_demonstrations_key(c.name(), key)) demos[key] = value;
     out["demonstrations"] = std::move(demos);
   }
+  if (c.her) out["her"] = config::write_fields(*c.her);
 }
 
 std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_t seed, const Spec& spec) {
@@ -103,9 +122,9 @@ std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_
     std::unique_ptr<Algorithm> operator()(const PpoConfig& p) const { return make_ppo(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const A2cConfig& p) const { return make_a2c(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const DqnConfig& p) const { return make_dqn(p, c.network, seed, spec, c.source); }
-    std::unique_ptr<Algorithm> operator()(const SacConfig& p) const { return make_sac(p, c.network, seed, spec, c.source); }
-    std::unique_ptr<Algorithm> operator()(const Td3Config& p) const { return make_td3(p, c.network, seed, spec, c.source); }
-    std::unique_ptr<Algorithm> operator()(const DdpgConfig& p) const { return make_ddpg(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const SacConfig& p) const { return make_sac(p, c.network, seed, spec, c.source, c.her); }
+    std::unique_ptr<Algorithm> operator()(const Td3Config& p) const { return make_td3(p, c.network, seed, spec, c.source, c.her); }
+    std::unique_ptr<Algorithm> operator()(const DdpgConfig& p) const { return make_ddpg(p, c.network, seed, spec, c.source, c.her); }
     std::unique_ptr<Algorithm> operator()(const TrpoConfig& p) const { return make_trpo(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const ArsConfig& p) const { return make_ars(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const CmaEsConfig& p) const { return make_cma_es(p, c.network, seed, spec, c.source); }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -130,6 +131,15 @@ namespace rdsim {
 
 void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
   std::visit([&](const auto& params) { estimate_memory(params, c, spec, num_envs, e); }, c.params);
+  // Hindsight replay: an episode start (8 bytes) and length (4 bytes) per buffer slot, and twice that
+  // while a checkpoint is written (as the replay buffer above).
+  if (c.her)
+    std::visit(
+        [&](const auto& params) {
+          if constexpr (std::is_base_of_v<OffPolicyConfig, std::decay_t<decltype(params)>>)
+            e.add("hindsight replay bookkeeping (her)", 3.0 * 12.0 * static_cast<double>(params.buffer_size));
+        },
+        c.params);
 }
 
 }  // namespace rdsim

@@ -19,7 +19,11 @@ namespace {
 constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
 
 const Spec& checked_spec(const Spec& spec, const OffPolicyConfig& settings, const std::string& algorithm,
-                         const std::string& where) {
+                         const std::string& where, bool her) {
+  if (her && !spec.goal.active())
+    throw Error(where + ": her: env \"" + spec.env_name +
+                "\" is not goal-conditioned (hindsight experience replay needs goals: push, pick_and_place, stack, "
+                "reach_goal)");
   if (spec.action.discrete)
     throw Error(where + ": algorithm: \"" + algorithm + "\" needs a continuous (Box) action space, env \"" +
                 spec.env_name + "\" has discrete actions (set env.is_discrete to false, or use dqn/ppo/a2c)");
@@ -31,8 +35,9 @@ const Spec& checked_spec(const Spec& spec, const OffPolicyConfig& settings, cons
       !(spec.action.high.array() > spec.action.low.array()).all())
     throw Error(where + ": algorithm: \"" + algorithm + "\" needs finite action bounds, env \"" + spec.env_name +
                 "\" has none");
-  const double bytes = 4.0 * static_cast<double>(settings.buffer_size) *
-                       (2.0 * spec.observation.size() + static_cast<double>(dim) + 2.0);
+  // HER adds an episode start (8 bytes) and length (4 bytes) per transition.
+  const double bytes = static_cast<double>(settings.buffer_size) *
+                       (4.0 * (2.0 * spec.observation.size() + static_cast<double>(dim) + 2.0) + (her ? 12.0 : 0.0));
   if (bytes > kMaxReplayBytes)
     throw Error(where + ": " + algorithm + ".buffer_size: " + std::to_string(settings.buffer_size) +
                 " transitions need " + std::to_string(static_cast<long long>(bytes / (1 << 20))) +
@@ -43,15 +48,75 @@ const Spec& checked_spec(const Spec& spec, const OffPolicyConfig& settings, cons
 }  // namespace
 
 OffPolicy::OffPolicy(const OffPolicyConfig& settings, const NetworkConfig& network, std::uint64_t seed,
-                     const Spec& spec, const std::string& algorithm, const std::string& where)
-    : spec_(checked_spec(spec, settings, algorithm, where)),
+                     const Spec& spec, const std::string& algorithm, const std::string& where,
+                     const std::optional<HerConfig>& her)
+    : spec_(checked_spec(spec, settings, algorithm, where, her.has_value())),
       observation_size_(observation_input_size(spec.observation)),
       action_dim_(spec.action.dim()),
       input_scale_(static_cast<float>(network.input_scale)),
       settings_(settings),
       buffer_(settings.buffer_size, spec.observation, spec.action.dim()),
       explore_rng_(Rng::derive(seed, rng_stream::exploration)),
-      replay_rng_(Rng::derive(seed, rng_stream::replay_sampling)) {}
+      replay_rng_(Rng::derive(seed, rng_stream::replay_sampling)) {
+  if (her) her_.emplace(*her, spec_.goal, settings.buffer_size);
+  her_config_ = her;
+}
+
+int OffPolicy::sample_batch(ReplayBatch& out) {
+  const int b = settings_.batch_size;
+  buffer_.shape_batch(b, out);
+  int demos = 0;
+  if (demos_)
+    demos = demos_only_ || buffer_.size() == 0 ? b : static_cast<int>(std::lround(demo_cfg_.demo_fraction * b));
+  if (demos > 0) demos_->sample_into(0, demos, replay_rng_, out);
+  if (demos == b) return demos;
+  if (her_)
+    her_->sample_into(buffer_, demos, b - demos, replay_rng_, out);
+  else
+    buffer_.sample_into(demos, b - demos, replay_rng_, out);
+  return demos;
+}
+
+double OffPolicy::clone_demonstrations(int demos, const Eigen::MatrixXf& policy_actions,
+                                       const Eigen::MatrixXf& demo_actions, const Eigen::RowVectorXf& q_demo,
+                                       const Eigen::RowVectorXf& q_policy, Eigen::Ref<Eigen::MatrixXf> d_actions) const {
+  if (demos == 0 || demo_cfg_.bc_weight <= 0.0) return 0.0;
+  const auto weight = static_cast<float>(demo_cfg_.bc_weight) / static_cast<float>(demos);
+  double loss = 0.0;
+  for (int j = 0; j < demos; ++j) {
+    // The Q-filter: clone only what the critic rates higher. Not while pre-training: a critic that has
+    // seen only the demonstrated actions rates the others arbitrarily.
+    if (!demos_only_ && !(q_demo[j] > q_policy[j])) continue;
+    const Eigen::VectorXf diff = policy_actions.col(j) - demo_actions.col(j);
+    loss += weight * diff.squaredNorm();
+    d_actions.col(j) += 2.0f * weight * diff;
+  }
+  return loss;
+}
+
+std::vector<Metrics> OffPolicy::learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
+                                                          Rng& /*rng*/, bool pretrain) {
+  demo_cfg_ = config;
+  const Eigen::ArrayXf low = spec_.action.low.array(), high = spec_.action.high.array();
+  demos_ = std::make_unique<DemonstrationReplay>(demos, spec_, her_config_, [&](const Action& a) -> Eigen::VectorXf {
+    // The inverse of env_action: the env's Box to the networks' [-1, 1].
+    return (2.0f * (a.values.array() - low) / (high - low) - 1.0f).cwiseMax(-1.0f).cwiseMin(1.0f).matrix();
+  });
+  std::vector<Metrics> rows;
+  if (!pretrain) return rows;
+  // Gradient steps on the demonstrations alone (DQfD's and Nair et al.'s first phase).
+  const long long per_epoch =
+      std::max<long long>(1, (demos_->transitions() + settings_.batch_size - 1) / settings_.batch_size);
+  demos_only_ = true;
+  for (int epoch = 1; epoch <= config.bc_epochs; ++epoch) {
+    Metrics row{{"epoch", epoch}};
+    const Metrics m = train(static_cast<int>(per_epoch), {0, 1});
+    row.insert(row.end(), m.begin(), m.end());
+    rows.push_back(std::move(row));
+  }
+  demos_only_ = false;
+  return rows;
+}
 
 const Eigen::MatrixXf& OffPolicy::actor_input(const Eigen::MatrixXf& observations, Eigen::MatrixXf& scratch) const {
   return scaled_input(observations, input_scale_, scratch);
@@ -87,6 +152,7 @@ void OffPolicy::collect_step(VecEnv& envs, bool warmup) {
   step_transitions(envs, env_actions_, prev_obs_, next_obs_,
                    [&](int i, const Observation& obs, const EnvStep& s, const Observation& next) {
                      buffer_.add(obs, actions_.col(i), s.reward, next, s.terminated);
+                     if (her_) her_->added(buffer_.last_slot(), i, n, s.done());
                      if (s.done()) on_episode_end(i);
                    });
 }
@@ -100,6 +166,7 @@ Metrics OffPolicy::update(VecEnv& envs, const TrainProgress& progress) {
   if (learning) gradient_steps_ += settings_.gradient_steps;
   m.emplace_back("gradient_steps", static_cast<double>(gradient_steps_));
   m.emplace_back("buffer_size", static_cast<double>(buffer_.size()));
+  if (her_) m.emplace_back("her_relabelable", static_cast<double>(her_->relabelable()));
   return m;
 }
 
@@ -119,6 +186,7 @@ void OffPolicy::save(std::ostream& out, bool training_state) const {
   write_string(out, rng_to_bytes(replay_rng_));
   write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
   buffer_.save(out);
+  if (her_) her_->save(out, buffer_.size());
 }
 
 void OffPolicy::save_all_weights(std::ostream& out) const {
@@ -146,6 +214,7 @@ void OffPolicy::load(std::istream& in, bool training_state, const std::string& s
   if (gradient_steps > (1ull << 50)) throw Error(source + ": checkpoint holds a gradient-step count out of range (damaged file?)");
   gradient_steps_ = static_cast<long long>(gradient_steps);
   buffer_.load(in, source);
+  if (her_) her_->load(in, buffer_.size(), source);
 }
 
 }  // namespace rdsim

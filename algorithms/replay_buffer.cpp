@@ -140,8 +140,7 @@ void ReplayBuffer::add(const Observation& observation, const Eigen::Ref<const Ei
   store_rest(0, reward, terminated);
 }
 
-void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
-  if (size_ == 0) throw Error("ReplayBuffer::sample: the buffer is empty");
+void ReplayBuffer::shape_batch(int batch_size, ReplayBatch& out) const {
   const Eigen::Index rows = observation_size_;
   if (out.observations.rows() != rows || out.observations.cols() != batch_size ||
       out.action_values.rows() != action_dim_) {
@@ -153,23 +152,41 @@ void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
     out.terminated.resize(batch_size);
     out.steps.resize(batch_size);
   }
-  for (int j = 0; j < batch_size; ++j) {
-    const auto i = static_cast<Eigen::Index>(rng.below(static_cast<std::uint64_t>(size_)));
-    if (pixels_) {
-      out.observations.col(j) = pixel_obs_.col(i).cast<float>() * kPixelScale;
-      out.next_observations.col(j) = next_pixel_obs_.col(i).cast<float>() * kPixelScale;
-    } else {
-      out.observations.col(j) = observations_.col(i);
-      out.next_observations.col(j) = next_observations_.col(i);
-    }
-    if (action_dim_ > 0)
-      out.action_values.col(j) = action_values_.col(i);
-    else
-      out.actions[j] = actions_[i];
-    out.rewards[j] = rewards_[i];
-    out.terminated[j] = terminated_[i];
-    out.steps[j] = steps_[i];
+}
+
+void ReplayBuffer::copy_to(long long slot, int column, ReplayBatch& out) const {
+  const auto i = static_cast<Eigen::Index>(slot);
+  const Eigen::Index j = column;
+  if (pixels_) {
+    out.observations.col(j) = pixel_obs_.col(i).cast<float>() * kPixelScale;
+    out.next_observations.col(j) = next_pixel_obs_.col(i).cast<float>() * kPixelScale;
+  } else {
+    out.observations.col(j) = observations_.col(i);
+    out.next_observations.col(j) = next_observations_.col(i);
   }
+  if (action_dim_ > 0)
+    out.action_values.col(j) = action_values_.col(i);
+  else
+    out.actions[j] = actions_[i];
+  out.rewards[j] = rewards_[i];
+  out.terminated[j] = terminated_[i];
+  out.steps[j] = steps_[i];
+}
+
+const float* ReplayBuffer::next_observation(long long slot) const {
+  return next_observations_.data() + static_cast<Eigen::Index>(slot) * observation_size_;
+}
+
+void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
+  if (size_ == 0) throw Error("ReplayBuffer::sample: the buffer is empty");
+  shape_batch(batch_size, out);
+  sample_into(0, batch_size, rng, out);
+}
+
+void ReplayBuffer::sample_into(int first, int count, Rng& rng, ReplayBatch& out) const {
+  if (size_ == 0) throw Error("ReplayBuffer::sample: the buffer is empty");
+  for (int j = first; j < first + count; ++j)
+    copy_to(static_cast<long long>(rng.below(static_cast<std::uint64_t>(size_))), j, out);
 }
 
 void ReplayBuffer::save(std::ostream& out) const {

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "rdsim/algorithms/off_policy.hpp"
 #include "rdsim/core/binary_io.hpp"
@@ -43,8 +44,8 @@ void draw_normal(Eigen::MatrixXf& out, int rows, int cols, Rng& rng) {
 class Sac final : public OffPolicy {
 public:
   Sac(const SacConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
-      const std::string& where)
-      : OffPolicy(config, network, seed, spec, "sac", where),
+      const std::string& where, const std::optional<HerConfig>& her)
+      : OffPolicy(config, network, seed, spec, "sac", where, her),
         cfg_(config),
         noise_rng_(Rng::derive(seed, rng_stream::training_noise)),
         log_alpha_(1, 1) {
@@ -117,7 +118,7 @@ void Sac::policy(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, Eigen
 // One SAC update on a minibatch, in Stable-Baselines3's order. sums: critic loss, actor loss,
 // alpha, entropy estimate, mean Q.
 void Sac::gradient_step(double* sums) {
-  buffer_.sample(cfg_.batch_size, replay_rng_, batch_);
+  const int demos = sample_batch(batch_);
   const int b = cfg_.batch_size;
   const float inv_b = 1.0f / static_cast<float>(b);
 
@@ -152,9 +153,11 @@ void Sac::gradient_step(double* sums) {
   // 4. Critics: loss 0.5 sum_i mean((Q_i(s, a) - y)^2).
   const Eigen::MatrixXf& in = critic_input(batch_.observations, batch_.action_values, critic_in_);
   double critic_loss = 0.0, q_mean = 0.0;
+  Eigen::RowVectorXf q_stored = Eigen::RowVectorXf::Constant(b, std::numeric_limits<float>::infinity());
   for (nn::Mlp& q : q_) {
     q.zero_grad();
     const Eigen::RowVectorXf value = q.forward(in).row(0);
+    q_stored = q_stored.cwiseMin(value);
     const Eigen::RowVectorXf d = value - y.transpose();
     critic_loss += 0.5 * d.cast<double>().squaredNorm() / b;
     q_mean += value.cast<double>().mean() / 2.0;
@@ -170,7 +173,10 @@ void Sac::gradient_step(double* sums) {
   const Eigen::RowVectorXf q1 = q_[1].forward(pi_in).row(0);
   Eigen::MatrixXf d_q0 = Eigen::MatrixXf::Zero(1, b), d_q1 = Eigen::MatrixXf::Zero(1, b);
   for (int j = 0; j < b; ++j) (q0[j] <= q1[j] ? d_q0(0, j) : d_q1(0, j)) = -inv_b;
-  const Eigen::MatrixXf d_in = q_[0].backward(d_q0) + q_[1].backward(d_q1);  // the critics' grads are zeroed before their next step
+  Eigen::MatrixXf d_in = q_[0].backward(d_q0) + q_[1].backward(d_q1);  // the critics' grads are zeroed before their next step
+  // Demonstrated columns: the Q-filtered cloning term pulls the policy's actions towards them.
+  const double bc_loss = clone_demonstrations(demos, pi.actions(), batch_.action_values, q_stored, q0.cwiseMin(q1),
+                                              d_in.bottomRows(action_dim_));
   const Eigen::VectorXf d_log_prob = Eigen::VectorXf::Constant(b, alpha * inv_b);
   const nn::TanhGaussian::Grad g = pi.backward(d_in.bottomRows(action_dim_), d_log_prob);
   Eigen::MatrixXf d_out(2 * action_dim_, b);
@@ -196,14 +202,17 @@ void Sac::gradient_step(double* sums) {
   sums[2] += alpha;
   sums[3] += -pi.log_probs().cast<double>().mean();
   sums[4] += q_mean;
+  sums[5] += bc_loss;
 }
 
 Metrics Sac::train(int steps, const TrainProgress& /*progress*/) {
-  double sums[5] = {0, 0, 0, 0, 0};
+  double sums[6] = {0, 0, 0, 0, 0, 0};
   for (int k = 0; k < steps; ++k) gradient_step(sums);
   const double m = std::max(steps, 1);
-  return {{"critic_loss", sums[0] / m}, {"actor_loss", sums[1] / m},   {"ent_coef", steps ? sums[2] / m : std::exp(log_alpha_.value(0, 0))},
-          {"entropy", sums[3] / m},     {"q_mean", sums[4] / m}};
+  Metrics metrics{{"critic_loss", sums[0] / m}, {"actor_loss", sums[1] / m},   {"ent_coef", steps ? sums[2] / m : std::exp(log_alpha_.value(0, 0))},
+                  {"entropy", sums[3] / m},     {"q_mean", sums[4] / m}};
+  if (has_demonstrations()) metrics.emplace_back("bc_loss", sums[5] / m);
+  return metrics;
 }
 
 void Sac::save_training(std::ostream& out) const {
@@ -232,8 +241,8 @@ void Sac::load_training(std::istream& in, const std::string& source) {
 }  // namespace
 
 std::unique_ptr<Algorithm> make_sac(const SacConfig& config, const NetworkConfig& network, std::uint64_t seed,
-                                    const Spec& spec, const std::string& where) {
-  return std::make_unique<Sac>(config, network, seed, spec, where);
+                                    const Spec& spec, const std::string& where, const std::optional<HerConfig>& her) {
+  return std::make_unique<Sac>(config, network, seed, spec, where, her);
 }
 
 // A squashed-Gaussian actor (mean and log std per action), two critics and their targets.

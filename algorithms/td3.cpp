@@ -28,8 +28,8 @@ constexpr float critic_gain = 1.0f;
 class Td3 final : public OffPolicy {
 public:
   Td3(const Td3Config& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
-      const std::string& name, const std::string& where)
-      : OffPolicy(config, network, seed, spec, name, where),
+      const std::string& name, const std::string& where, const std::optional<HerConfig>& her)
+      : OffPolicy(config, network, seed, spec, name, where, her),
         cfg_(config),
         name_(name),
         critics_(config.twin_q ? 2 : 1),
@@ -114,9 +114,9 @@ void Td3::policy(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, Eigen
 }
 
 // One critic update, and every policy_delay-th time an actor and target update.
-// sums: critic loss, actor loss, mean Q.
+// sums: critic loss, actor loss, mean Q, cloning loss, actor updates.
 void Td3::gradient_step(double* sums) {
-  buffer_.sample(cfg_.batch_size, replay_rng_, batch_);
+  const int demos = sample_batch(batch_);
   const int b = cfg_.batch_size;
   const float inv_b = 1.0f / static_cast<float>(b);
 
@@ -137,9 +137,11 @@ void Td3::gradient_step(double* sums) {
   // Critics: loss sum_i mean((Q_i(s, a) - y)^2).
   const Eigen::MatrixXf& in = critic_input(batch_.observations, batch_.action_values, critic_in_);
   double critic_loss = 0.0, q_mean = 0.0;
+  Eigen::RowVectorXf q_stored;  // Q_1 of the stored actions (the demonstrations' Q-filter)
   for (int i = 0; i < critics_; ++i) {
     q_[i].zero_grad();
     const Eigen::RowVectorXf value = q_[i].forward(in).row(0);
+    if (i == 0) q_stored = value;
     const Eigen::RowVectorXf d = value - y.transpose();
     critic_loss += d.cast<double>().squaredNorm() / b;
     q_mean += value.cast<double>().mean() / critics_;
@@ -153,8 +155,12 @@ void Td3::gradient_step(double* sums) {
   if (updates_ % cfg_.policy_delay == 0) {
     const Eigen::MatrixXf a = actor_action(actor_, batch_.observations, true);
     const Eigen::MatrixXf& pi_in = critic_input(batch_.observations, a, critic_in_);
-    last_actor_loss_ = -q_[0].forward(pi_in).cast<double>().mean();
-    const Eigen::MatrixXf d_in = q_[0].backward(Eigen::MatrixXf::Constant(1, b, -inv_b));  // critic grads are zeroed before their next step
+    const Eigen::RowVectorXf q_policy = q_[0].forward(pi_in).row(0);
+    last_actor_loss_ = -q_policy.cast<double>().mean();
+    Eigen::MatrixXf d_in = q_[0].backward(Eigen::MatrixXf::Constant(1, b, -inv_b));  // critic grads are zeroed before their next step
+    // Demonstrated columns: the Q-filtered cloning term pulls the actor's actions towards them.
+    sums[3] += clone_demonstrations(demos, a, batch_.action_values, q_stored, q_policy, d_in.bottomRows(action_dim_));
+    sums[4] += 1.0;  // actor updates
     // Through the tanh: d a / d output = 1 - a^2.
     const Eigen::MatrixXf d_out = (d_in.bottomRows(action_dim_).array() * (1.0f - a.array().square())).matrix();
     actor_.zero_grad();
@@ -171,10 +177,12 @@ void Td3::gradient_step(double* sums) {
 }
 
 Metrics Td3::train(int steps, const TrainProgress& /*progress*/) {
-  double sums[3] = {0, 0, 0};
+  double sums[5] = {0, 0, 0, 0, 0};  // ..., cloning loss and actor updates (the delayed ones only)
   for (int k = 0; k < steps; ++k) gradient_step(sums);
   const double m = std::max(steps, 1);
-  return {{"critic_loss", sums[0] / m}, {"actor_loss", sums[1] / m}, {"q_mean", sums[2] / m}};
+  Metrics metrics{{"critic_loss", sums[0] / m}, {"actor_loss", sums[1] / m}, {"q_mean", sums[2] / m}};
+  if (has_demonstrations()) metrics.emplace_back("bc_loss", sums[3] / std::max(sums[4], 1.0));
+  return metrics;
 }
 
 void Td3::save_training(std::ostream& out) const {
@@ -216,13 +224,13 @@ void Td3::load_training(std::istream& in, const std::string& source) {
 }  // namespace
 
 std::unique_ptr<Algorithm> make_td3(const Td3Config& config, const NetworkConfig& network, std::uint64_t seed,
-                                    const Spec& spec, const std::string& where) {
-  return std::make_unique<Td3>(config, network, seed, spec, "td3", where);
+                                    const Spec& spec, const std::string& where, const std::optional<HerConfig>& her) {
+  return std::make_unique<Td3>(config, network, seed, spec, "td3", where, her);
 }
 
 std::unique_ptr<Algorithm> make_ddpg(const DdpgConfig& config, const NetworkConfig& network, std::uint64_t seed,
-                                     const Spec& spec, const std::string& where) {
-  return std::make_unique<Td3>(config, network, seed, spec, "ddpg", where);
+                                     const Spec& spec, const std::string& where, const std::optional<HerConfig>& her) {
+  return std::make_unique<Td3>(config, network, seed, spec, "ddpg", where, her);
 }
 
 // A deterministic actor with its target, two critics (one for DDPG: counted as two) and their targets.

@@ -107,7 +107,8 @@ std::string config_reference() {
       row({"`env`", "object", "", "", "the environment: `name` and its options (below)"}) +
       row({"`network`", "object", "", "", "the networks (below)"}) +
       row({"`demonstrations`", "object", "", "",
-           "learning from a demonstration file (below; needed by `\"bc\"`, optional for ppo, a2c and dqn)"});
+           "learning from a demonstration file (below; needed by `\"bc\"`, optional for ppo, a2c, dqn, sac, td3 and ddpg)"});
+  doc += row({"`her`", "object", "", "", "hindsight experience replay (below; sac, td3 and ddpg on goal-conditioned envs)"});
   for (const auto& name : algorithm_names())
     doc += row({code(name), "object", "", "", name + "'s hyperparameters (below; only with `\"algorithm\": \"" + name + "\"`)"});
   for (const auto& r : config::document_fields(TrainConfig{})) doc += row(key_cells(r));
@@ -125,9 +126,16 @@ std::string config_reference() {
   doc += "\n## `demonstrations`\n\n"
          "Absent by default. `file` (a `.demo` file of the config's env) is required; a key the algorithm\n"
          "does not use is an error: `fit_critic`, `bc_weight` and `bc_weight_decay` are for ppo and a2c,\n"
-         "`demo_fraction`, `large_margin`, `margin` and `margin_weight` for dqn\n"
+         "`demo_fraction`, `large_margin`, `margin` and `margin_weight` for dqn; sac, td3 and ddpg read `file`,\n"
+         "`bc_epochs`, `demo_fraction` and `bc_weight`\n"
          "(`include/rdsim/algorithms/demonstrations.hpp` says what each algorithm does with them).\n\n" +
          table(config::document_fields(DemonstrationsConfig{}));
+  doc += "\n## `her`\n\n"
+         "Absent by default: hindsight experience replay for `sac`, `td3` and `ddpg` on a goal-conditioned env\n"
+         "(push, pick_and_place, stack, reach_goal). Each minibatch keeps 1 / (n_sampled_goal + 1) of its\n"
+         "transitions as stored; the others get a goal achieved later in their own episode and the reward\n"
+         "the env gives for it (`include/rdsim/algorithms/hindsight_replay.hpp`).\n\n" +
+         table(config::document_fields(HerConfig{}));
   return doc;
 }
 

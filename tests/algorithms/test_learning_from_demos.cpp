@@ -233,3 +233,47 @@ TEST_CASE("DQN refuses demonstrations without a step", "[demos][dqn]") {
   Rng rng(1);
   CHECK_THROWS_WITH(dqn->learn_from_demonstrations(empty, demo_config(), rng, true), Contains("holds no demonstrated step"));
 }
+
+TEST_CASE("SAC and TD3 pre-train on demonstrations, keep a share of every minibatch and clone with a Q-filter",
+          "[demos][sac][td3]") {
+  for (const char* name : {"sac", "td3"}) {
+    INFO(name);
+    const DemoFile f = expert_demos(false, 20);
+    AlgorithmConfig c = config_for(default_algorithm_params(name));
+    std::visit(
+        [](auto& p) {
+          if constexpr (std::is_base_of_v<OffPolicyConfig, std::decay_t<decltype(p)>>) {
+            p.learning_rate = 3e-3;
+            p.batch_size = 64;
+            p.buffer_size = 2000;
+            p.learning_starts = 100;
+            p.gamma = 0.5;
+          }
+        },
+        c.params);
+    DemonstrationsConfig demos;
+    demos.file = "toy.demo";
+    demos.bc_epochs = 150;
+    demos.bc_weight = 20.0;
+    demos.demo_fraction = 0.25;
+    auto algo = make_algorithm(c, 2, f.spec);
+    CHECK(agreement(*algo, false, 700) < 0.5);
+    Rng rng(1);
+    const std::vector<Metrics> rows = algo->learn_from_demonstrations(f, demos, rng, true);
+    REQUIRE(rows.size() == 150);
+    CHECK(rows.front().front().first == "epoch");
+    CHECK(rows.back().back().first == "bc_loss");
+    // The demonstrations alone (200 steps, gradient steps of the method's own losses plus the cloning
+    // term) make the policy the expert's.
+    CHECK(agreement(*algo, false, 700) > 0.8);
+    // RL then keeps a quarter of every minibatch demonstrated and reports the cloning loss.
+    VecEnv envs(toy::make_envs(2, false), 2);
+    Metrics m;
+    while (envs.timesteps() < 400) m = algo->update(envs, {envs.timesteps(), 400});
+    CHECK(std::find_if(m.begin(), m.end(), [](const auto& kv) { return kv.first == "bc_loss"; }) != m.end());
+    CHECK(agreement(*algo, false, 700) > 0.8);
+    // Resuming rebuilds the buffer without pre-training.
+    auto resumed = make_algorithm(c, 2, f.spec);
+    CHECK(resumed->learn_from_demonstrations(f, demos, rng, false).empty());
+  }
+}

@@ -14,6 +14,7 @@
 #include "rdsim/algorithms/bc.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/dqn.hpp"
+#include "rdsim/algorithms/her.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/ppo.hpp"
 #include "rdsim/algorithms/random.hpp"
@@ -36,10 +37,14 @@ struct AlgorithmConfig {
   NetworkConfig network;
   AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
   std::optional<DemonstrationsConfig> demonstrations;  // "demonstrations": learning from a demo file
+  std::optional<HerConfig> her;  // "her": hindsight experience replay (sac, td3, ddpg on goal envs)
   std::string source;      // the config file, for messages
 
   std::string name() const;  // "ppo", "a2c", "dqn", "sac", ..., "bc"
 };
+
+// Whether `algorithm` can take a "her" object (the off-policy methods over OffPolicy).
+bool takes_her(const std::string& algorithm);
 
 // Every algorithm name, in registry order.
 std::vector<std::string> algorithm_names();
@@ -47,7 +52,7 @@ std::vector<std::string> algorithm_names();
 // The algorithm's default hyperparameters; rdsim::Error listing the names for an unknown one.
 AlgorithmParams default_algorithm_params(const std::string& name);
 
-// Reads "algorithm", "network", the chosen algorithm's object and "demonstrations" from the top
+// Reads "algorithm", "network", the chosen algorithm's object, "demonstrations" and "her" from the top
 // level of a training config (`reader`, which keeps checking the other keys). The object of another
 // algorithm is an error: it would have no effect; so are demonstrations keys the chosen algorithm
 // does not use, and bc without demonstrations.

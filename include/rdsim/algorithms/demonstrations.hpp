@@ -17,7 +17,12 @@
 //            minibatch draws demo_fraction of its transitions from it; bc_epochs passes over it with
 //            the TD loss (plus, with large_margin, DQfD's large-margin loss on demonstrated actions,
 //            Hester et al. 2018) pre-train the Q-network, and that loss keeps applying to the
-//            demonstrated transitions during training.
+//            demonstrated transitions during training;
+//   sac, td3, ddpg  the same kind of buffer and demo_fraction (with hindsight goals under "her"),
+//            bc_epochs passes of the algorithm's own gradient steps on the demonstrations alone,
+//            and with bc_weight > 0 a Q-filtered cloning term in the actor's loss (Nair et al. 2018):
+//            bc_weight x mean |pi(s) - a_demo|^2 over the demonstrated transitions whose action the
+//            critic values above the policy's (demonstration_replay.hpp, off_policy.hpp).
 // The actor fits hold out whole episodes (validation_fraction) and stop early: after `patience`
 // epochs without a better validation loss they restore the best epoch's weights.
 namespace rdsim {
@@ -53,10 +58,11 @@ void describe(V& v, C& c) {
           "epochs without a better validation loss before the fit stops and restores the best weights");
   v.field("fit_critic", c.fit_critic, "ppo/a2c: also fit the critic to the demonstrations' discounted returns");
   v.field("bc_weight", c.bc_weight, config::Range{0.0, 1e6},
-          "ppo/a2c: weight of the cloning loss kept in RL's loss (0 = pre-training only)");
+          "ppo/a2c: weight of the cloning loss kept in RL's loss (0 = pre-training only); sac/td3/ddpg: weight of "
+          "the Q-filtered cloning loss in the actor's");
   v.field("bc_weight_decay", c.bc_weight_decay, config::Range{0.0, 1.0}, "ppo/a2c: factor on bc_weight per update");
   v.field("demo_fraction", c.demo_fraction, config::Range{0.0, 1.0},
-          "dqn: share of every minibatch drawn from the demonstrations");
+          "dqn, sac, td3, ddpg: share of every minibatch drawn from the demonstrations");
   v.field("large_margin", c.large_margin, "dqn: DQfD's large-margin loss on demonstrated actions");
   v.field("margin", c.margin, config::Range{0.0, 1e6}, "dqn: the margin by which a demonstrated action's Q must lead");
   v.field("margin_weight", c.margin_weight, config::Range{0.0, 1e6}, "dqn: weight of the large-margin loss");

@@ -2,10 +2,16 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <iosfwd>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/demonstration_replay.hpp"
+#include "rdsim/algorithms/demonstrations.hpp"
+#include "rdsim/algorithms/her.hpp"
+#include "rdsim/algorithms/hindsight_replay.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/off_policy_config.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
@@ -17,7 +23,10 @@
 // transitions, the collect-then-train schedule (train_freq VecEnv steps, then gradient_steps
 // minibatch updates once more than learning_starts env steps were taken), uniform random actions
 // before learning starts, the rescaling between the env's Box and the networks' [-1, 1], and the
-// model/checkpoint layout. Each method adds its networks, its exploration and its train step.
+// model/checkpoint layout, and hindsight experience replay on goal envs (a "her" config,
+// hindsight_replay.hpp), and demonstrations (demonstration_replay.hpp: a share of every minibatch,
+// a Q-filtered cloning term in the actor's loss, pre-training). Each method adds its networks, its
+// exploration and its train step.
 namespace rdsim {
 
 class OffPolicy : public Algorithm {
@@ -34,6 +43,10 @@ public:
   bool data_parallel() const override { return true; }
   void save_all_weights(std::ostream& out) const override;
   void load_all_weights(std::istream& in, const std::string& source) override;
+  // The demonstrations' own buffer (rebuilt from the file on resume, so not in checkpoints), then
+  // with `pretrain` bc_epochs passes of gradient steps on them alone.
+  std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
+                                                 bool pretrain) override;
 
   // The Box action for network actions in [-1, 1]: low + (a + 1) (high - low) / 2, clipped.
   Action env_action(const Eigen::Ref<const Eigen::VectorXf>& normalized) const;
@@ -41,9 +54,25 @@ public:
 protected:
   // `algorithm` and `where` name the method and the config file in messages: the env must have
   // vector observations and a bounded Box action space. network.input_scale is kept for
-  // actor_input() and critic_input().
+  // actor_input() and critic_input(). `her`: relabel goals in hindsight (the env must be
+  // goal-conditioned, core/goal_layout.hpp).
   OffPolicy(const OffPolicyConfig& settings, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
-            const std::string& algorithm, const std::string& where);
+            const std::string& algorithm, const std::string& where, const std::optional<HerConfig>& her);
+
+  // A minibatch of settings_.batch_size transitions for a gradient step: uniform from the replay
+  // buffer, or with hindsight goals when HER is on; with demonstrations its first
+  // demonstrations.demo_fraction of columns are demonstrated (all of them while pre-training or
+  // while the replay buffer is empty). Returns how many columns are demonstrated.
+  int sample_batch(ReplayBatch& out);
+  // Q-filtered behaviour cloning (Nair et al. 2018) on the first `demos` columns of a minibatch:
+  // where the critic values the demonstrated action (q_demo) above the policy's (q_policy) (every
+  // column while pre-training), adds
+  // the gradient of bc_weight x mean over those columns of |policy_actions - demo_actions|^2 to
+  // d_actions (the actor loss's gradient w.r.t. its actions). Returns that loss (0 without demos).
+  double clone_demonstrations(int demos, const Eigen::MatrixXf& policy_actions, const Eigen::MatrixXf& demo_actions,
+                              const Eigen::RowVectorXf& q_demo, const Eigen::RowVectorXf& q_policy,
+                              Eigen::Ref<Eigen::MatrixXf> d_actions) const;
+  bool has_demonstrations() const { return demos_ != nullptr; }
 
   // The networks' inputs: observations times network.input_scale (actor), and those stacked
   // over the actions (critics: Q(s, a) sees [scale * s; a]).
@@ -76,6 +105,11 @@ protected:
   float input_scale_;
   OffPolicyConfig settings_;
   ReplayBuffer buffer_;
+  std::optional<HindsightReplay> her_;  // with a "her" config
+  std::optional<HerConfig> her_config_;
+  std::unique_ptr<DemonstrationReplay> demos_;  // with a "demonstrations" config
+  DemonstrationsConfig demo_cfg_;
+  bool demos_only_ = false;  // pre-training
   Rng explore_rng_;  // warm-up actions and exploration noise
   Rng replay_rng_;   // minibatch draws
   long long gradient_steps_ = 0;

@@ -68,6 +68,17 @@ public:
   // `batch_size` transitions drawn uniformly with replacement (rng.below). `out` is resized
   // only when its shape changes. Throws rdsim::Error when the buffer is empty.
   void sample(int batch_size, Rng& rng, ReplayBatch& out) const;
+  // The same draws into columns [first, first + count) of `out`, already shaped (shape_batch).
+  void sample_into(int first, int count, Rng& rng, ReplayBatch& out) const;
+
+  // The pieces of sample() for samplers of their own (hindsight_replay.hpp): the slot the latest
+  // add() wrote, `out` shaped for `batch_size` transitions (resized only when its shape changes),
+  // the transition in `slot` copied into column `column`, and a stored next observation as it was
+  // added (Float32 storage only: observation_size() values).
+  long long last_slot() const { return (next_ + capacity_ - 1) % capacity_; }
+  void shape_batch(int batch_size, ReplayBatch& out) const;
+  void copy_to(long long slot, int column, ReplayBatch& out) const;
+  const float* next_observation(long long slot) const;
 
   // The stored transitions and ring position (checkpoints). load() throws rdsim::Error naming
   // `source` when capacity, observation size, action kind or storage type differ from this buffer's,

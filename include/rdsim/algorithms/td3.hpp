@@ -1,10 +1,12 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/her.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/off_policy_config.hpp"
 #include "rdsim/core/config_fields.hpp"
@@ -61,11 +63,12 @@ void describe(V& v, C& c) {
 }
 
 // rdsim::Error naming `where` (the config file) when the env has discrete actions, pixels,
-// unbounded actions, or the replay buffer would not fit in memory.
+// unbounded actions, or the replay buffer would not fit in memory; with `her` (hindsight experience
+// replay), when the env is not goal-conditioned.
 std::unique_ptr<Algorithm> make_td3(const Td3Config& config, const NetworkConfig& network, std::uint64_t seed,
-                                    const Spec& spec, const std::string& where);
+                                    const Spec& spec, const std::string& where, const std::optional<HerConfig>& her);
 // The same algorithm under the name "ddpg".
 std::unique_ptr<Algorithm> make_ddpg(const DdpgConfig& config, const NetworkConfig& network, std::uint64_t seed,
-                                     const Spec& spec, const std::string& where);
+                                     const Spec& spec, const std::string& where, const std::optional<HerConfig>& her);
 
 }  // namespace rdsim

@@ -1,0 +1,185 @@
+// Hindsight experience replay through the real binary (issue #42): the CI-sized learning check on
+// reach_goal, the same CSVs on any thread count, after kill -9 and --resume, under mpirun and through
+// a remote env, and one clear error for each misuse. The long learning runs are tools/bench/her.py.
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <csignal>
+#include <filesystem>
+#include <thread>
+
+#include "../remote/remote_test_util.hpp"
+#include "process_util.hpp"
+#include "rdsim/training/model_file.hpp"
+#include "rl_test_util.hpp"
+
+namespace fs = std::filesystem;
+using Catch::Matchers::Contains;
+using rltest::run_rdsim;
+using rltest::ScratchDir;
+using namespace std::chrono_literals;
+
+namespace {
+
+// A short TD3 + HER run on reach_goal (about 2 s): 2 envs, episodes of 20 steps, checkpoints every 2000 steps.
+std::string small_config(const ScratchDir& dir, const std::string& name, const std::string& env_extra = "") {
+  const std::string path = dir / (name + ".json");
+  rltest::spit(path, R"({"algorithm": "td3", "env": {"name": "reach_goal", "max_steps": 20)" + env_extra +
+                         R"(}, "seed": 4, "total_timesteps": 12000, "num_envs": 2, "checkpoint_interval": 2000,
+    "network": {"hidden_sizes": [32, 32]},
+    "td3": {"learning_starts": 200, "batch_size": 64, "buffer_size": 5000},
+    "her": {"n_sampled_goal": 4, "goal_selection_strategy": "future"}})");
+  return path;
+}
+
+struct RunLogs {
+  std::string progress, episodes, weights;
+  bool operator==(const RunLogs&) const = default;
+};
+RunLogs logs(const std::string& run) {
+  return {rltest::drop_columns(rltest::slurp(run + "/progress.csv"), 2),
+          rltest::drop_columns(rltest::slurp(run + "/episodes.csv"), 1),
+          rdsim::read_model_file(run + "/model.bin").payload};
+}
+
+// Success over the last `window` episodes of episodes.csv.
+double final_success(const std::string& run, std::size_t window) {
+  const auto rows = rltest::lines(rltest::slurp(run + "/episodes.csv"));
+  REQUIRE(rows.size() > window);
+  REQUIRE(rows.front().find(",success,") != std::string::npos);
+  double sum = 0.0;
+  for (std::size_t k = rows.size() - window; k < rows.size(); ++k) {
+    std::string cell = rows[k];
+    for (int c = 0; c < 4; ++c) cell = cell.substr(cell.find(',') + 1);  // episode,timesteps,return,length,
+    sum += std::stod(cell.substr(0, cell.find(',')));
+  }
+  return sum / static_cast<double>(window);
+}
+
+}  // namespace
+
+TEST_CASE("her: configs/jaka_reach_goal.json (SAC + HER) succeeds on 95 of the last 100 episodes within 20k env steps",
+          "[cli][her][learning]") {
+  ScratchDir dir("her_reach_goal");
+  const auto r = run_rdsim("train --quiet --config configs/jaka_reach_goal.json --log-dir " + (dir / "run"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto config = nlohmann::json::parse(rltest::slurp(dir / "run/config.json"));
+  CHECK(config["total_timesteps"].get<long long>() <= 20000);
+  CHECK(config["her"]["n_sampled_goal"] == 4);
+  CHECK(final_success(dir / "run", 100) >= 0.95);
+  CHECK_THAT(rltest::lines(rltest::slurp(dir / "run/progress.csv")).front(), Contains("her_relabelable"));
+}
+
+TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume", "[cli][her]") {
+  ScratchDir dir("her_determinism");
+  const std::string config = small_config(dir, "td3_her");
+  for (const std::string threads : {"1", "2"}) {
+    const auto r = run_rdsim("train --quiet --config " + config + " --threads " + threads + " --log-dir " + (dir / ("t" + threads)), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  CHECK(logs(dir / "t1") == logs(dir / "t2"));
+  CHECK(rltest::lines(rltest::slurp(dir / "t1/episodes.csv")).size() > 50);
+
+  // Killed once a checkpoint exists, resumed: the run of one that was never killed.
+  const std::string run = dir / "killed";
+  proctest::Child c = proctest::start({"train", "--quiet", "--config", config, "--log-dir", run}, dir / "out.txt", dir / "err.txt");
+  while (proctest::running(c) && !fs::exists(run + "/checkpoint.bin")) std::this_thread::sleep_for(2ms);
+  std::this_thread::sleep_for(100ms);
+  REQUIRE(proctest::running(c));
+  ::kill(c.pid, SIGKILL);
+  proctest::wait(c);
+  const auto r = run_rdsim("train --quiet --resume " + run, dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(logs(run) == logs(dir / "t1"));
+}
+
+#ifdef RDSIM_MPIEXEC
+TEST_CASE("her: mpirun -np 2 trains data-parallel, the same CSV twice", "[cli][her][mpi]") {
+  ScratchDir dir("her_mpi");
+  const std::string config = small_config(dir, "td3_her");
+  for (const char* name : {"a", "b"}) {
+    const auto r = rltest::run_rdsim_mpi(2, "train --quiet --config " + config + " --log-dir " + (dir / name), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(r.out, Contains("2 MPI ranks"));
+  }
+  CHECK(logs(dir / "a") == logs(dir / "b"));
+  CHECK(rltest::lines(rltest::slurp(dir / "a/progress.csv")).back().rfind("12000,", 0) == 0);
+}
+#endif
+
+TEST_CASE("her: through a remote env (CurveZMQ) the logs of a local env", "[cli][her][remote]") {
+  ScratchDir dir("her_remote");
+  rdsim::test::Scratch keydir("her_remote_keys");
+  rdsim::test::TestKeys keys(keydir);
+  rdsim::test::ServerThread server(rdsim::test::curve_options(keys));
+  const std::string local = small_config(dir, "local");
+  const std::string remote = small_config(dir, "remote",
+                                          ", \"remote\": \"" + server.endpoint() + "\", \"server_key\": \"" +
+                                              keys.server_public + "\", \"client_key\": \"" + keys.client_secret + "\"");
+  for (const auto& [config, name] : {std::pair{local, "local"}, std::pair{remote, "remote"}}) {
+    const auto r = run_rdsim("train --quiet --config " + config + " --log-dir " + (dir / name), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  CHECK(logs(dir / "remote") == logs(dir / "local"));
+}
+
+TEST_CASE("her: misuse is one clear error naming the config and the key", "[cli][her]") {
+  ScratchDir dir("her_errors");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"algorithm": "ppo", "env": {"name": "reach_goal"}, "her": {}})", "her: has no effect with \"algorithm\": \"ppo\""},
+      {R"({"algorithm": "dqn", "env": {"name": "cartpole"}, "her": {}})", "sac, td3 or ddpg"},
+      {R"({"algorithm": "sac", "env": {"name": "pendulum"}, "her": {}, "sac": {"buffer_size": 1000}})",
+       "her: env \"pendulum\" is not goal-conditioned"},
+      {R"({"algorithm": "sac", "env": {"name": "push"}, "her": {"n_sampled_goal": 0}})", "her.n_sampled_goal"},
+      {R"({"algorithm": "td3", "env": {"name": "push"}, "her": {"goal_selection_strategy": "later"}})", "\"future\""},
+      {R"({"algorithm": "td3", "env": {"name": "push"}, "her": {"n_sampled": 4}})", "n_sampled"},
+  };
+  for (const auto& [text, why] : cases) {
+    const std::string path = dir / "bad.json";
+    rltest::spit(path, text);
+    const auto r = run_rdsim("train --config " + path + " --log-dir " + (dir / "run"), dir);
+    INFO(text << "\n" << r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(rltest::lines(r.err).size() == 1);
+    CHECK_THAT(r.err, Contains(path) && Contains(why));
+  }
+}
+
+TEST_CASE("her: the expert's demonstrations join a goal task's replay, and a file of another task is refused",
+          "[cli][her][demos]") {
+  ScratchDir dir("her_demos");
+  for (const char* env : {"push", "pick_and_place"}) {
+    const auto r = run_rdsim(std::string("demos record --quiet --expert --env ") + env + " -n 3 --out " + (dir / (std::string(env) + ".demo")), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  const auto config = [&](const std::string& demo_file, const std::string& extra) {
+    const std::string path = dir / "push.json";
+    rltest::spit(path, R"({"algorithm": "sac", "env": {"name": "push"}, "seed": 2, "total_timesteps": 600, "num_envs": 2,
+      "network": {"hidden_sizes": [16, 16]}, "sac": {"learning_starts": 100, "batch_size": 32, "buffer_size": 2000},
+      "her": {}, "demonstrations": {"file": ")" + demo_file + R"(", "bc_epochs": 4, "demo_fraction": 0.25, "bc_weight": 10)" +
+                           extra + "}}");
+    return path;
+  };
+  auto r = run_rdsim("train --quiet --config " + config(dir / "push.demo", "") + " --log-dir " + (dir / "run"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(rltest::lines(rltest::slurp(dir / "run/pretrain.csv")).size() == 1 + 4);
+  CHECK_THAT(rltest::lines(rltest::slurp(dir / "run/progress.csv")).front(), Contains("bc_loss"));
+  CHECK_THAT(rltest::slurp(dir / "run/config.json"), Contains("\"bc_weight\": 10"));
+
+  r = run_rdsim("train --quiet --config " + config(dir / "pick_and_place.demo", "") + " --log-dir " + (dir / "other"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, Contains("pick_and_place.demo") && Contains("pick_and_place") && Contains("push"));
+
+  r = run_rdsim("train --quiet --config " + config(dir / "push.demo", ", \"bc_weight_decay\": 0.9") + " --log-dir " + (dir / "decay"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains("demonstrations.bc_weight_decay") && Contains("has no effect with \"algorithm\": \"sac\""));
+}
