@@ -173,14 +173,20 @@ void Sac::gradient_step(double* sums) {
   const Eigen::RowVectorXf q1 = q_[1].forward(pi_in).row(0);
   Eigen::MatrixXf d_q0 = Eigen::MatrixXf::Zero(1, b), d_q1 = Eigen::MatrixXf::Zero(1, b);
   for (int j = 0; j < b; ++j) (q0[j] <= q1[j] ? d_q0(0, j) : d_q1(0, j)) = -inv_b;
-  Eigen::MatrixXf d_in = q_[0].backward(d_q0) + q_[1].backward(d_q1);  // the critics' grads are zeroed before their next step
-  // Demonstrated columns: the Q-filtered cloning term pulls the policy's actions towards them.
-  const double bc_loss = clone_demonstrations(demos, pi.actions(), batch_.action_values, q_stored, q0.cwiseMin(q1),
-                                              d_in.bottomRows(action_dim_));
+  const Eigen::MatrixXf d_in = q_[0].backward(d_q0) + q_[1].backward(d_q1);  // the critics' grads are zeroed before their next step
   const Eigen::VectorXf d_log_prob = Eigen::VectorXf::Constant(b, alpha * inv_b);
   const nn::TanhGaussian::Grad g = pi.backward(d_in.bottomRows(action_dim_), d_log_prob);
   Eigen::MatrixXf d_out(2 * action_dim_, b);
   d_out.topRows(action_dim_) = g.mean;
+  // Demonstrated columns: the Q-filtered cloning term pulls the policy's mean action tanh(mean)
+  // towards them (the mode, not the draw: cloning the draws would fight the entropy term).
+  double bc_loss = 0.0;
+  if (demos > 0) {
+    const Eigen::MatrixXf mode = nn::TanhGaussian::mode(mean);
+    Eigen::MatrixXf d_mode = Eigen::MatrixXf::Zero(action_dim_, b);
+    bc_loss = clone_demonstrations(demos, mode, batch_.action_values, q_stored, q0.cwiseMin(q1), d_mode);
+    d_out.topRows(action_dim_).array() += d_mode.array() * (1.0f - mode.array().square());
+  }
   // Clamped log stds pass no gradient.
   const Eigen::MatrixXf raw_log_std = out.bottomRows(action_dim_);
   d_out.bottomRows(action_dim_) =

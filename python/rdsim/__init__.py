@@ -1,6 +1,6 @@
 """rdsim from Python: every rdsim env in-process with the Gymnasium API.
 
-- :func:`make` -- one env as a ``gymnasium.Env``.
+- :func:`make` -- one env as a ``gymnasium.Env``; with ``remote="tcp://host:port"`` a :class:`RemoteEnv`.
 - :func:`make_vec` -- the C++ vector env as a ``gymnasium.vector.VectorEnv`` (zero-copy batches,
   GIL released while stepping, ``step_async``/``step_wait``).
 - :func:`load_model` -- a policy saved by ``rdsim train``.

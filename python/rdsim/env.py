@@ -131,13 +131,23 @@ def _rdsim_seed_check(where: str, seed: Any) -> None:
         raise _rdsim.Error(f"{where}: reset: seed: expected None or an integer in [0, 2^64 - 1], got {seed!r}")
 
 
-def make(env_id: str, render_mode: Optional[str] = None, **options: Any) -> RdsimEnv:
+def make(env_id: str, render_mode: Optional[str] = None, *, remote: Optional[str] = None,
+         server_key: Optional[str] = None, client_key: Optional[str] = None, timeout: Optional[float] = None,
+         **options: Any) -> gymnasium.Env:
     """An rdsim env as a ``gymnasium.Env`` (no Gymnasium wrappers; ``gymnasium.make`` adds its own).
 
     ``env_id`` is a Gymnasium id (``"rdsim/JakaButton-v0"``) or a registry name (``"jaka_button"``);
     ``options`` are env config keys, e.g. ``observation="raw_pixels", image_width=64, is_discrete=False``.
+
+    With ``remote="tcp://host:port"`` the env runs on that ``rdsim serve`` and the result is an
+    :class:`rdsim.RemoteEnv` (needs pyzmq) with the same spaces; ``server_key`` (the server's NAME.key)
+    and ``client_key`` (this client's NAME.key_secret) encrypt the link, ``timeout`` is the seconds to
+    wait for each reply (default 60). These three need ``remote``.
     """
-    env = RdsimEnv(env_id, render_mode=render_mode, **options)
+    link = {"remote": remote, "server_key": server_key, "client_key": client_key, "timeout": timeout}
+    link = {key: value for key, value in link.items() if value is not None}
+    env = env_for_gymnasium(env_id, render_mode=render_mode, **link, **options)
+    options = {**link, **options}  # for env.spec: gymnasium.make(env.spec) makes the same env
     gym_id = _env_id(env_name(env_id))
     if gym_id in gymnasium.registry:
         spec = copy.deepcopy(gymnasium.registry[gym_id])
@@ -148,6 +158,39 @@ def make(env_id: str, render_mode: Optional[str] = None, **options: Any) -> Rdsi
     return env
 
 
-def env_for_gymnasium(env_id: str, **kwargs: Any) -> RdsimEnv:
-    """Gymnasium's entry point for the rdsim ids (``gymnasium.make``)."""
-    return RdsimEnv(env_id, **kwargs)
+def _check_local_only(env_id: str, **remote_arguments: Any) -> None:
+    """server_key, client_key and timeout belong to a remote env: refused without ``remote``."""
+    given = [key for key, value in remote_arguments.items() if value is not None]
+    if given:
+        raise _rdsim.Error(f'rdsim.make("{_env_id(env_name(env_id))}"): {given[0]}: expected only with '
+                           f'remote="tcp://host:port" (the address of an `rdsim serve`), got no remote')
+
+
+def _remote_env(env_id: str, render_mode: Optional[str], remote: str, server_key: Optional[str],
+                client_key: Optional[str], timeout: Optional[float], options: dict) -> gymnasium.Env:
+    """:class:`rdsim.RemoteEnv` of ``env_id`` on the server at ``remote``."""
+    where = f'rdsim.make("{_env_id(env_name(env_id))}", remote={remote!r})'
+    if not isinstance(remote, str) or not remote:
+        raise _rdsim.Error(f'{where}: remote: expected an address such as "tcp://host:port", got {remote!r}')
+    if timeout is not None and (isinstance(timeout, bool) or not isinstance(timeout, (int, float))
+                                or not 0 < timeout < float("inf")):
+        raise _rdsim.Error(f"{where}: timeout: expected a number of seconds > 0, got {timeout!r}")
+    if render_mode not in (None, "none"):
+        raise _rdsim.Error(f"{where}: render_mode: expected None for a remote env (it does not render; "
+                           f"RemoteEnv.cameras() returns images), got {render_mode!r}")
+    try:
+        from .remote import RemoteEnv
+    except ImportError as e:
+        raise _rdsim.Error(f"{where}: remote: needs pyzmq (pip install rdsim[remote]): {e}") from None
+    extra = {} if timeout is None else {"timeout": timeout}
+    return RemoteEnv(remote, env_id, server_key=server_key, client_key=client_key, **extra, **options)
+
+
+def env_for_gymnasium(env_id: str, render_mode: Optional[str] = None, remote: Optional[str] = None,
+                      server_key: Optional[str] = None, client_key: Optional[str] = None,
+                      timeout: Optional[float] = None, **options: Any) -> gymnasium.Env:
+    """Gymnasium's entry point for the rdsim ids (``gymnasium.make``), with :func:`make`'s arguments."""
+    if remote is None:
+        _check_local_only(env_id, server_key=server_key, client_key=client_key, timeout=timeout)
+        return RdsimEnv(env_id, render_mode=render_mode, **options)
+    return _remote_env(env_id, render_mode, remote, server_key, client_key, timeout, options)

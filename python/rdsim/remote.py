@@ -12,8 +12,10 @@ import gymnasium
 import numpy as np
 import zmq
 
+from . import _rdsim
 from ._ids import env_name
 from ._rdsim import Error
+from .spaces import goal_dict, observation_space
 
 PROTOCOL_VERSION = 1
 _DTYPES = {"float32": np.dtype("<f4"), "uint8": np.dtype("u1")}
@@ -30,6 +32,15 @@ def _key_field(path: str, label: str) -> bytes:
     raise Error(f"{path}: no '{label} <key>' line (write key files with `rdsim keygen NAME`)")
 
 
+def _local_spec(remote_spec: dict, arrays: dict) -> dict:
+    """The observation part of a hello reply's spec in the C++ module's layout (rdsim.spaces reads it)."""
+    obs = remote_spec["observation"]
+    spec = {"observation_shape": obs["shape"], "observation_dtype": obs["dtype"], "goal": remote_spec.get("goal")}
+    if obs["dtype"] != "uint8":
+        spec["observation_low"], spec["observation_high"] = arrays["observation_low"], arrays["observation_high"]
+    return spec
+
+
 class RemoteEnv(gymnasium.Env):
     """One session on an ``rdsim serve`` at ``address`` ("tcp://host:port"), as a ``gymnasium.Env``.
 
@@ -38,7 +49,11 @@ class RemoteEnv(gymnasium.Env):
     reader's messages. Without keys the link is plain text (servers started with ``--insecure``, on
     loopback); with ``server_key`` (the server's NAME.key) and ``client_key`` (this client's
     NAME.key_secret) it is CurveZMQ-encrypted. Robot envs also offer ``position``, ``joints``,
-    ``cameras`` and ``state`` (see docs/protocol.md).
+    ``cameras`` and ``state`` (see docs/protocol.md). ``rdsim.make(env, remote=address, ...)`` makes one.
+
+    The spaces are :func:`rdsim.make`'s: goal envs (``rdsim/JakaPush-v0`` ...) observe dicts of
+    ``observation``, ``achieved_goal`` and ``desired_goal``, set ``info["is_success"]`` and have
+    ``compute_reward(achieved_goal, desired_goal, info)``, computed here from the server's goal layout.
     """
 
     metadata: dict[str, Any] = {"render_modes": [], "render_fps": 30}
@@ -57,7 +72,12 @@ class RemoteEnv(gymnasium.Env):
             self._socket.curve_serverkey = _key_field(server_key, "public")
             self._socket.curve_publickey = _key_field(client_key, "public")
             self._socket.curve_secretkey = _key_field(client_key, "secret")
-        self._socket.connect(address)
+        try:
+            self._socket.connect(address)
+        except zmq.ZMQError as e:
+            self._socket.close()
+            self._socket = None
+            raise Error(f'RemoteEnv: address: expected "tcp://host:port", got {address!r} ({e.strerror})') from None
         self._next_id = 1
         header, arrays = self.request({"request": "hello", "protocol": PROTOCOL_VERSION, "env": config})
         self.server = header.get("server")
@@ -65,13 +85,15 @@ class RemoteEnv(gymnasium.Env):
         self.config: dict[str, Any] = header["env"]
         self.remote_spec = header["spec"]
         self.robot = header["robot"]  # None for envs without a robot (cartpole)
-        obs = self.remote_spec["observation"]
-        shape, dtype = tuple(obs["shape"]), _DTYPES[obs["dtype"]]
-        if dtype == np.uint8:
-            self.observation_space = gymnasium.spaces.Box(0, 255, shape, np.uint8)
-        else:
-            self.observation_space = gymnasium.spaces.Box(arrays["observation_low"].reshape(shape),
-                                                          arrays["observation_high"].reshape(shape), shape, np.float32)
+        self.observation_space = observation_space(_local_spec(self.remote_spec, arrays))
+        #: A goal env's layout and reward (``None`` for other envs), as :attr:`rdsim.RdsimEnv.goal`.
+        self.goal: Optional[dict] = self.remote_spec.get("goal")
+        if self.goal is not None:
+            # Only goal envs have compute_reward (checkers such as SB3's take it to mean a GoalEnv).
+            self.compute_reward = self._compute_reward
+        #: Simulated seconds per step and the truncation limit in steps, as rdsim.make's.
+        self.control_dt: float = float(self.remote_spec["control_dt"])
+        self.max_episode_steps: int = int(self.remote_spec["max_episode_steps"])
         act = self.remote_spec["action"]
         if act["discrete"]:
             self.action_space = gymnasium.spaces.Discrete(act["n"])
@@ -107,7 +129,20 @@ class RemoteEnv(gymnasium.Env):
         reply, arrays = self.request(header)
         info = dict(reply["info"])
         info.update({k: v for k, v in arrays.items() if k != "observation"})
-        return arrays["observation"], float(reply["reward"]), bool(reply["terminated"]), bool(reply["truncated"]), info
+        if self.goal is not None:
+            info["is_success"] = info["success"]
+        return (self._observation(arrays["observation"]), float(reply["reward"]), bool(reply["terminated"]),
+                bool(reply["truncated"]), info)
+
+    def _observation(self, flat: np.ndarray):
+        return flat if self.goal is None else goal_dict(self.goal, flat, copy=False)
+
+    def _compute_reward(self, achieved_goal, desired_goal, info=None):
+        """A goal env's reward for ``achieved_goal`` / ``desired_goal`` (last axis: the goal's points,
+        3 values each), batched over the leading axes; what ``step`` returns (computed in this
+        process, no request). ``info`` is accepted for Gymnasium-Robotics' signature and not read."""
+        reward = _rdsim.compute_reward(self.goal, np.asarray(achieved_goal), np.asarray(desired_goal))
+        return float(reward) if reward.ndim == 0 else reward
 
     # -- Gymnasium ------------------------------------------------------------------------------
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
@@ -118,7 +153,7 @@ class RemoteEnv(gymnasium.Env):
         if seed is not None:
             header["seed"] = int(seed)
         _, arrays = self.request(header)
-        return arrays["observation"], {}
+        return self._observation(arrays["observation"]), {}
 
     def step(self, action):
         if isinstance(self.action_space, gymnasium.spaces.Discrete):

@@ -2,12 +2,15 @@
 #include "rdsim/app/serve.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
@@ -99,6 +102,11 @@ int serve_command(const ServeOptions& options) {
   const remote::ServerStats s = server.stats();
   std::fprintf(stderr, "rdsim serve: stopped after %lld requests (%lld errors), %lld sessions, %lld refused connections\n",
                s.requests, s.errors, s.sessions_opened, s.refused);
+  // What the errors were, most frequent first.
+  std::vector<std::pair<long long, std::string>> kinds;
+  for (const auto& [message, n] : s.error_kinds) kinds.emplace_back(n, message);
+  std::stable_sort(kinds.begin(), kinds.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const auto& [n, message] : kinds) std::fprintf(stderr, "rdsim serve:   %lld x %s\n", n, message.c_str());
   return 0;
 }
 

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -48,13 +49,23 @@ int teleop_command(const TeleopOptions& o) {
   }
   const nlohmann::json env_json = to_json(config);
   std::unique_ptr<DemoWriter> writer;
+  // The file is created at once (a wrong path or a file of another env fails before the window
+  // opens), and removed again if the session recorded nothing into it (first contact, item 10).
+  std::error_code ec;
+  const bool existed = !o.record_path.empty() && std::filesystem::exists(o.record_path, ec);
   if (!o.record_path.empty()) writer = std::make_unique<DemoWriter>(o.record_path, env_json, env->spec(), true);
   TeleopSession session(*env, o.seed, writer.get(), env_json);
   SceneMirror mirror(config);
   TeleopWindowOptions window = o.window;
   if (window.title == TeleopWindowOptions{}.title) window.title = "rdsim teleop: " + config.name;
   run_teleop_window(session, mirror, window);
-  if (writer) std::printf("rdsim teleop: %s holds %lld demonstrations\n", o.record_path.c_str(), writer->episodes());
+  if (writer && !existed && writer->episodes() == 0) {
+    writer.reset();  // releases the file's lock
+    std::filesystem::remove(o.record_path, ec);
+    std::printf("rdsim teleop: nothing was recorded; %s not kept\n", o.record_path.c_str());
+  } else if (writer) {
+    std::printf("rdsim teleop: %s holds %lld demonstrations\n", o.record_path.c_str(), writer->episodes());
+  }
   return 0;
 }
 

@@ -93,6 +93,23 @@ struct Server::Impl {
     std::lock_guard<std::mutex> lock(stats_mutex);
     ++(stats.*field);
   }
+  // An error reply: counted by its message, and logged with the session it went to (the first
+  // kLoggedErrors of them: hostile input must not flood the log).
+  void count_error(const std::string& id, const std::string& message) {
+    static constexpr long long kLoggedErrors = 20;
+    long long n = 0;
+    {
+      std::lock_guard<std::mutex> lock(stats_mutex);
+      n = ++stats.errors;
+      auto& kinds = stats.error_kinds;
+      if (kinds.count(message) || kinds.size() < ServerStats::max_error_kinds) ++kinds[message];
+      else ++kinds["other errors"];
+    }
+    if (n > kLoggedErrors) return;
+    const auto it = sessions.find(id);
+    const std::string who = it == sessions.end() ? "a client without a session" : "session " + std::to_string(it->second.number);
+    log("error reply to " + who + ": " + message + (n == kLoggedErrors ? " (further errors are counted, not logged)" : ""));
+  }
   void sync_session_count() {
     std::lock_guard<std::mutex> lock(stats_mutex);
     stats.sessions = static_cast<int>(sessions.size());
@@ -326,7 +343,7 @@ void Server::Impl::serve_one(zmq::message_t& id, std::vector<zmq::message_t>& pa
   } catch (const std::exception& e) {
     reply = error_reply(parsed.id, std::string("internal error: ") + e.what());
   }
-  if (reply.header.contains("error")) count(&ServerStats::errors);
+  if (reply.header.contains("error")) count_error(key, reply.header["error"].get<std::string>());
   send(id, envelope, reply);
 }
 

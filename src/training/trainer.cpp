@@ -351,9 +351,15 @@ TrainResult Trainer::finish() {
   result.checkpoint_path = r.file(checkpoint_file_name);
   result.episodes = r.run_episodes->episodes(*r.vec);
   result.stats = r.run_episodes->stats(*r.vec);
-  r.display->show(r.steps, r.target, result.stats, r.overall_sps, result.wall_time, true);
+  // A resumed run that was already complete: say so, not "0 steps/s" (first contact, item 8).
+  const bool already_complete = r.resume && r.start_steps >= r.total && !r.decision.signal;
+  if (!already_complete) r.display->show(r.steps, r.target, result.stats, r.overall_sps, result.wall_time, true);
   r.display->finish();
-  if (r.decision.signal) {
+  if (already_complete) {
+    std::printf("rdsim train: %s is already complete (%lld of %lld steps); nothing to do. To train it further: "
+                "rdsim train --resume %s --timesteps N (N > %lld)\n",
+                result.run_dir.c_str(), r.steps, r.total, result.run_dir.c_str(), r.steps);
+  } else if (r.decision.signal) {
     std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
                  r.steps, r.total, result.checkpoint_path.c_str(), result.model_path.c_str(), result.run_dir.c_str());
   } else {

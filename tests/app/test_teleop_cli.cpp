@@ -1,6 +1,8 @@
 // `rdsim teleop` as a person uses it: the real window under Xvfb, driven by key presses (xdotool),
 // records a demonstration that loads and trains; a screenshot of the screen is not blank.
 #include <catch2/catch.hpp>
+
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -129,6 +131,18 @@ TEST_CASE("rdsim teleop under Xvfb: key presses record a demonstration that load
   CHECK(dark < static_cast<long long>(p.rgb.size() / 3 / 2));
   // And the window's own screenshot (P) was written.
   CHECK(rltest::slurp(shot).substr(1, 3) == "PNG");
+}
+
+TEST_CASE("rdsim teleop --record leaves no empty file when nothing was recorded (first contact, item 10)", "[teleop][window]") {
+  if (!window_tools()) return;
+  ScratchDir dir("teleop_nothing_recorded");
+  const std::string demos = dir / "nothing.demo";
+  // The window opens, a few moves are made without recording, and it is closed.
+  const int status = under_xvfb(dir, person(dir, "--env jaka_button --seed 7 --record '" + demos + "'", "e e w"));
+  INFO("teleop output:\n" << rltest::slurp(dir / "teleop.out") << "\nxvfb-run output:\n" << rltest::slurp(dir / "xvfb.out"));
+  REQUIRE(status == 0);
+  CHECK_THAT(rltest::slurp(dir / "teleop.out"), Contains("nothing was recorded; " + demos + " not kept"));
+  CHECK_FALSE(std::filesystem::exists(demos));
 }
 
 TEST_CASE("rdsim teleop --connect: the window drives an rdsim serve env (CurveZMQ) and records it", "[teleop][window][remote]") {

@@ -87,7 +87,7 @@ TEST_CASE("train: the summary has success and the model, the rounding to whole r
   REQUIRE(out.size() == 1);
   CHECK_THAT(out[0], StartsWith("rdsim train: ppo on cartpole, 3072 timesteps (total_timesteps 3000 rounded up to whole "
                                 "rollouts of 256 steps (n_steps x num_envs)), "));
-  CHECK_THAT(out[0], Contains(" episodes, last 20 episodes: success "));
+  CHECK_THAT(out[0], Contains(" 93 episodes, last 93 episodes: success "));  // fewer than stats_window (100 by default)
   CHECK_THAT(out[0], Contains(", mean return "));
   CHECK_THAT(out[0], Contains(" s -> " + (dir / "run/model.bin")));
   // --quiet: the same summary, no progress line; a whole number of rollouts is not called rounded.
@@ -126,6 +126,24 @@ TEST_CASE("train --resume continues a run exactly like an uninterrupted one", "[
   r = run_rdsim("train --resume " + (dir / "nothing_here"), dir);
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains("nothing_here: no such run folder"));
+}
+
+TEST_CASE("train --resume of a finished run says it is complete, --timesteps extends it (first contact, item 8)", "[cli]") {
+  ScratchDir dir("cli_resume_finished");
+  const std::string config = short_ppo(dir, 1024);
+  auto r = run_rdsim("train --quiet --config " + config + " --timesteps 2048 --log-dir " + (dir / "run"), dir);
+  REQUIRE(r.exit_code == 0);
+  const std::string progress = rltest::slurp(dir / "run/progress.csv");
+  r = run_rdsim("train --resume " + (dir / "run"), dir);
+  INFO(r.out << r.err);
+  CHECK(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("is already complete (2048 of 2048 steps); nothing to do") && Contains("--timesteps N (N > 2048)"));
+  CHECK_THAT(r.out + r.err, !Contains("0 steps/s"));
+  CHECK(rltest::slurp(dir / "run/progress.csv") == progress);
+  r = run_rdsim("train --quiet --resume " + (dir / "run") + " --timesteps 4096", dir);
+  CHECK(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("4096 timesteps"));
+  CHECK(rltest::slurp(dir / "run/progress.csv").rfind(progress, 0) == 0);  // extended, the first rows kept
 }
 
 TEST_CASE("replay runs a model from the file alone, damaged files fail clearly", "[cli]") {

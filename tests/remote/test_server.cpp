@@ -429,3 +429,19 @@ TEST_CASE("server: hostile frames get error replies or a dropped connection, oth
   RawClient req(server.endpoint(), zmq::socket_type::req);
   CHECK(req.call(R"({"id": 1, "request": "state"})")["error"].get<std::string>().find("send hello first") != std::string::npos);
 }
+
+TEST_CASE("server: error replies are logged with their session and counted by message (first contact, item 7)",
+          "[remote][server]") {
+  Scratch dir("error_kinds");
+  TestKeys keys(dir);
+  ServerThread server(curve_options(keys));
+  const auto remote = connect_remote_env(keys.link(server.endpoint()), default_env_config("cartpole"));
+  remote->reset(1);
+  for (int k = 0; k < 3; ++k) CHECK_THROWS(remote->step(Action::discrete(7)));
+  CHECK(eventually([&] { return server.server().stats().errors == 3; }));
+  const remote::ServerStats s = server.server().stats();
+  REQUIRE(s.error_kinds.size() == 1);
+  CHECK(s.error_kinds.begin()->second == 3);
+  CHECK_THAT(s.error_kinds.begin()->first, Contains("action"));
+  CHECK_THAT(server.log(), Contains("error reply to session 1: " + s.error_kinds.begin()->first));
+}

@@ -52,6 +52,10 @@ struct ServerOptions {
 struct ServerStats {
   long long requests = 0;  // messages received
   long long errors = 0;    // error replies sent
+  // The error replies by message (at most max_error_kinds distinct ones; later new ones count under
+  // "other errors"), so the summary can say what the errors were.
+  std::map<std::string, long long> error_kinds;
+  static constexpr std::size_t max_error_kinds = 20;
   long long refused = 0;   // connections the ZAP handler refused
   int sessions = 0;        // open now
   long long sessions_opened = 0;

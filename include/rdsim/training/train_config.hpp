@@ -29,7 +29,7 @@ struct TrainConfig {
   std::string log_dir;  // empty: runs/<name>
   long long checkpoint_interval = 0;
   double checkpoint_seconds = 60.0;
-  int stats_window = 20;
+  int stats_window = 100;  // episodes: the convention of SB3 and of the docs' figures
   int num_threads = 0;  // 0: resolved by resolve_num_threads()
   std::string env_workers = "auto";  // resolved by resolve_env_workers()
   int env_groups = 1;

@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Learning the goal-conditioned manipulation tasks (not a unit test): rdsim's SAC + hindsight
+# experience replay, seeds 1-3, through tools/bench/learning.sh (target: 0.9 success over the last
+# 100 training episodes; then a deterministic replay of each final model over 100 episodes).
+#
+#   tools/bench/her.sh [TASK...]      (default: push pick_and_place panda_push stack_demos stack_her)
+#   OUT=/tmp/her SEEDS="1 2 3" JOBS=2 tools/bench/her.sh push compare
+#
+# Tasks:
+#   push, pick_and_place   configs/jaka_push.json, configs/jaka_pick_and_place.json (JAKA + gripper)
+#   panda_push             configs/jaka_push.json with pybullet_data's Franka Panda by options (the
+#                          URDF read from the venv's pybullet, never copied)
+#   stack_demos            configs/jaka_stack_demos.json with 50 episodes of the scripted expert
+#                          (recorded into $OUT/stack.demo), target 0.6
+#   stack_her              the same config without demonstrations (HER alone), target 0.6
+#   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
+#                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
+#                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
+#                          (taskset; torch one thread): env steps and seconds to 0.9, final success.
+# Settings: OUT (default a new /tmp folder), SEEDS, JOBS, TIMESTEPS, RDSIM_BIN (as learning.sh),
+# SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps).
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$root"
+out=${OUT:-$(mktemp -d /tmp/rdsim_her.XXXXXX)}
+bin=${RDSIM_BIN:-build/rdsim}
+seeds=${SEEDS:-1 2 3}
+tasks=("$@")
+[ ${#tasks[@]} -eq 0 ] && tasks=(push pick_and_place panda_push stack_demos stack_her)
+mkdir -p "$out"
+py="$root/.venv/bin/python"
+echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) cores; $(date -u +%F)"
+
+# `config` with its JSON edited by the Python expression `edit` (c is the config) -> `path`.
+edited_config() {
+  "$py" - "$1" "$2" "$3" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))
+exec(sys.argv[2])
+json.dump(c, open(sys.argv[3], "w"), indent=2)
+PY
+}
+
+learn() {  # name config target
+  OUT="$out/$1" METRIC=success WINDOW=100 "$root/tools/bench/learning.sh" "$2" "$3"
+}
+
+stack_demos() {
+  [ -f "$out/stack.demo" ] || "$bin" demos record --quiet --expert --env stack -n 50 --out "$out/stack.demo"
+}
+
+# "first_steps first_seconds final_success" of an episodes.csv: where the last 100 first reach 0.9.
+first_at() {
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if ($i == "success") s = i; if ($i == "wall_time") w = i } }
+           NR > 1 { k = n++ % 100; v[k] = $s; sum += $s; if (n > 100) sum -= old[k]; old[k] = $s
+                    if (n >= 100 && !hit && sum / 100 >= 0.9 - 1e-9) { hit = $2; at = $w } }
+           END { c = 0; t = 0; for (i = 0; i < (n < 100 ? n : 100); i++) { t += v[i]; c++ }
+                 printf "%s %s %.2f\n", (hit ? hit : "never"), (hit ? sprintf("%.0f", at) : "-"), (c ? t / c : 0) }' "$1"
+}
+
+compare() {
+  local steps sb3_steps
+  steps=$("$py" -c "import json; print(json.load(open('configs/jaka_push.json'))['total_timesteps'])")
+  sb3_steps=${SB3_TIMESTEPS:-$steps}
+  mkdir -p "$out/compare"
+  echo "| seed | rdsim: 0.9 at (steps, s) | rdsim final / eval | SB3: 0.9 at (steps, s) | SB3 final / eval |"
+  echo "|---|---|---|---|---|"
+  for seed in $seeds; do
+    local r="$out/compare/rdsim_seed$seed" s="$out/compare/sb3_seed$seed"
+    taskset -c 0 "$bin" train --quiet --overwrite --config configs/jaka_push.json --seed "$seed" --log-dir "$r" \
+      >"$r.log" 2>&1 &
+    mkdir -p "$s"
+    taskset -c 1 "$py" examples/sb3_her.py --config configs/jaka_push.json --seed "$seed" --timesteps "$sb3_steps" \
+      --torch-threads 1 --csv "$s/episodes.csv" >"$s.log" 2>&1 &
+    wait
+    local re se
+    re=$("$bin" replay "$r/model.bin" -n 100 | tail -n 1 | sed -E 's/.*success rate ([0-9.]+) over.*/\1/')
+    se=$(sed -E -n 's/.*over [0-9]+ episodes: success ([0-9.]+).*/\1/p' "$s.log")
+    read -r ra rs rf < <(first_at "$r/episodes.csv")
+    read -r sa ss sf < <(first_at "$s/episodes.csv")
+    echo "| $seed | $ra, $rs | $rf / $re | $sa, $ss | $sf / $se |"
+  done
+}
+
+for task in "${tasks[@]}"; do
+  case "$task" in
+    push) learn push configs/jaka_push.json 0.9 ;;
+    pick_and_place) learn pick_and_place configs/jaka_pick_and_place.json 0.9 ;;
+    panda_push)
+      data=$("$py" -c "import pybullet_data; print(pybullet_data.getDataPath())")
+      edited_config configs/jaka_push.json "c['env'].update(urdf='$data/franka_panda/panda.urdf', effector_link='panda_grasptarget', finger_joints=['panda_finger_joint1', 'panda_finger_joint2'], home_pose=[0.0, 0.41, 0.0, -1.85, 0.0, 2.26, 0.79], base_position=[-0.05, 0.0, 0.0])" \
+        "$out/panda_push.json"
+      learn panda_push "$out/panda_push.json" 0.9 ;;
+    stack_demos)
+      stack_demos
+      edited_config configs/jaka_stack_demos.json "c['demonstrations']['file'] = '$out/stack.demo'" "$out/stack_demos.json"
+      learn stack_demos "$out/stack_demos.json" 0.6 ;;
+    stack_her)
+      edited_config configs/jaka_stack_demos.json "del c['demonstrations']" "$out/stack_her.json"
+      learn stack_her "$out/stack_her.json" 0.6 ;;
+    compare) compare ;;
+    *) echo "her.sh: unknown task $task (push pick_and_place panda_push stack_demos stack_her compare)" >&2; exit 2 ;;
+  esac
+done
+echo "runs: $out"
