@@ -1,4 +1,6 @@
 """The examples in examples/, with small budgets: they must learn something."""
+from pathlib import Path
+
 import pytest
 
 
@@ -31,3 +33,17 @@ def test_cleanrl_ppo_solves_jaka_button():
 
     result = cleanrl_ppo.main(["--timesteps", "300000"])
     assert result["last_success_rate"] >= 0.95
+
+
+def test_sb3_her_trains_sac_with_her_on_a_goal_task(tmp_path):
+    """examples/sb3_her.py: SB3's SAC + HerReplayBuffer on a Dict goal env, with a config's settings."""
+    import sb3_her
+
+    csv_path = tmp_path / "episodes.csv"
+    result = sb3_her.main(["--env", "rdsim/JakaReachGoal-v0", "--config",
+                           str(Path(__file__).resolve().parents[2] / "configs/jaka_reach_goal.json"),
+                           "--timesteps", "1500", "--eval-episodes", "10", "--torch-threads", "1", "--csv", str(csv_path)])
+    rows = csv_path.read_text().splitlines()
+    assert rows[0] == "episode,timesteps,return,length,success,wall_time"
+    assert len(rows) > 10
+    assert result["timesteps"] == 1500 and 0.0 <= result["eval_success"] <= 1.0
