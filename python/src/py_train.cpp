@@ -64,6 +64,7 @@ py::tuple train(const std::string& config_path, const std::string& config_json, 
   s.quiet = quiet;
   s.dashboard = dashboard;
   s.handle_signals = false;  // Python owns SIGINT: check_signals() turns it into request_stop
+  s.names.python = true;     // messages name rdsim.train's keyword arguments, not the command's flags
 
   Trainer trainer(std::move(s));
   py::object pending = py::none();

@@ -25,19 +25,20 @@ double address_space_in_use() {
 
 }  // namespace
 
-MemoryLimit memory_limit(std::optional<double> max_memory_gb) {
+MemoryLimit memory_limit(std::optional<double> max_memory_gb, const SettingNames& names) {
   if (max_memory_gb) {
     char buf[48];
     std::snprintf(buf, sizeof buf, "%g", *max_memory_gb);
-    return {*max_memory_gb * 1e9, std::string("--max-memory ") + buf};
+    return {*max_memory_gb * 1e9, names.with(Setting::MaxMemory, buf), names};
   }
   const double physical = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGESIZE));
-  MemoryLimit limit{kShare * physical, "80% of this machine's " + format_bytes(physical)};
+  MemoryLimit limit{kShare * physical, "80% of this machine's " + format_bytes(physical), names};
   rlimit as{};
   if (::getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
     const double left = static_cast<double>(as.rlim_cur) - address_space_in_use();
     if (kShare * left < limit.bytes)
-      limit = {kShare * std::max(left, 0.0), "80% of the " + format_bytes(std::max(left, 0.0)) + " the address-space limit (ulimit -v) leaves"};
+      limit = {kShare * std::max(left, 0.0),
+               "80% of the " + format_bytes(std::max(left, 0.0)) + " the address-space limit (ulimit -v) leaves", names};
   }
   return limit;
 }
@@ -52,7 +53,8 @@ MemoryEstimate estimate_training_memory(const TrainConfig& config, const Spec& s
 void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, const std::string& where) {
   if (estimate.total() <= limit.bytes) return;
   throw Error(where + ": this run would need " + estimate.summary() + "; more than the limit of " +
-              format_bytes(limit.bytes) + " (" + limit.why + "): make those smaller, or raise the limit with --max-memory GB");
+              format_bytes(limit.bytes) + " (" + limit.why + "): make those smaller, or raise the limit with " +
+              limit.names.with(Setting::MaxMemory, "GB"));
 }
 
 }  // namespace rdsim

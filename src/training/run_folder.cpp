@@ -38,7 +38,7 @@ const std::vector<std::string>& RunFolder::run_files() {
   return files;
 }
 
-RunFolder::RunFolder(const std::string& dir, Mode mode) : dir_(dir) {
+RunFolder::RunFolder(const std::string& dir, Mode mode, const SettingNames& names) : dir_(dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (mode == Mode::Resume && !fs::is_directory(dir_, ec)) throw Error(dir + ": no such run folder to resume");
@@ -53,7 +53,8 @@ RunFolder::RunFolder(const std::string& dir, Mode mode) : dir_(dir) {
     ::close(lock_fd_);
     lock_fd_ = -1;
     if (why == EWOULDBLOCK)
-      throw Error(dir + ": another rdsim run (pid " + pid + ") is using this folder; wait for it to end or choose another --log-dir");
+      throw Error(dir + ": another rdsim run (pid " + pid + ") is using this folder; wait for it to end or choose another " +
+                  names.flag(Setting::LogDir));
     throw Error(lock_path + ": cannot lock the run folder: " + std::strerror(why));
   }
   const std::string pid = std::to_string(::getpid());
@@ -77,9 +78,11 @@ RunFolder::RunFolder(const std::string& dir, Mode mode) : dir_(dir) {
     // not be written) can only start again.
     if (!fs::exists(dir_ / checkpoint_file_name))
       throw Error(dir + ": holds the files of a run that ended before its first checkpoint (" + list +
-                  "), so it cannot be resumed; start again with --overwrite (deletes them), or choose another --log-dir");
-    throw Error(dir + ": holds the files of another run (" + list + "); continue it with --resume " + dir +
-                ", start again with --overwrite (deletes them), or choose another --log-dir");
+                  "), so it cannot be resumed; start again with " + names.flag(Setting::Overwrite) +
+                  " (deletes them), or choose another " + names.flag(Setting::LogDir));
+    throw Error(dir + ": holds the files of another run (" + list + "); continue it with " + names.with(Setting::Resume, dir) +
+                ", start again with " + names.flag(Setting::Overwrite) + " (deletes them), or choose another " +
+                names.flag(Setting::LogDir));
   }
   if (mode == Mode::Overwrite) {
     for (const auto& f : present) {

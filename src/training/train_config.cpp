@@ -71,7 +71,7 @@ TrainConfig parse_train_config(const nlohmann::json& json, const std::string& wh
   c.env = read_env_config(env);
   config::FieldReader run(r);
   describe(run, c);
-  if (c.log_dir.empty()) c.log_dir = "runs/" + name;
+  if (c.log_dir.empty() && !name.empty()) c.log_dir = "runs/" + name;  // empty name: the caller picks the folder
   check_combination(r, c);
   r.finish();
   return c;

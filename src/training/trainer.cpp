@@ -356,12 +356,13 @@ TrainResult Trainer::finish() {
   if (!already_complete) r.display->show(r.steps, r.target, result.stats, r.overall_sps, result.wall_time, true);
   r.display->finish();
   if (already_complete) {
-    std::printf("rdsim train: %s is already complete (%lld of %lld steps); nothing to do. To train it further: "
-                "rdsim train --resume %s --timesteps N (N > %lld)\n",
-                result.run_dir.c_str(), r.steps, r.total, result.run_dir.c_str(), r.steps);
+    const SettingNames& names = settings_.names;
+    std::printf("rdsim train: %s is already complete (%lld of %lld steps); nothing to do. To train it further: %s (N > %lld)\n",
+                result.run_dir.c_str(), r.steps, r.total,
+                names.resume_call(result.run_dir, names.with(Setting::Timesteps, "N")).c_str(), r.steps);
   } else if (r.decision.signal) {
-    std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: rdsim train --resume %s\n",
-                 r.steps, r.total, result.checkpoint_path.c_str(), result.model_path.c_str(), result.run_dir.c_str());
+    std::fprintf(stderr, "rdsim: interrupted at %lld of %lld steps; saved %s and %s; continue with: %s\n", r.steps, r.total,
+                 result.checkpoint_path.c_str(), result.model_path.c_str(), settings_.names.resume_call(result.run_dir).c_str());
   } else {
     const TrainConfig& config = r.start.config;
     std::printf("rdsim train: %s on %s, %s, %lld episodes, %s, %.1f s -> %s\n", config.algorithm.name().c_str(),

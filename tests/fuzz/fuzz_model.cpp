@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const rdsim::TrainConfig config = rdsim::parse_train_config(file.config, "fuzz.bin", "fuzz");
     if (config.env.name != "cartpole" || config.num_envs > 8) return 0;
     const rdsim::Spec spec = rdsim::env_spec(config.env);
-    rdsim::check_memory(rdsim::estimate_training_memory(config, spec), {64e6, "the fuzzer's 64 MB"}, "fuzz.bin");
+    rdsim::check_memory(rdsim::estimate_training_memory(config, spec), {64e6, "the fuzzer's 64 MB", {}}, "fuzz.bin");
     std::vector<std::unique_ptr<rdsim::Env>> envs;
     for (int i = 0; i < config.num_envs; ++i) envs.push_back(rdsim::make_env(config.env));
     rdsim::VecEnv vec(std::move(envs), config.seed, config.stats_window);

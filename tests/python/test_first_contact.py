@@ -274,3 +274,32 @@ def test_item9_docs_quote_real_errors(server, tmp_path):
     for page, quoted, real in quotes:
         assert quoted in page_text(page), f"{page} no longer quotes: {quoted}"
         assert quoted in real, f"{page} quotes {quoted!r}; rdsim says {real!r}"
+
+
+def test_item6_python_errors_name_python_arguments(tmp_path):
+    """A Python caller is told about resume=, overwrite=True and log_dir=, not --resume and friends."""
+    config = ROOT / "configs/cartpole_ppo.json"
+    run = tmp_path / "run"
+    rdsim.train(config, timesteps=256, log_dir=run, quiet=True)
+    with pytest.raises(rdsim.Error) as caught:
+        rdsim.train(config, timesteps=256, log_dir=run, quiet=True)
+    message = str(caught.value)
+    assert f'continue it with resume="{run}"' in message
+    assert "overwrite=True" in message and "log_dir=" in message
+    assert "--" not in message
+    with pytest.raises(rdsim.Error, match="overwrite=True cannot be combined with resume="):
+        rdsim.train(resume=run, overwrite=True)
+    with pytest.raises(rdsim.Error, match=r"raise the limit with max_memory=GB"):
+        rdsim.train(config, max_memory=0.001, timesteps=1, log_dir=tmp_path / "small")
+
+
+def test_item6_dict_configs_train_into_their_own_folders(tmp_path, monkeypatch):
+    """Two runs of dict configs without log_dir do not collide: runs/ENV_ALGORITHM_1, _2, ..."""
+    monkeypatch.chdir(tmp_path)
+    config = {"algorithm": "ppo", "env": {"name": "cartpole"}, "total_timesteps": 256, "num_envs": 1,
+              "ppo": {"n_steps": 128, "batch_size": 64}}
+    first = rdsim.train(config, quiet=True)
+    second = rdsim.train(config, quiet=True)
+    assert pathlib.Path(first.run_dir) == pathlib.Path("runs/cartpole_ppo_1")
+    assert pathlib.Path(second.run_dir) == pathlib.Path("runs/cartpole_ppo_2")
+    assert (tmp_path / "runs/cartpole_ppo_2/model.bin").exists()

@@ -130,7 +130,7 @@ def test_keyboard_interrupt_saves_and_the_cli_resumes(tmp_path):
     stopped_at = int(words[1])
     assert 0 < stopped_at < 10**7 and stopped_at % 2048 == 0
     assert f"rdsim: interrupted at {stopped_at} of 10000000 steps; saved" in err
-    assert f"continue with: rdsim train --resume {run}" in err
+    assert f'continue with: rdsim.train(resume="{run}")' in err  # Python's words, not the command's
     rows = rows_without_clock(run / "progress.csv")
     assert int(rows[-1][0]) == stopped_at
 

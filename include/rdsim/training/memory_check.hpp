@@ -2,6 +2,7 @@
 #include <optional>
 #include <string>
 
+#include "rdsim/training/setting_names.hpp"
 #include "rdsim/training/train_config.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/memory_estimate.hpp"
@@ -14,8 +15,9 @@ namespace rdsim {
 struct MemoryLimit {
   double bytes = 0.0;
   std::string why;  // "80% of this machine's 16.8 GB", "--max-memory 4"
+  SettingNames names;  // how the message names the setting that raises the limit
 };
-MemoryLimit memory_limit(std::optional<double> max_memory_gb);
+MemoryLimit memory_limit(std::optional<double> max_memory_gb, const SettingNames& names = {});
 
 // What a run of `config` with envs of `spec` will allocate: envs (envs/registry) and learner
 // (algorithms/algorithm_config).

@@ -115,7 +115,8 @@ void apply_overrides(nlohmann::json& config, const std::vector<ConfigOverride>& 
 // contradicting keys, a missing file or bad JSON throw rdsim::Error naming the file and the key.
 TrainConfig read_train_config(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
 
-// The same from parsed JSON; `where` names the source in messages, `name` becomes TrainConfig::name.
+// The same from parsed JSON; `where` names the source in messages, `name` becomes TrainConfig::name
+// and, when not empty, names the default log_dir (runs/NAME; empty: the caller sets log_dir).
 TrainConfig parse_train_config(const nlohmann::json& json, const std::string& where, const std::string& name);
 
 // The Spec of the config's envs (envs/registry.hpp env_spec: no renderer is built). An env that

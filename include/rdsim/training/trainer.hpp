@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/training/setting_names.hpp"
 #include "rdsim/training/train_config.hpp"
 #include "rdsim/vecenv/episode_tracker.hpp"
 
@@ -42,6 +43,7 @@ struct TrainerSettings {
   // its own signal handling (Python) leaves it false and calls Trainer::request_stop.
   bool handle_signals = false;
   Communicator* communicator = nullptr;  // the MPI job this process is a rank of; null: one process
+  SettingNames names;  // how messages spell these settings (the Python package sets names.python)
 
   void set_seed(std::uint64_t seed);
   void set_timesteps(long long timesteps);
