@@ -100,6 +100,11 @@ std::string config_reference() {
       "`env.name`; an absent key keeps its default. Unknown keys, wrong types and out-of-range values are\n"
       "errors naming the file and the key. The resolved config (every value filled in) is written to\n"
       "`<log_dir>/config.json` and embedded in `model.bin`.\n\n"
+      "**Paths**: a path written in a config file (`env.urdf`, `env.package_paths`, `env.server_key`,\n"
+      "`env.client_key`, `demonstrations.file`, `log_dir`) is relative to that file's folder, a path on the\n"
+      "command line (`--log-dir`) or in Python code to the current folder; `config.json` records them\n"
+      "absolute, so `--resume` and `replay` find them from anywhere. Without `log_dir` a run goes to\n"
+      "`runs/<config file name>` in the current folder.\n\n"
       "## Top level\n\n" +
       header({"key", "type", "default", "range", "meaning"}) +
       row({"`algorithm`", "string", "`\"" + algorithm_names().front() + "\"`", quoted_list(algorithm_names()),

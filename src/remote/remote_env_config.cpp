@@ -2,25 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include <filesystem>
-
+#include "rdsim/core/config_path.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/remote/endpoint.hpp"
 
 namespace rdsim {
-namespace {
-
-// A key file named relative to the folder rdsim runs in (like every path of a config), as an
-// absolute path: the run's config.json and model files record it so, and find it from any folder.
-std::string absolute_path(const std::string& path) {
-  if (path.empty()) return path;
-  std::error_code ec;
-  const std::filesystem::path p = std::filesystem::absolute(path, ec);
-  return ec ? path : p.lexically_normal().string();
-}
-
-}  // namespace
-
 RemoteEnvConfig read_remote_env_config(ConfigReader& env) {
   RemoteEnvConfig c;
   config::FieldReader reader(env);
@@ -40,8 +26,8 @@ RemoteEnvConfig read_remote_env_config(ConfigReader& env) {
              "give both server_key (the server's public key file) and client_key (this client's secret key file), or neither");
   if (c.server_key.empty() && !remote::is_loopback_endpoint(c.remote))
     env.fail("server_key", "needed for " + c.remote + ": plain text is allowed only to a loopback address");
-  c.server_key = absolute_path(c.server_key);
-  c.client_key = absolute_path(c.client_key);
+  c.server_key = path_from("", c.server_key);
+  c.client_key = path_from("", c.client_key);
   return c;
 }
 

@@ -17,7 +17,12 @@ namespace rdsim {
 void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const Spec& spec, bool resume,
                                const std::filesystem::path& dir, bool quiet) {
   const DemonstrationsConfig& dc = *config.algorithm.demonstrations;
-  const DemoFile demos = read_demo_file(dc.file);
+  DemoFile demos;
+  try {
+    demos = read_demo_file(dc.file);
+  } catch (const Error& e) {  // which key of which config named the file (a relative one: from the config's folder)
+    throw Error(config.source + ": demonstrations.file: " + e.what());
+  }
   check_demos_fit(demos, to_json(config.env), spec);
   if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
   Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);

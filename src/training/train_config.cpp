@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rdsim/vecenv/vec_env.hpp"
+#include "rdsim/core/config_path.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/json_text.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -100,11 +101,35 @@ void apply_overrides(nlohmann::json& config, const std::vector<ConfigOverride>& 
   }
 }
 
+namespace {
+
+// The paths the config file itself writes, relative to its folder (config_path.hpp): the env's
+// (URDF, package paths), the remote env's key files, the demonstration file and log_dir. Values
+// given on the command line (`overrides`) stay relative to the current folder.
+void resolve_file_paths(TrainConfig& c, const nlohmann::json& file, const std::string& folder,
+                        const std::vector<ConfigOverride>& overrides) {
+  resolve_env_paths(c.env, folder);
+  const auto written = [&](const nlohmann::json& object, const char* key) -> std::string {
+    const auto it = object.is_object() ? object.find(key) : object.end();
+    return it != object.end() && it->is_string() ? it->get<std::string>() : std::string();
+  };
+  const nlohmann::json& env = file.contains("env") ? file["env"] : nlohmann::json();
+  if (!written(env, "server_key").empty()) c.remote.server_key = path_from(folder, written(env, "server_key"));
+  if (!written(env, "client_key").empty()) c.remote.client_key = path_from(folder, written(env, "client_key"));
+  if (c.algorithm.demonstrations && file.contains("demonstrations"))
+    c.algorithm.demonstrations->file = path_from(folder, written(file["demonstrations"], "file"));
+  const bool log_dir_given = std::any_of(overrides.begin(), overrides.end(), [](const ConfigOverride& o) { return o.key == "log_dir"; });
+  if (!log_dir_given && !written(file, "log_dir").empty()) c.log_dir = path_from(folder, written(file, "log_dir"));
+}
+
+}  // namespace
+
 TrainConfig read_train_config(const std::string& path, const std::vector<ConfigOverride>& overrides) {
-  nlohmann::json json = read_json_file(path);
+  const nlohmann::json file = read_json_file(path);
+  nlohmann::json json = file;
   apply_overrides(json, overrides, path);
   TrainConfig c = parse_train_config(json, path, std::filesystem::path(path).stem().string());
-  resolve_env_paths(c.env, std::filesystem::path(path).parent_path().string());  // the file's own paths
+  resolve_file_paths(c, file, std::filesystem::path(path).parent_path().string(), overrides);
   return c;
 }
 

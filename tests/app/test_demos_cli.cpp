@@ -285,3 +285,34 @@ TEST_CASE("a FIFO or a device as a demonstration file is refused at once by ever
     CHECK_THAT(r.err, Contains("is not a regular file"));
   }
 }
+
+TEST_CASE("train: a config's paths are relative to its folder, and a missing demonstration file names key and config "
+          "(first contact, item 3)",
+          "[cli][demos]") {
+  ScratchDir dir("cli_config_paths");
+  const std::filesystem::path sub = dir.path / "experiments";
+  std::filesystem::create_directories(sub / "demos");
+  auto r = run_rdsim("demos record --quiet --expert --env jaka_obstacle -n 2 --out " + (sub / "demos/obstacle.demo").string(), dir);
+  REQUIRE(r.exit_code == 0);
+  const auto config = [&](const std::string& file) {
+    rltest::spit((sub / "bc.json").string(), R"({"algorithm": "bc", "env": {"name": "jaka_obstacle"}, "total_timesteps": 64,
+      "log_dir": "runs/bc", "bc": {"n_steps": 64}, "demonstrations": {"file": ")" + file + R"(", "bc_epochs": 2}})");
+    return (sub / "bc.json").string();
+  };
+  // Run from `dir`, not the config's folder: demos/... and runs/... are found and made beside the config.
+  const auto in_dir = [&](const std::string& args) { return rltest::run_captured("cd " + dir.path.string() + " && " + RDSIM_BINARY, args, dir); };
+  r = in_dir("train --quiet --config " + config("demos/obstacle.demo"));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(std::filesystem::exists(sub / "runs/bc/model.bin"));
+  const auto recorded = nlohmann::json::parse(rltest::slurp((sub / "runs/bc/config.json").string()));
+  CHECK(recorded["demonstrations"]["file"] == (sub / "demos/obstacle.demo").lexically_normal().string());
+  // A path on the command line is relative to the current folder.
+  r = in_dir("train --quiet --config " + config("demos/obstacle.demo") + " --log-dir cli_run");
+  CHECK(r.exit_code == 0);
+  CHECK(std::filesystem::exists(dir.path / "cli_run/model.bin"));
+  // A missing file: the config, the key and the folder searched.
+  r = in_dir("train --quiet --config " + config("demos/missing.demo") + " --overwrite");
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains(sub.string() + "/bc.json: demonstrations.file: " + (sub / "demos/missing.demo").string()));
+}

@@ -183,18 +183,19 @@ TEST_CASE("replay: a model trained through rdsim serve replays locally from anot
   CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(30));
 }
 
-TEST_CASE("train: key file paths of a remote env are recorded absolute, found from any folder", "[cli][remote]") {
+TEST_CASE("train: key file paths of a remote env are relative to the config's folder, recorded absolute, found from any folder",
+          "[cli][remote]") {
   ScratchDir dir("cli_remote_keys");
   rdsim::test::Scratch keydir("cli_remote_keys_files");
   rdsim::test::TestKeys keys(keydir);
   rdsim::test::ServerThread server(rdsim::test::curve_options(keys));
-  // Keys named relative to the folder rdsim runs in (here: the key folder's parent).
+  // Keys named relative to the config file's folder (dir); rdsim runs in another folder (base).
   const std::filesystem::path server_key(keys.server_public), client_key(keys.client_secret);
   const std::filesystem::path base = server_key.parent_path().parent_path();
   const std::string config = jaka_config(dir, "remote",
                                          "\"remote\": \"" + server.endpoint() + "\", \"server_key\": \"" +
-                                             std::filesystem::relative(server_key, base).string() + "\", \"client_key\": \"" +
-                                             std::filesystem::relative(client_key, base).string() + "\"",
+                                             std::filesystem::relative(server_key, dir.path).string() + "\", \"client_key\": \"" +
+                                             std::filesystem::relative(client_key, dir.path).string() + "\"",
                                          1024);
   auto r = rltest::run_captured("cd " + base.string() + " && " + RDSIM_BINARY,
                                 "train --quiet --config " + config + " --log-dir " + (dir / "run"), dir);
