@@ -11,24 +11,33 @@
 #include "rdsim/envs/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/render/png.hpp"
+#include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 
 namespace {
 
+// The env to draw: --env's defaults, or a config's "env" object (its paths from its folder).
+EnvConfig env_to_draw(const RenderOptions& o) {
+  if (o.env.empty() == o.config_path.empty()) throw Error("render: give --env NAME or --config FILE");
+  EnvConfig config = o.config_path.empty() ? default_env_config(o.env) : read_train_config(o.config_path).env;
+  if (auto* reach = config.find<ReachOptions>(); reach && (o.random_target || o.config_path.empty()))
+    reach->random_target = o.random_target;
+  return config;
+}
+
 // An env that draws for people but observes vectors (the manipulation tasks): its render_mode frame.
-int render_frame(const RenderOptions& o) {
-  if (o.view != 1) throw Error("render: env \"" + o.env + "\" draws its main camera only (--view 1)");
-  EnvConfig config = default_env_config(o.env);
+int render_frame(const RenderOptions& o, EnvConfig config) {
+  if (o.view != 1) throw Error("render: env \"" + config.name + "\" draws its main camera only (--view 1)");
   config.render_mode = RenderMode::RgbArray;
   config.render_width = o.width;
   config.render_height = o.height;
   const std::unique_ptr<Env> env = make_env(config);
   env->reset(o.seed);
   Image frame;
-  if (!env->render(frame)) throw Error("render: env \"" + o.env + "\" drew no frame");
+  if (!env->render(frame)) throw Error("render: env \"" + config.name + "\" drew no frame");
   write_png(o.out_path, frame.width, frame.height, 3, frame.rgb.data());
-  std::printf("wrote %s (%s, %dx%d, seed %llu)\n", o.out_path.c_str(), o.env.c_str(), frame.width, frame.height,
+  std::printf("wrote %s (%s, %dx%d, seed %llu)\n", o.out_path.c_str(), config.name.c_str(), frame.width, frame.height,
               static_cast<unsigned long long>(o.seed));
   return 0;
 }
@@ -37,14 +46,14 @@ int render_frame(const RenderOptions& o) {
 
 int render_command(const RenderOptions& o) {
   if (o.view != 1 && o.view != 2) throw Error("render: --view must be 1 or 2, got " + std::to_string(o.view));
-  const EnvEntry& entry = env_entry(o.env);  // rdsim::Error listing the names when unknown
+  if (!o.env.empty()) env_entry(o.env);  // rdsim::Error listing the names when unknown
+  EnvConfig config = env_to_draw(o);
+  const EnvEntry& entry = env_entry(config.name);
   if (!entry.supports_pixels)
-    throw Error("render: env \"" + o.env + "\" has no camera to draw pixels with (see `rdsim envs`)");
-  if (!entry.observes_pixels()) return render_frame(o);
-  EnvConfig config = default_env_config(o.env);
+    throw Error("render: env \"" + config.name + "\" has no camera to draw pixels with (see `rdsim envs`)");
+  if (!entry.observes_pixels()) return render_frame(o, config);
   config.observation = ObservationMode::RawPixels;
   config.multi_view = o.view == 2;
-  if (auto* reach = config.find<ReachOptions>()) reach->random_target = o.random_target;
   config.image_width = o.width;
   config.image_height = o.height;
   const std::unique_ptr<Env> env = make_env(config);
@@ -53,7 +62,7 @@ int render_command(const RenderOptions& o) {
   const int channels = 3 * o.view;
   if (space.type != ObsType::UInt8 || space.shape.size() != 3 || space.shape[2] != channels ||
       obs.pixels.size() != static_cast<size_t>(space.size()))
-    throw Error("render: env \"" + o.env + "\" did not return " + std::to_string(channels) + "-channel pixels");
+    throw Error("render: env \"" + config.name + "\" did not return " + std::to_string(channels) + "-channel pixels");
   const int h = space.shape[0], w = space.shape[1];
   // View 2 is channels 3..5 of each pixel of the stacked observation.
   std::vector<std::uint8_t> rgb(static_cast<size_t>(w) * static_cast<size_t>(h) * 3);
@@ -61,7 +70,7 @@ int render_command(const RenderOptions& o) {
   for (size_t p = 0; p < rgb.size() / 3; ++p)
     for (size_t c = 0; c < 3; ++c) rgb[3 * p + c] = obs.pixels[p * static_cast<size_t>(channels) + first + c];
   write_png(o.out_path, w, h, 3, rgb.data());
-  std::printf("wrote %s (%s, %dx%d, view %d, seed %llu)\n", o.out_path.c_str(), o.env.c_str(), w, h, o.view,
+  std::printf("wrote %s (%s, %dx%d, view %d, seed %llu)\n", o.out_path.c_str(), config.name.c_str(), w, h, o.view,
               static_cast<unsigned long long>(o.seed));
   return 0;
 }
@@ -75,7 +84,9 @@ Command render_command_entry() {
             };
             auto l = std::make_shared<Line>();
             RenderOptions& o = l->o;
-            cmd.add_option("--env", o.env, "Env name (see `rdsim envs`; needs pixels)")->required();
+            auto* env = cmd.add_option("--env", o.env, "Env name (see `rdsim envs`; needs pixels): its defaults");
+            cmd.add_option("--config", o.config_path, "Or the \"env\" object of this training config (your robot, its options)")
+                ->excludes(env);
             cmd.add_option("--out", o.out_path, "PNG file to write")->required();
             cmd.add_option("--view", o.view, "Camera: 1 = main, 2 = second (multi-view) camera")->check(CLI::IsMember({1, 2}))->capture_default_str();
             cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 4096))->capture_default_str();

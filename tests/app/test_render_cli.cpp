@@ -67,3 +67,30 @@ TEST_CASE("rdsim render rejects unknown envs and envs without pixels by name", "
   CHECK_THROWS_WITH(rdsim::render_command(o), Catch::Contains("cartpole") && Catch::Contains("pixel"));
   CHECK_FALSE(fs::exists(o.out_path));
 }
+
+TEST_CASE("rdsim render --config draws a config's robot before any training (first contact, item 4)", "[render_cli]") {
+  const fs::path dir = fs::temp_directory_path() / "rdsim_test_render_config";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // configs/reach_jaka.json gives the repo's JAKA as a user's URDF (a path relative to configs/).
+  rdsim::RenderOptions o;
+  o.config_path = "configs/reach_jaka.json";
+  o.out_path = (dir / "mine.png").string();
+  REQUIRE(rdsim::render_command(o) == 0);
+  const std::string png = rdsim::read_file(o.out_path);
+  CHECK(png.substr(1, 3) == "PNG");
+  CHECK(be32(png, 16) == 64u);
+  // A goal task's config draws its frame.
+  const fs::path push = dir / "push.json";
+  rdsim::write_file_atomic(push.string(), R"({"algorithm": "sac", "env": {"name": "push", "distance_threshold": 0.02}})");
+  o.config_path = push.string();
+  o.out_path = (dir / "push.png").string();
+  REQUIRE(rdsim::render_command(o) == 0);
+  // One of --env and --config.
+  o.env = "push";
+  CHECK_THROWS_WITH(rdsim::render_command(o), Catch::Contains("give --env NAME or --config FILE"));
+  o.env.clear();
+  o.config_path.clear();
+  CHECK_THROWS_WITH(rdsim::render_command(o), Catch::Contains("give --env NAME or --config FILE"));
+  fs::remove_all(dir);
+}

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "rl_test_util.hpp"
 
@@ -115,4 +116,33 @@ TEST_CASE("replay --record writes one PNG per observation, envs that cannot draw
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains("cartpole"));
   CHECK_THAT(r.err, Contains("cannot draw frames"));
+}
+
+TEST_CASE("rdsim urdf lists links, joints and limits, the effector candidates, and a reach config that trains "
+          "(first contact, item 4)",
+          "[cli][urdf]") {
+  ScratchDir dir("cli_urdf");
+  auto r = run_rdsim("urdf assets/jaka/jaka_zu7_gripper.urdf", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("12 links, 11 joints (8 movable)"));
+  CHECK_THAT(r.out, Contains("finger_left_joint            prismatic  gripper_base -> finger_left  [0, 0.0425] m, effort 60"));
+  // The arm's tool point first, the fingers after it.
+  const std::size_t candidates = r.out.find("effector candidates");
+  REQUIRE(candidates != std::string::npos);
+  CHECK(r.out.find("gripper_tcp", candidates) < r.out.find("finger_left ", candidates));
+  // The skeleton is a config: it draws and trains as it is.
+  const nlohmann::json skeleton = nlohmann::json::parse(r.out.substr(r.out.find("\n{") + 1));
+  CHECK(skeleton["env"]["effector_link"] == "gripper_tcp");
+  CHECK(skeleton["env"]["joints"].size() == 6);
+  rltest::spit(dir / "mine.json", skeleton.dump());
+  r = run_rdsim("render --config " + (dir / "mine.json") + " --out " + (dir / "mine.png"), dir);
+  CHECK(r.exit_code == 0);
+  r = run_rdsim("train --quiet --config " + (dir / "mine.json") + " --timesteps 512 --log-dir " + (dir / "run"), dir);
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  // A file that is not there: one error naming it.
+  r = run_rdsim("urdf " + (dir / "nothing.urdf"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains(dir / "nothing.urdf"));
 }

@@ -7,7 +7,10 @@
 #   OUT=/tmp/her SEEDS="1 2 3" JOBS=2 tools/bench/her.sh push compare
 #
 # Tasks:
-#   push, pick_and_place   configs/jaka_push.json, configs/jaka_pick_and_place.json (JAKA + gripper)
+#   push                   configs/jaka_push.json (JAKA + gripper, HER alone)
+#   pick_and_place         configs/jaka_pick_and_place.json with 50 episodes of the scripted expert
+#                          (recorded into $OUT/pick_and_place.demo)
+#   pick_and_place_her     the same config without demonstrations (HER alone)
 #   panda_push             configs/jaka_push.json with pybullet_data's Franka Panda by options (the
 #                          URDF read from the venv's pybullet, never copied)
 #   stack_demos            configs/jaka_stack_demos.json with 50 episodes of the scripted expert
@@ -45,8 +48,8 @@ learn() {  # name config target
   OUT="$out/$1" METRIC=success WINDOW=100 "$root/tools/bench/learning.sh" "$2" "$3"
 }
 
-stack_demos() {
-  [ -f "$out/stack.demo" ] || "$bin" demos record --quiet --expert --env stack -n 50 --out "$out/stack.demo"
+record_demos() {  # env: 50 episodes of the scripted expert -> $out/ENV.demo
+  [ -f "$out/$1.demo" ] || "$bin" demos record --quiet --expert --env "$1" -n 50 --out "$out/$1.demo"
 }
 
 # "first_steps first_seconds final_success" of an episodes.csv: where the last 100 first reach 0.9.
@@ -85,21 +88,29 @@ compare() {
 for task in "${tasks[@]}"; do
   case "$task" in
     push) learn push configs/jaka_push.json 0.9 ;;
-    pick_and_place) learn pick_and_place configs/jaka_pick_and_place.json 0.9 ;;
+    pick_and_place)
+      record_demos pick_and_place
+      edited_config configs/jaka_pick_and_place.json "c['demonstrations']['file'] = '$out/pick_and_place.demo'" \
+        "$out/pick_and_place.json"
+      learn pick_and_place "$out/pick_and_place.json" 0.9 ;;
+    pick_and_place_her)
+      edited_config configs/jaka_pick_and_place.json "del c['demonstrations']" "$out/pick_and_place_her.json"
+      learn pick_and_place_her "$out/pick_and_place_her.json" 0.9 ;;
     panda_push)
       data=$("$py" -c "import pybullet_data; print(pybullet_data.getDataPath())")
       edited_config configs/jaka_push.json "c['env'].update(urdf='$data/franka_panda/panda.urdf', effector_link='panda_grasptarget', finger_joints=['panda_finger_joint1', 'panda_finger_joint2'], home_pose=[0.0, 0.41, 0.0, -1.85, 0.0, 2.26, 0.79], base_position=[-0.05, 0.0, 0.0])" \
         "$out/panda_push.json"
       learn panda_push "$out/panda_push.json" 0.9 ;;
     stack_demos)
-      stack_demos
+      record_demos stack
       edited_config configs/jaka_stack_demos.json "c['demonstrations']['file'] = '$out/stack.demo'" "$out/stack_demos.json"
       learn stack_demos "$out/stack_demos.json" 0.6 ;;
     stack_her)
       edited_config configs/jaka_stack_demos.json "del c['demonstrations']" "$out/stack_her.json"
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place panda_push stack_demos stack_her compare)" >&2; exit 2 ;;
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her compare)" >&2
+       exit 2 ;;
   esac
 done
 echo "runs: $out"

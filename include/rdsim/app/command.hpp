@@ -58,5 +58,6 @@ Command bench_learner_command_entry();
 Command teleop_command_entry();
 Command dashboard_command_entry();
 Command plot_command_entry();
+Command urdf_command_entry();
 
 }  // namespace rdsim
