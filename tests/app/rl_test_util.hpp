@@ -9,6 +9,11 @@
 #include <vector>
 
 #include "../leak_check_env.hpp"
+#ifdef RDSIM_BINARY
+#include <catch2/catch.hpp>
+
+#include "rdsim/training/model_file.hpp"
+#endif
 #include "../scratch_dir.hpp"
 
 namespace rltest {
@@ -79,5 +84,32 @@ inline std::string drop_columns(const std::string& csv, int drop) {
   }
   return result;
 }
+
+#ifdef RDSIM_BINARY
+// What two runs that should be the same must share: the CSVs without their wall-clock columns,
+// and the weights.
+struct RunLogs {
+  std::string progress, episodes, weights;
+  bool operator==(const RunLogs&) const = default;
+};
+inline RunLogs run_logs(const std::string& run) {
+  return {drop_columns(slurp(run + "/progress.csv"), 2), drop_columns(slurp(run + "/episodes.csv"), 1),
+          rdsim::read_model_file(run + "/model.bin").payload};
+}
+
+// Each config text of `cases` is refused by `rdsim train` with exit status 1 and one line naming
+// the config file and holding the case's reason.
+inline void check_config_errors(const ScratchDir& dir, const std::vector<std::pair<std::string, std::string>>& cases) {
+  for (const auto& [text, why] : cases) {
+    const std::string path = dir / "bad.json";
+    spit(path, text);
+    const auto r = run_rdsim("train --config " + path + " --log-dir " + (dir / "run"), dir);
+    INFO(text << "\n" << r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(lines(r.err).size() == 1);
+    CHECK_THAT(r.err, Catch::Matchers::Contains(path) && Catch::Matchers::Contains(why));
+  }
+}
+#endif
 
 }  // namespace rltest

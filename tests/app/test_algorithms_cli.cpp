@@ -97,13 +97,5 @@ TEST_CASE("algorithms that cannot handle an env's spaces say so", "[cli][algorit
       {R"({"algorithm": "cma_es", "env": {"name": "cartpole"}, "network": {"hidden_sizes": [64, 64]}})", "at most 2000"},
       {R"({"algorithm": "trpo", "env": {"name": "cartpole"}, "network": {"shared": true}})", "network.shared"},
   };
-  for (const auto& [text, why] : cases) {
-    const std::string path = dir / "bad.json";
-    rltest::spit(path, text);
-    const auto r = run_rdsim("train --config " + path + " --log-dir " + (dir / "run"), dir);
-    INFO(text << "\n" << r.err);
-    CHECK(r.exit_code == 1);
-    CHECK(rltest::lines(r.err).size() == 1);
-    CHECK_THAT(r.err, Contains(path) && Contains(why));
-  }
+  rltest::check_config_errors(dir, cases);
 }

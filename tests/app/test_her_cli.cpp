@@ -33,15 +33,7 @@ std::string small_config(const ScratchDir& dir, const std::string& name, const s
   return path;
 }
 
-struct RunLogs {
-  std::string progress, episodes, weights;
-  bool operator==(const RunLogs&) const = default;
-};
-RunLogs logs(const std::string& run) {
-  return {rltest::drop_columns(rltest::slurp(run + "/progress.csv"), 2),
-          rltest::drop_columns(rltest::slurp(run + "/episodes.csv"), 1),
-          rdsim::read_model_file(run + "/model.bin").payload};
-}
+using rltest::run_logs;
 
 // Success over the last `window` episodes of episodes.csv.
 double final_success(const std::string& run, std::size_t window) {
@@ -80,7 +72,7 @@ TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
   }
-  CHECK(logs(dir / "t1") == logs(dir / "t2"));
+  CHECK(run_logs(dir / "t1") == run_logs(dir / "t2"));
   CHECK(rltest::lines(rltest::slurp(dir / "t1/episodes.csv")).size() > 50);
 
   // Killed once a checkpoint exists, resumed: the run of one that was never killed.
@@ -94,7 +86,7 @@ TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume
   const auto r = run_rdsim("train --quiet --resume " + run, dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
-  CHECK(logs(run) == logs(dir / "t1"));
+  CHECK(run_logs(run) == run_logs(dir / "t1"));
 }
 
 #ifdef RDSIM_MPIEXEC
@@ -107,7 +99,7 @@ TEST_CASE("her: mpirun -np 2 trains data-parallel, the same CSV twice", "[cli][h
     REQUIRE(r.exit_code == 0);
     CHECK_THAT(r.out, Contains("2 MPI ranks"));
   }
-  CHECK(logs(dir / "a") == logs(dir / "b"));
+  CHECK(run_logs(dir / "a") == run_logs(dir / "b"));
   CHECK(rltest::lines(rltest::slurp(dir / "a/progress.csv")).back().rfind("12000,", 0) == 0);
 }
 #endif
@@ -126,7 +118,7 @@ TEST_CASE("her: through a remote env (CurveZMQ) the logs of a local env", "[cli]
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
   }
-  CHECK(logs(dir / "remote") == logs(dir / "local"));
+  CHECK(run_logs(dir / "remote") == run_logs(dir / "local"));
 }
 
 TEST_CASE("her: misuse is one clear error naming the config and the key", "[cli][her]") {
@@ -140,15 +132,7 @@ TEST_CASE("her: misuse is one clear error naming the config and the key", "[cli]
       {R"({"algorithm": "td3", "env": {"name": "push"}, "her": {"goal_selection_strategy": "later"}})", "\"future\""},
       {R"({"algorithm": "td3", "env": {"name": "push"}, "her": {"n_sampled": 4}})", "n_sampled"},
   };
-  for (const auto& [text, why] : cases) {
-    const std::string path = dir / "bad.json";
-    rltest::spit(path, text);
-    const auto r = run_rdsim("train --config " + path + " --log-dir " + (dir / "run"), dir);
-    INFO(text << "\n" << r.err);
-    CHECK(r.exit_code == 1);
-    CHECK(rltest::lines(r.err).size() == 1);
-    CHECK_THAT(r.err, Contains(path) && Contains(why));
-  }
+  rltest::check_config_errors(dir, cases);
 }
 
 TEST_CASE("her: the expert's demonstrations join a goal task's replay, and a file of another task is refused",

@@ -43,16 +43,6 @@ std::string jaka_config(const ScratchDir& dir) {
   return path;
 }
 
-// The CSVs without their wall-clock columns, and the weights.
-struct RunLogs {
-  std::string progress, episodes, weights;
-  bool operator==(const RunLogs&) const = default;
-};
-RunLogs logs(const std::string& run) {
-  return {rltest::drop_columns(rltest::slurp(run + "/progress.csv"), 2),
-          rltest::drop_columns(rltest::slurp(run + "/episodes.csv"), 1),
-          rdsim::read_model_file(run + "/model.bin").payload};
-}
 
 }  // namespace
 
@@ -66,7 +56,7 @@ TEST_CASE("train: the same CSV and weights on 1 and 2 threads", "[cli][threads]"
       INFO(r.err);
       REQUIRE(r.exit_code == 0);
     }
-    CHECK(logs(dir / "t1") == logs(dir / "t2"));
+    CHECK(rltest::run_logs(dir / "t1") == rltest::run_logs(dir / "t2"));
     CHECK(rltest::lines(rltest::slurp(dir / "t1/episodes.csv")).size() > 5);
     CHECK_THAT(rltest::slurp(dir / "t2/config.json"), Contains("\"num_threads\": 2"));
   }
@@ -87,7 +77,7 @@ TEST_CASE("train: pixel envs in worker processes give the CSV and weights of one
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
   }
-  CHECK(logs(dir / "t1") == logs(dir / "t2"));
+  CHECK(rltest::run_logs(dir / "t1") == rltest::run_logs(dir / "t2"));
   CHECK(rltest::lines(rltest::slurp(dir / "t1/episodes.csv")).size() > 5);
   CHECK_THAT(rltest::slurp(dir / "t2/config.json"), Contains("\"env_workers\": \"auto\""));
   // A remote env cannot be forked: asking for processes is refused, with the key named.
@@ -226,7 +216,7 @@ TEST_CASE("mpirun -np 2: the same CSV twice, the steps of both ranks, weights ch
     CHECK(rltest::lines(r.out).size() == 2);  // --quiet keeps the summary: rank 0's run and MPI lines
     CHECK_THAT(r.out, Contains("2 MPI ranks"));
   }
-  CHECK(logs(dir / "a") == logs(dir / "b"));
+  CHECK(rltest::run_logs(dir / "a") == rltest::run_logs(dir / "b"));
   const auto progress = rltest::lines(rltest::slurp(dir / "a/progress.csv"));
   CHECK_THAT(progress.front(), Contains("allreduce_bytes"));
   CHECK(progress.size() == 1 + 4096 / (2 * 4 * 64));  // one row per update, steps of both ranks
@@ -239,7 +229,7 @@ TEST_CASE("mpirun -np 2: the same CSV twice, the steps of both ranks, weights ch
   // The same config as one process is a different (half as wide) run.
   const auto one = rltest::run_rdsim("train --quiet --config " + config + " --log-dir " + (dir / "one"), dir);
   REQUIRE(one.exit_code == 0);
-  CHECK(logs(dir / "one").progress != logs(dir / "a").progress);
+  CHECK(rltest::run_logs(dir / "one").progress != rltest::run_logs(dir / "a").progress);
 }
 
 TEST_CASE("mpirun -np 2: --resume continues exactly like an uninterrupted run", "[cli][mpi]") {
@@ -252,7 +242,7 @@ TEST_CASE("mpirun -np 2: --resume continues exactly like an uninterrupted run", 
   REQUIRE(r.exit_code == 0);
   r = rltest::run_rdsim_mpi(2, "train --quiet --resume " + (dir / "part") + " --timesteps 6144", dir);
   REQUIRE(r.exit_code == 0);
-  CHECK(logs(dir / "part") == logs(dir / "full"));
+  CHECK(rltest::run_logs(dir / "part") == rltest::run_logs(dir / "full"));
 
   // A checkpoint of two ranks needs two ranks.
   r = rltest::run_rdsim("train --quiet --resume " + (dir / "part"), dir);
@@ -296,7 +286,7 @@ TEST_CASE("mpirun -np 2: TRPO, ARS and CMA-ES train data-parallel, the same CSV 
       REQUIRE(r.exit_code == 0);
     }
     const std::string a = dir / (std::string(name) + "a"), b = dir / (std::string(name) + "b");
-    CHECK(logs(a) == logs(b));
+    CHECK(rltest::run_logs(a) == rltest::run_logs(b));
     const auto progress = rltest::lines(rltest::slurp(a + "/progress.csv"));
     REQUIRE(progress.size() > 2);
     CHECK(std::stoll(progress.back()) >= 2000);  // the steps of both ranks
