@@ -22,3 +22,18 @@ def pytest_collection_modifyitems(config, items):
 def rdsim_binary() -> pathlib.Path:
     """The rdsim binary of this tree (RDSIM_BIN, else build/rdsim)."""
     return pathlib.Path(os.environ.get("RDSIM_BIN", ROOT / os.environ.get("RDSIM_BUILD_DIR", "build") / "rdsim"))
+
+
+@pytest.fixture(scope="module")
+def server():
+    """`rdsim serve --insecure` on a free loopback port (tools/rdsim_client.py's ServerProcess),
+    stopped (SIGTERM) after the module's tests."""
+    pytest.importorskip("zmq")
+    sys.path.insert(0, str(ROOT / "tools"))
+    from rdsim_client import ServerProcess
+
+    binary = rdsim_binary()
+    if not binary.exists():
+        pytest.fail(f"{binary} not found: build rdsim first (tools/setup.sh) or set RDSIM_BIN")
+    with ServerProcess(str(binary)) as s:
+        yield s

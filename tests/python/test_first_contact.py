@@ -21,19 +21,6 @@ sys.path.insert(0, str(ROOT / "tools"))
 PAGES = [ROOT / "README.md"] + sorted((ROOT / "docs").glob("*.md"))
 
 
-@pytest.fixture(scope="module")
-def server():
-    """`rdsim serve --insecure` on a free loopback port, stopped (SIGTERM) after the module's tests."""
-    pytest.importorskip("zmq")
-    from rdsim_client import ServerProcess
-
-    binary = rdsim_binary()
-    if not binary.exists():
-        pytest.fail(f"{binary} not found: build rdsim first (tools/setup.sh) or set RDSIM_BIN")
-    with ServerProcess(str(binary)) as s:
-        yield s
-
-
 def page_text(name: str) -> str:
     """A page with its line breaks and indents as single spaces (quotes may be wrapped)."""
     return " ".join((ROOT / name).read_text().split())

@@ -10,18 +10,6 @@ from conftest import ROOT, rdsim_binary
 sys.path.insert(0, str(ROOT / "tools"))
 
 
-@pytest.fixture(scope="module")
-def server():
-    pytest.importorskip("zmq")
-    from rdsim_client import ServerProcess
-
-    binary = rdsim_binary()
-    if not binary.exists():
-        pytest.fail(f"{binary} not found: build rdsim first (tools/setup.sh) or set RDSIM_BIN")
-    with ServerProcess(str(binary)) as s:
-        yield s
-
-
 def test_remote_env_matches_local(server):
     remote = rdsim.RemoteEnv(server.address, "rdsim/JakaButton-v0", max_steps=30, random_target=True)
     local = rdsim.make("rdsim/JakaButton-v0", max_steps=30, random_target=True)
