@@ -146,3 +146,21 @@ TEST_CASE("rdsim urdf lists links, joints and limits, the effector candidates, a
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains(dir / "nothing.urdf"));
 }
+
+TEST_CASE("rdsim envs --config shows a config's env, every option resolved, and its spaces (first contact, item 4)",
+          "[cli][urdf]") {
+  ScratchDir dir("cli_envs_config");
+  auto r = run_rdsim("envs --config configs/reach_jaka.json", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, StartsWith("configs/reach_jaka.json: env reach\n"));
+  CHECK_THAT(r.out, Contains("action: Discrete(6)") || Contains("action: Box(3)"));
+  // The URDF's path resolved from the config's folder, absolute.
+  const nlohmann::json env = nlohmann::json::parse(r.out.substr(r.out.find("\n{") + 1));
+  CHECK(env["urdf"] == std::filesystem::absolute("assets/jaka/jaka_zu7.urdf").lexically_normal().string());
+  CHECK(env.contains("home_pose"));
+  rltest::spit(dir / "bad.json", R"({"env": {"name": "reach", "effector_lnk": "x"}})");
+  r = run_rdsim("envs --config " + (dir / "bad.json"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, Contains(dir / "bad.json") && Contains("effector_lnk"));
+}

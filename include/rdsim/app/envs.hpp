@@ -4,9 +4,10 @@
 #include <string>
 #include <vector>
 
-// `rdsim envs`: lists the registered environments (src/app/envs.cpp).
+// `rdsim envs`: lists the registered environments; with a training config, that config's env
+// with every option resolved and its spaces (src/app/envs.cpp).
 namespace rdsim {
 
-int envs_command();
+int envs_command(const std::string& config_path = "");
 
 }  // namespace rdsim
