@@ -33,6 +33,10 @@ if [ "$(cat "$stamp" 2>/dev/null)" != "$wanted_sha" ]; then
   "$venv/bin/pip" install -q --disable-pip-version-check -r tools/requirements.txt
   echo "$wanted_sha" > "$stamp"
 fi
+# pybullet's robot models (pybullet_data, a test-time reference, never copied into the repository)
+# under one path that does not depend on the Python version: configs/reach_panda.json and
+# configs/panda_push.json name ../.venv/pybullet_data/franka_panda/panda.urdf.
+ln -sfn "$("$venv/bin/python" -c 'import pybullet_data; print(pybullet_data.getDataPath())')" "$venv/pybullet_data"
 
 build_type=${RDSIM_BUILD_TYPE:-Release}
 build_dir=${RDSIM_BUILD_DIR:-build}

@@ -164,3 +164,20 @@ TEST_CASE("rdsim envs --config shows a config's env, every option resolved, and 
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains(dir / "bad.json") && Contains("effector_lnk"));
 }
+
+TEST_CASE("configs/reach_panda.json and configs/panda_push.json train pybullet_data's Panda as shipped (first contact, item 4)",
+          "[cli][urdf]") {
+  // tools/setup.sh links pybullet's robot models at .venv/pybullet_data (never copied into the repository).
+  if (!std::filesystem::exists(".venv/pybullet_data/franka_panda/panda.urdf"))
+    FAIL(".venv/pybullet_data is missing: run tools/setup.sh (it links pybullet's robot models there)");
+  ScratchDir dir("cli_panda_configs");
+  for (const auto& [config, steps] : {std::pair{"configs/reach_panda.json", 2048}, std::pair{"configs/panda_push.json", 2400}}) {
+    INFO(config);
+    const auto r = run_rdsim(std::string("train --quiet --config ") + config + " --timesteps " + std::to_string(steps) +
+                                 " --log-dir " + (dir / std::filesystem::path(config).stem().string()),
+                             dir);
+    INFO(r.err);
+    CHECK(r.exit_code == 0);
+    CHECK_THAT(r.out, Contains(std::to_string(steps) + " timesteps"));
+  }
+}

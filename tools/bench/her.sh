@@ -11,8 +11,9 @@
 #   pick_and_place         configs/jaka_pick_and_place.json with 50 episodes of the scripted expert
 #                          (recorded into $OUT/pick_and_place.demo)
 #   pick_and_place_her     the same config without demonstrations (HER alone)
-#   panda_push             configs/jaka_push.json with pybullet_data's Franka Panda by options (the
-#                          URDF read from the venv's pybullet, never copied)
+#   panda_push             configs/panda_push.json: jaka_push.json's settings with pybullet_data's
+#                          Franka Panda by options (tools/setup.sh links pybullet's robots at
+#                          .venv/pybullet_data; never copied)
 #   stack_demos            configs/jaka_stack_demos.json with 50 episodes of the scripted expert
 #                          (recorded into $OUT/stack.demo), target 0.6
 #   stack_her              the same config without demonstrations (HER alone), target 0.6
@@ -96,11 +97,7 @@ for task in "${tasks[@]}"; do
     pick_and_place_her)
       edited_config configs/jaka_pick_and_place.json "del c['demonstrations']" "$out/pick_and_place_her.json"
       learn pick_and_place_her "$out/pick_and_place_her.json" 0.9 ;;
-    panda_push)
-      data=$("$py" -c "import pybullet_data; print(pybullet_data.getDataPath())")
-      edited_config configs/jaka_push.json "c['env'].update(urdf='$data/franka_panda/panda.urdf', effector_link='panda_grasptarget', finger_joints=['panda_finger_joint1', 'panda_finger_joint2'], home_pose=[0.0, 0.41, 0.0, -1.85, 0.0, 2.26, 0.79], base_position=[-0.05, 0.0, 0.0])" \
-        "$out/panda_push.json"
-      learn panda_push "$out/panda_push.json" 0.9 ;;
+    panda_push) learn panda_push configs/panda_push.json 0.9 ;;
     stack_demos)
       record_demos stack
       edited_config configs/jaka_stack_demos.json "c['demonstrations']['file'] = '$out/stack.demo'" "$out/stack_demos.json"
