@@ -51,7 +51,7 @@ double final_success(const std::string& run, std::size_t window) {
 
 }  // namespace
 
-TEST_CASE("her: configs/jaka_reach_goal.json (SAC + HER) succeeds on 95 of the last 100 episodes within 20k env steps",
+TEST_CASE("her: SAC + HER learns reach_goal (configs/jaka_reach_goal.json), 95 of the last 100 episodes succeed within 20k env steps",
           "[cli][her][learning]") {
   ScratchDir dir("her_reach_goal");
   const auto r = run_rdsim("train --quiet --config configs/jaka_reach_goal.json --log-dir " + (dir / "run"), dir);
