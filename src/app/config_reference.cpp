@@ -114,6 +114,7 @@ std::string config_reference() {
       row({"`demonstrations`", "object", "", "",
            "learning from a demonstration file (below; needed by `\"bc\"`, optional for ppo, a2c, dqn, sac, td3 and ddpg)"});
   doc += row({"`her`", "object", "", "", "hindsight experience replay (below; sac, td3 and ddpg on goal-conditioned envs)"});
+  doc += row({"`eval`", "object", "", "", "periodic evaluation with best-model saving (below)"});
   for (const auto& name : algorithm_names())
     doc += row({code(name), "object", "", "", name + "'s hyperparameters (below; only with `\"algorithm\": \"" + name + "\"`)"});
   for (const auto& r : config::document_fields(TrainConfig{})) doc += row(key_cells(r));
@@ -141,6 +142,16 @@ std::string config_reference() {
          "transitions as stored; the others get a goal achieved later in their own episode and the reward\n"
          "the env gives for it (`include/rdsim/algorithms/hindsight_replay.hpp`).\n\n" +
          table(config::document_fields(HerConfig{}));
+  doc += "\n## `eval`\n\n"
+         "Absent by default. With it (`\"eval\": {}` takes the defaults) the run evaluates its policy with the\n"
+         "most likely actions on an env of its own, writes one row per evaluation to `eval.csv` (`timesteps`,\n"
+         "`episodes`, `mean_return`, `std_return`, `min_return`, `max_return`, `mean_length`, `success_rate`,\n"
+         "`new_best`, `seconds`) and saves the policy of the best mean return so far as `best_model.bin`;\n"
+         "`rdsim replay best_model.bin --episodes K` runs the same K episodes again. The results also go to\n"
+         "TensorBoard (`eval/mean_return`, `eval/success_rate`, `eval/mean_length`) and the dashboard. The\n"
+         "evaluation does not change the training: `progress.csv` and `episodes.csv` are those of the run\n"
+         "without it, and `--resume` evaluates where the uninterrupted run does.\n\n" +
+         table(config::document_fields(EvalConfig{}));
   return doc;
 }
 

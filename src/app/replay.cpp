@@ -12,6 +12,7 @@
 #include "rdsim/training/env_source.hpp"
 #include "rdsim/training/memory_check.hpp"
 #include "rdsim/training/model_file.hpp"
+#include "rdsim/training/policy_episodes.hpp"
 #include "rdsim/training/train_config.hpp"
 #include "rdsim/video/frame_capture.hpp"
 
@@ -50,33 +51,24 @@ int replay_command(const ReplayOptions& o) {
     throw Error(o.model_path + ": file is damaged (unexpected trailing data after the weights)");
 
   const std::uint64_t seed = o.seed.value_or(config.seed);
-  Rng rng = Rng::derive(seed, rng_stream::evaluation);
-  // Environments without a step limit still end: a policy that never fails stops here.
-  const long long step_cap = env->spec().max_episode_steps > 0 ? env->spec().max_episode_steps : 1'000'000;
-  double sum_return = 0, sum_length = 0, successes = 0;
   std::printf("%s (%s on %s), %d episode%s, %s actions%s\n", o.model_path.c_str(), config.algorithm.name().c_str(),
               config.env.name.c_str(), o.episodes, o.episodes == 1 ? "" : "s", o.stochastic ? "sampled" : "deterministic",
               where_replayed(trained_on, o.remote).c_str());
-  for (int k = 0; k < o.episodes; ++k) {
-    Observation obs = k == 0 ? env->reset(seed) : env->reset();
+  PolicyEpisodeHooks hooks;
+  hooks.on_start = [&](int k) {
     frames.start_episode(k + 1);
     frames.capture(0, 0.0, false, false);
-    double ret = 0;
-    long long length = 0;
-    bool success = false;
-    for (bool done = false; !done && length < step_cap;) {
-      StepResult r = env->step(algo->act(obs, !o.stochastic, rng));
-      ret += r.reward;
-      ++length;
-      success = success || r.info.success;
-      done = r.terminated || r.truncated;
-      obs = std::move(r.observation);
-      frames.capture(length, ret, success, done || length >= step_cap);
-    }
-    std::printf("episode %d: return %.2f, length %lld, success %s\n", k + 1, ret, length, success ? "yes" : "no");
-    sum_return += ret;
-    sum_length += static_cast<double>(length);
-    successes += success ? 1 : 0;
+  };
+  hooks.on_step = [&](long long length, double ret, bool success, bool done) { frames.capture(length, ret, success, done); };
+  hooks.on_end = [](int k, const EpisodeOutcome& e) {
+    std::printf("episode %d: return %.2f, length %lld, success %s\n", k + 1, e.episode_return, e.length,
+                e.success ? "yes" : "no");
+  };
+  double sum_return = 0, sum_length = 0, successes = 0;
+  for (const EpisodeOutcome& e : run_policy_episodes(*env, *algo, o.episodes, seed, !o.stochastic, hooks)) {
+    sum_return += e.episode_return;
+    sum_length += static_cast<double>(e.length);
+    successes += e.success ? 1 : 0;
   }
   std::printf("mean return %.2f, mean length %.1f, success rate %.2f over %d episodes\n", sum_return / o.episodes,
               sum_length / o.episodes, successes / o.episodes, o.episodes);

@@ -10,6 +10,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/input_file.hpp"
 #include "rdsim/core/json_text.hpp"
+#include "rdsim/core/run_files.hpp"
 #include "rdsim/dashboard/run_index.hpp"
 #include "web_assets.hpp"
 
@@ -147,13 +148,22 @@ void DashboardServer::Impl::progress(const httplib::Request& req, httplib::Respo
   if (req.has_param("from") && !parse_offset(req.get_param_value("from"), from)) {
     return send_error(res, 400, "from: expected a byte offset");
   }
+  // progress.csv, or with log=eval the run's evaluations (eval.csv)
+  const char* name = progress_csv_name;
+  if (req.has_param("log")) {
+    const std::string log = req.get_param_value("log");
+    if (log == "eval")
+      name = eval_csv_name;
+    else if (log != "progress")
+      return send_error(res, 400, "log: expected progress or eval");
+  }
   const auto run = index.find(req.get_param_value("run"));
   if (!run) return send_error(res, 404, "no such run");
-  CsvRows rows;  // stays empty while the run has not written progress.csv yet
+  CsvRows rows;  // stays empty while the run has not written the log yet
   try {
     // Opened below its root in one step: a link that leads out of the root, wherever it is on
     // the way, is refused by the open itself (input_file.hpp), and a FIFO never blocks it.
-    std::optional<InputFile> log = index.open_progress(*run);
+    std::optional<InputFile> log = index.open_log(*run, name);
     if (log) rows = read_csv_rows(std::move(*log), from, max_rows_bytes);
   } catch (const RunOutsideRoot&) {
     return send_error(res, 404, "no such run");

@@ -42,9 +42,9 @@ bool RunIndex::inside_root(const std::string& file, std::size_t root_number) con
   return !ec && is_within(real, canonical_roots_[root_number]);
 }
 
-std::optional<InputFile> RunIndex::open_progress(const IndexedRun& run) const {
+std::optional<InputFile> RunIndex::open_log(const IndexedRun& run, const char* name) const {
   try {
-    return InputFile::beneath(roots_[run.root], run.below + "/" + progress_csv_name, max_csv_log_bytes);
+    return InputFile::beneath(roots_[run.root], run.below + "/" + name, max_csv_log_bytes);
   } catch (const FileOpenError& e) {
     if (e.code() == ENOENT) return std::nullopt;
     if (e.link_out() || e.code() == ENOTDIR) throw RunOutsideRoot(e.what());

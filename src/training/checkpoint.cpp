@@ -1,6 +1,8 @@
 #include "rdsim/training/checkpoint.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -18,12 +20,16 @@ std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const T
   write_u64(out, static_cast<std::uint64_t>(state.progress_rows));
   write_u64(out, static_cast<std::uint64_t>(state.episode_rows));
   write_u64(out, static_cast<std::uint64_t>(state.updates));
+  if (state.eval) {
+    write_u64(out, static_cast<std::uint64_t>(state.eval->rows));
+    write_f64(out, state.eval->best_mean_return);
+  }
   vec.save(out);
   return std::move(out).str();
 }
 
 TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source,
-                                bool report) {
+                                bool report, bool eval) {
   std::istringstream in(payload, std::ios::binary);
   algo.load(in, true, source);
   const std::uint64_t progress_rows = read_u64(in, source);
@@ -36,6 +42,14 @@ TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, Vec
   s.progress_rows = static_cast<long long>(progress_rows);
   s.episode_rows = static_cast<long long>(episode_rows);
   s.updates = static_cast<long long>(updates);
+  if (eval) {
+    const std::uint64_t rows = read_u64(in, source);
+    const double best = read_f64(in, source);
+    // -inf before the first evaluation; never NaN or +inf
+    if (rows > far || std::isnan(best) || best == std::numeric_limits<double>::infinity())
+      throw Error(source + ": checkpoint holds evaluation state out of range (damaged file?)");
+    s.eval = EvalState{static_cast<long long>(rows), best};
+  }
   if (!vec.load(in, source) && report) {
     std::fprintf(stderr, "rdsim: note: these envs cannot save their state; the resumed run starts fresh "
                          "episodes and will not match an uninterrupted run exactly\n");

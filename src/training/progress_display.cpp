@@ -103,6 +103,13 @@ void ProgressDisplay::show(long long t, long long total, const EpisodeStats& sta
   shown_ = true;
 }
 
+void ProgressDisplay::note(const std::string& text) {
+  if (quiet_) return;
+  std::fprintf(out_, tty_ ? "\r%s\x1b[K\n" : "%s\n", text.c_str());
+  std::fflush(out_);
+  if (tty_) last_ = -1e9;  // the progress line was overwritten: draw it again at the next show()
+}
+
 void ProgressDisplay::finish() {
   if (!quiet_ && tty_ && shown_) {
     std::fputc('\n', out_);

@@ -72,6 +72,12 @@ TrainConfig parse_train_config(const nlohmann::json& json, const std::string& wh
   c.env = read_env_config(env);
   config::FieldReader run(r);
   describe(run, c);
+  if (r.has("eval")) {
+    ConfigReader section = r.child("eval");
+    EvalConfig eval;
+    config::read_fields(section, eval);
+    c.eval = eval;
+  }
   if (c.log_dir.empty() && !name.empty()) c.log_dir = "runs/" + name;  // empty name: the caller picks the folder
   check_combination(r, c);
   r.finish();
@@ -146,6 +152,7 @@ nlohmann::json to_json(const TrainConfig& c) {
   j["env"] = to_json(c.env);
   write_remote_env_config(c.remote, j["env"]);
   write_algorithm_config(c.algorithm, j);
+  if (c.eval) j["eval"] = config::write_fields(*c.eval);
   return j;
 }
 

@@ -21,6 +21,7 @@
 #include "rdsim/training/checkpoint.hpp"
 #include "rdsim/training/data_parallel.hpp"
 #include "rdsim/training/env_source.hpp"
+#include "rdsim/training/evaluation.hpp"
 #include "rdsim/training/interrupt.hpp"
 #include "rdsim/training/progress_display.hpp"
 #include "rdsim/training/run_dashboard.hpp"
@@ -120,6 +121,7 @@ struct Trainer::Run {
   std::unique_ptr<DashboardServer> dashboard;     // rank 0, with a dashboard address
   std::unique_ptr<CsvWriter> episodes, progress;  // rank 0; progress's columns are known after the first update
   std::unique_ptr<EventWriter> tensorboard;       // rank 0: progress.csv's scalars as TensorBoard event files
+  std::unique_ptr<Evaluation> eval;               // rank 0, with "eval"
   // total_timesteps counts the steps of all ranks (the gradient methods' ranks step in lockstep,
   // each its share; the population methods' do not). `steps`: the run's, the same on every rank.
   long long total = 0, rank_total = 0, steps = 0;
@@ -137,6 +139,8 @@ struct Trainer::Run {
   // Collective under MPI: every rank calls it, rank 0 writes the file.
   void save_file(const std::string& name, ModelKind kind);
   void write_progress(const Metrics& metrics, long long allreduce_bytes, double sps, double wall);
+  // Rank 0: one evaluation (eval.csv, TensorBoard, best_model.bin when it is the best so far).
+  void evaluate();
 };
 
 void Trainer::Run::save_file(const std::string& name, ModelKind kind) {
@@ -153,6 +157,7 @@ void Trainer::Run::save_file(const std::string& name, ModelKind kind) {
     if (root) {
       state.progress_rows = progress ? progress->rows() : state.progress_rows;
       state.episode_rows = episodes->rows();
+      if (eval) state.eval = eval->state();
     }
     f.payload = gather_checkpoint(*comm, checkpoint_payload(*algo, *vec, state), *run_episodes);
     if (!root) return;
@@ -188,6 +193,17 @@ void Trainer::Run::write_progress(const Metrics& metrics, long long allreduce_by
   tensorboard->flush();
   overall_sps = wall > start_wall ? static_cast<double>(steps - start_steps) / (wall - start_wall) : 0.0;
   display->show(steps, target, s, overall_sps, wall);
+}
+
+void Trainer::Run::evaluate() {
+  const EvalResult e = eval->run(steps, *algo);
+  state.eval = eval->state();
+  if (e.new_best) save_file(best_model_file_name, ModelKind::Model);
+  tensorboard->scalars(steps, {{"eval/mean_return", e.mean_return},
+                               {"eval/success_rate", e.success_rate},
+                               {"eval/mean_length", e.mean_length}});
+  tensorboard->flush();
+  display->note(Evaluation::describe(e) + (e.new_best ? " -> " + file(best_model_file_name) : std::string()));
 }
 
 Trainer::Trainer(TrainerSettings settings) : settings_(std::move(settings)) {}
@@ -239,12 +255,15 @@ void Trainer::start() {
     const std::string& path = r.start.checkpoint_path;
     check_model_spec(r.start.checkpoint, r.vec->spec(), path);
     r.state = restore_checkpoint(checkpoint_part(comm, r.start.checkpoint.payload, *r.run_episodes, path), *r.algo, *r.vec,
-                                 path, r.root);
+                                 path, r.root, config.eval.has_value());
     r.start.checkpoint.payload.clear();
     if (r.root) {
       check_log_rows(r.file(progress_csv_name), r.state.progress_rows, path);
       check_log_rows(r.file(episodes_csv_name), r.state.episode_rows, path);
+      if (r.state.eval) check_log_rows(r.file(eval_csv_name), r.state.eval->rows, path);
     }
+  } else if (config.eval) {
+    r.state.eval = EvalState{};
   }
   // Under MPI every rank learns from the demonstrations (the same draws: the stream is the run's,
   // not the rank's) and rank 0 writes pretrain.csv.
@@ -263,6 +282,10 @@ void Trainer::start() {
   r.total = config.total_timesteps;
   r.rank_total = (r.total + r.ranks - 1) / r.ranks;
   r.steps = run_timesteps(comm, *r.vec);
+  // The evaluation env is a local one, as `rdsim replay` uses (config.env holds a server's values).
+  if (r.root && config.eval)
+    r.eval = std::make_unique<Evaluation>(*config.eval, open_env(config.env, RemoteEnvConfig{}), config.seed,
+                                          r.file(eval_csv_name), r.steps, *r.state.eval, r.resume);
   const long long multiple = r.algo->lockstep() ? r.algo->step_multiple(r.vec->size()) : 0;
   r.target = std::max(planned_timesteps(r.total, multiple, r.ranks), r.steps);
   if (multiple > 0) r.rounding = update_unit(multiple, r.vec->size()) + (r.ranks > 1 ? " on each of " + std::to_string(r.ranks) + " ranks" : "");
@@ -315,6 +338,7 @@ bool Trainer::update() {
   r.last_steps = r.steps;
   r.last_wall = wall;
   if (r.root) r.write_progress(metrics, allreduce_bytes, sps, wall);
+  if (r.eval && r.eval->due(r.steps)) r.evaluate();
   r.decision = agree(comm, stop_signal(), r.root && r.schedule->due(r.steps));
   if (r.steps < r.total && r.decision.save_due && !r.decision.signal) save();
   return r.steps < r.total && !r.decision.signal;

@@ -59,6 +59,15 @@ TEST_CASE("dashboard page draws a growing run in headless Chromium and follows n
   const int drawn = browser.evaluate(count_color_pixels_js("success_rate", "#1f77b4")).get<int>();
   CHECK(drawn > 200);
 
+  // The run's evaluations (eval.csv, a run with "eval") get charts of their own.
+  write_file(run / "eval.csv",
+             "timesteps,episodes,mean_return,std_return,min_return,max_return,mean_length,success_rate,new_best,seconds\n"
+             "10000,10,-80,5,-90,-70,150,0.1,1,0.2\n20000,10,-40,5,-50,-30,100,0.5,1,0.2\n"
+             "30000,10,-20,5,-30,-10,60,0.9,1,0.2\n");
+  REQUIRE(browser.wait_until("window.rdsimDashboard.evalRows['" + id + "'] === 3", 20));
+  CHECK(browser.evaluate("window.rdsimDashboard.charts") == 10);
+  CHECK(browser.evaluate(count_color_pixels_js("eval:success_rate", "#1f77b4")).get<int>() > 100);
+
   // The run keeps training: rows arrive, one of them garbled and the last half-written.
   write_file(run / "progress.csv", row(41) + "this is not a row\n" + row(42) + "43000,43,215,-6", true);
   REQUIRE(browser.wait_until(last_x + " === 42000", 20));

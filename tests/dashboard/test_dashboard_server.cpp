@@ -97,6 +97,23 @@ TEST_CASE("dashboard answers only the rows written since the offset it gave", "[
   CHECK(p["rows"][0][4] == -150);
 }
 
+TEST_CASE("dashboard serves a run's eval.csv with log=eval", "[dashboard]") {
+  const fs::path root = scratch_dir("eval_log");
+  const fs::path run = root / "run";
+  make_run(run, "ppo", 1, 3);
+  rdsim::DashboardServer server(options_for(root));
+  const int port = server.port();
+  nlohmann::json p = get_json(port, "/api/progress?run=0:run&log=eval&from=0");
+  CHECK(p["columns"].empty());  // no evaluation yet
+  write_file(run / "eval.csv", "timesteps,mean_return,success_rate\n1000,-5.5,0.2\n2000,-3,0.6\n");
+  p = get_json(port, "/api/progress?run=0:run&log=eval&from=0");
+  REQUIRE(p["rows"].size() == 2);
+  CHECK(p["columns"][1] == "mean_return");
+  CHECK(p["rows"][1][2] == 0.6);
+  CHECK(get_json(port, "/api/progress?run=0:run&log=progress&from=0")["rows"].size() == 3);
+  CHECK(status_of(get(port, "/api/progress?run=0:run&log=episodes")) == 400);
+}
+
 TEST_CASE("dashboard never serves a file outside its run folders", "[dashboard]") {
   const fs::path base = scratch_dir("traversal");
   const fs::path root = base / "runs";

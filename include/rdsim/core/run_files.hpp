@@ -16,10 +16,13 @@ inline constexpr const char* episodes_csv_name = "episodes.csv";  // one row per
 inline constexpr const char* model_file_name = "model.bin";       // the policy (training/model_file.hpp)
 inline constexpr const char* checkpoint_file_name = "checkpoint.bin";  // the model plus what --resume needs
 inline constexpr const char* pretrain_csv_name = "pretrain.csv";  // one row per epoch of learning from demonstrations
+inline constexpr const char* eval_csv_name = "eval.csv";          // one row per evaluation ("eval")
+inline constexpr const char* best_model_file_name = "best_model.bin";  // the best evaluation's policy
 
 // All of them.
-inline constexpr std::array<const char*, 6> run_file_names = {run_config_name, progress_csv_name, episodes_csv_name,
-                                                              model_file_name, checkpoint_file_name, pretrain_csv_name};
+inline constexpr std::array<const char*, 8> run_file_names = {run_config_name,      progress_csv_name,    episodes_csv_name,
+                                                              model_file_name,      checkpoint_file_name, pretrain_csv_name,
+                                                              eval_csv_name,        best_model_file_name};
 
 // A run's identity from its config.json. Reading is lenient: a run whose config.json is missing or
 // unreadable (a run that is just starting, a foreign folder) has empty fields, never an error.

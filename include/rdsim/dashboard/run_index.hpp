@@ -41,10 +41,10 @@ public:
   std::optional<IndexedRun> find(const std::string& id);
   // Whether `file` (after resolving links) lies inside the folder of root `root_number`.
   bool inside_root(const std::string& file, std::size_t root_number) const;
-  // The run's progress.csv, opened below its root in one step (InputFile::beneath); nothing when
-  // the run has not written it yet. RunOutsideRoot when a link leads out of the root on the way,
-  // rdsim::Error when it is not a regular file.
-  std::optional<InputFile> open_progress(const IndexedRun& run) const;
+  // The run's log `name` (progress.csv, eval.csv), opened below its root in one step
+  // (InputFile::beneath); nothing when the run has not written it yet. RunOutsideRoot when a link
+  // leads out of the root on the way, rdsim::Error when it is not a regular file.
+  std::optional<InputFile> open_log(const IndexedRun& run, const char* name) const;
 
 private:
   void rescan(bool force);

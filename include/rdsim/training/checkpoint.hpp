@@ -2,7 +2,10 @@
 #include <chrono>
 #include <string>
 
+#include <optional>
+
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/training/evaluation.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 
 // The payload of checkpoint.bin (model_file.hpp holds the envelope): the algorithm's training
@@ -15,6 +18,7 @@ struct TrainerState {
   long long progress_rows = 0;
   long long episode_rows = 0;
   long long updates = 0;
+  std::optional<EvalState> eval;  // a run with "eval" (rank 0's; the other ranks' are zero)
 };
 
 std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const TrainerState& state);
@@ -22,9 +26,11 @@ std::string checkpoint_payload(const Algorithm& algo, const VecEnv& vec, const T
 // Loads a payload into `algo` and `vec` (built from the checkpoint's embedded config). Every field
 // is validated (counters in range, values finite, sizes against what is left of the payload);
 // rdsim::Error naming `source` otherwise. `report`: print the note when the envs cannot resume
-// exactly (false on MPI ranks other than 0, so the note appears once).
+// exactly (false on MPI ranks other than 0, so the note appears once). `eval`: the run has "eval"
+// (its checkpoints hold the evaluations' state after the counters; the config tells, so checkpoints
+// of runs without it read as before).
 TrainerState restore_checkpoint(const std::string& payload, Algorithm& algo, VecEnv& vec, const std::string& source,
-                                bool report = true);
+                                bool report = true, bool eval = false);
 
 // When the run's files are saved: checkpoint.bin and model.bin together, every
 // checkpoint_interval env steps and every checkpoint_seconds of wall time (TrainConfig), so that a

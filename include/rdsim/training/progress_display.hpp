@@ -22,6 +22,8 @@ public:
   void show(long long t, long long total, const EpisodeStats& stats, double sps, double wall, bool force = false);
   // Ends the terminal line after the last show().
   void finish();
+  // A line of its own (an evaluation's result) above the progress line, which the next show() redraws.
+  void note(const std::string& text);
 
   // The text of one terminal line at most `width` characters wide (exposed for tests).
   static std::string terminal_line(long long t, long long total, const EpisodeStats& stats, double sps, int width);

@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -8,6 +9,7 @@
 #include "rdsim/core/config_fields.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/remote/remote_env_config.hpp"
+#include "rdsim/training/eval_config.hpp"
 
 // The typed form of a training config (configs/*.json), read ONCE by read_train_config; nothing
 // downstream looks at JSON. It composes the env's options (EnvConfig, read over the env's own
@@ -35,6 +37,7 @@ struct TrainConfig {
   int env_groups = 1;
   std::string gemm = "eigen";        // the learner's arithmetic (nn/gemm.hpp); RDSIM_GEMM overrides
   int sync_check_interval = 10;
+  std::optional<EvalConfig> eval;  // the "eval" object (eval_config.hpp); none: no evaluation
 };
 
 inline constexpr long long max_timesteps = 1'000'000'000'000LL;

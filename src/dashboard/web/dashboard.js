@@ -1,7 +1,8 @@
 'use strict';
 // rdsim dashboard page (served by src/dashboard/dashboard_server.cpp). It follows each selected
-// run's progress.csv through /api/progress, which answers only the rows written since the byte
-// offset it last returned, and draws one uPlot chart per metric with the selected runs overlaid.
+// run's progress.csv (and eval.csv, a run's evaluations) through /api/progress, which answers only
+// the rows written since the byte offset it last returned, and draws one uPlot chart per metric with
+// the selected runs overlaid.
 // window.rdsimDashboard says what was last drawn (the headless-browser test reads it).
 
 const CHARTS = [
@@ -14,7 +15,11 @@ const CHARTS = [
   {column: 'entropy', title: 'Entropy'},
   {column: 'approx_kl', title: 'Approximate KL'},
   {column: 'steps_per_s', title: 'Steps/s'},
+  // eval.csv (a run with "eval"): drawn against timesteps, its only x
+  {column: 'mean_return', log: 'eval', title: 'Evaluation: mean return'},
+  {column: 'success_rate', log: 'eval', title: 'Evaluation: success rate'},
 ];
+const chartId = (spec) => (spec.log ? `${spec.log}:` : '') + spec.column;
 const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#ff7f0e', '#9467bd',
                 '#8c564b', '#e377c2', '#17becf', '#7f7f7f', '#bcbd22'];
 const SELECTED_AT_START = 10;  // runs shown without a click; more are listed, unticked
@@ -23,12 +28,12 @@ const MAX_PAGES = 50;          // answers per run per poll while the server says
 
 const state = {
   runs: new Map(),    // id -> run (see addRun)
-  charts: new Map(),  // column -> {plot, key, el}
+  charts: new Map(),  // chartId(spec) -> {plot, key, el}
   pollMs: 500,
   runsFetchedAt: 0,
   dirty: false,
 };
-const report = window.rdsimDashboard = {draws: 0, drawnAt: 0, lastX: {}, rows: {}, charts: 0, errors: []};
+const report = window.rdsimDashboard = {draws: 0, drawnAt: 0, lastX: {}, rows: {}, evalRows: {}, charts: 0, errors: []};
 
 const $ = (id) => document.getElementById(id);
 
@@ -63,17 +68,19 @@ function addRun(info) {
     next: 0,       // byte offset to ask from
     skipped: 0,    // malformed rows the server passed over
     error: null,
+    evalLog: {columns: [], cols: {}, rows: 0, next: 0, skipped: 0},  // eval.csv, the same fields
   };
   state.runs.set(run.id, run);
   return run;
 }
 
-function clearRows(run, columns) {
-  run.columns = columns.slice();
-  run.cols = {};
-  for (const c of run.columns) run.cols[c] = [];
-  run.rows = 0;
-  run.skipped = 0;
+// `table`: a run (its progress.csv) or its evalLog.
+function clearRows(table, columns) {
+  table.columns = columns.slice();
+  table.cols = {};
+  for (const c of table.columns) table.cols[c] = [];
+  table.rows = 0;
+  table.skipped = 0;
 }
 
 async function refreshRuns() {
@@ -94,25 +101,26 @@ function sameColumns(a, b) {
   return a.length === b.length && a.every((c, i) => c === b[i]);
 }
 
-// Appends the rows written since run.next; a rewritten file (resumed run) starts the run over.
-async function fetchRows(run) {
+// Appends the rows of the run's log (progress or eval) written since table.next; a rewritten file
+// (resumed run) starts the table over.
+async function fetchRows(run, table = run, log = 'progress') {
   for (let page = 0; page < MAX_PAGES; ++page) {
-    const body = await getJson(`api/progress?run=${encodeURIComponent(run.id)}&from=${run.next}`);
+    const body = await getJson(`api/progress?run=${encodeURIComponent(run.id)}&log=${log}&from=${table.next}`);
     const columns = Array.isArray(body.columns) ? body.columns : [];
     const rows = Array.isArray(body.rows) ? body.rows : [];
     if (columns.length === 0) return;  // no header yet
-    if (body.restarted || !sameColumns(run.columns, columns)) clearRows(run, columns);
+    if (body.restarted || !sameColumns(table.columns, columns)) clearRows(table, columns);
     for (const row of rows) {
       if (!Array.isArray(row) || row.length !== columns.length) continue;
       for (let i = 0; i < columns.length; ++i) {
         const v = row[i];
-        run.cols[columns[i]].push(typeof v === 'number' && Number.isFinite(v) ? v : null);
+        table.cols[columns[i]].push(typeof v === 'number' && Number.isFinite(v) ? v : null);
       }
-      run.rows += 1;
+      table.rows += 1;
     }
     if (rows.length > 0) state.dirty = true;
-    run.skipped += Number(body.skipped) || 0;
-    if (Number.isSafeInteger(body.next)) run.next = body.next;
+    table.skipped += Number(body.skipped) || 0;
+    if (Number.isSafeInteger(body.next)) table.next = body.next;
     if (!body.more) return;
   }
 }
@@ -192,9 +200,9 @@ function smooth(ys, weight, logScale) {
 }
 
 // [xs, ys] without the rows whose x is missing (uPlot wants x ascending and present).
-function series(run, xName, column, weight, logScale) {
-  const xs = run.cols[xName];
-  const ys = smooth(run.cols[column], weight, logScale);
+function series(table, xName, column, weight, logScale) {
+  const xs = table.cols[xName];
+  const ys = smooth(table.cols[column], weight, logScale);
   if (!xs.includes(null)) return [xs, ys];
   const fx = [];
   const fy = [];
@@ -223,13 +231,13 @@ const resizer = new ResizeObserver((entries) => {
 });
 
 function makeChart(spec, runs, xName, logScale, data) {
-  const old = state.charts.get(spec.column);
+  const old = state.charts.get(chartId(spec));
   let el = old && old.el;
   if (old) old.plot.destroy();
   if (!el) {
     el = document.createElement('div');
     el.className = 'chart';
-    el.dataset.column = spec.column;
+    el.dataset.column = chartId(spec);
     $('charts').appendChild(el);
     resizer.observe(el);
   }
@@ -256,27 +264,30 @@ function draw() {
   const shown = [...state.runs.values()].filter((r) => r.selected && r.cols[xName]);
   const order = [];
   for (const spec of CHARTS) {
-    const runs = shown.filter((r) => r.cols[spec.column] && r.rows > 0);
-    const old = state.charts.get(spec.column);
+    const id = chartId(spec);
+    const tableOf = (r) => (spec.log === 'eval' ? r.evalLog : r);
+    const x = spec.log === 'eval' ? 'timesteps' : xName;
+    const runs = shown.filter((r) => tableOf(r).cols[spec.column] && tableOf(r).cols[x] && tableOf(r).rows > 0);
+    const old = state.charts.get(id);
     if (runs.length === 0) {
       if (old) {
         old.plot.destroy();
         resizer.unobserve(old.el);
         old.el.remove();
-        state.charts.delete(spec.column);
+        state.charts.delete(id);
       }
       continue;
     }
-    const tables = runs.map((r) => series(r, xName, spec.column, weight, logScale));
+    const tables = runs.map((r) => series(tableOf(r), x, spec.column, weight, logScale));
     const data = tables.length === 1 ? tables[0] : uPlot.join(tables);
-    const key = [xName, logScale, ...runs.map((r) => r.id)].join('|');
+    const key = [x, logScale, ...runs.map((r) => r.id)].join('|');
     if (old && old.key === key) {
       old.plot.setData(data);
     } else {
-      const chart = makeChart(spec, runs, xName, logScale, data);
-      state.charts.set(spec.column, {plot: chart.plot, el: chart.el, key});
+      const chart = makeChart(spec, runs, x, logScale, data);
+      state.charts.set(id, {plot: chart.plot, el: chart.el, key});
     }
-    order.push(state.charts.get(spec.column).el);
+    order.push(state.charts.get(id).el);
   }
   // Keep the charts in CHARTS order however they appeared.
   const container = $('charts');
@@ -290,6 +301,7 @@ function draw() {
     const xs = run.cols[xName];
     report.lastX[run.id] = xs.length ? xs[xs.length - 1] : null;
     report.rows[run.id] = run.rows;
+    report.evalRows[run.id] = run.evalLog.rows;
   }
 }
 
@@ -307,7 +319,7 @@ const poll = {
     try {
       if (state.runs.size === 0 || Date.now() - state.runsFetchedAt > RUNS_REFRESH_MS) await refreshRuns();
       const selected = [...state.runs.values()].filter((r) => r.selected);
-      await Promise.all(selected.map((run) => fetchRows(run).then(
+      await Promise.all(selected.map((run) => fetchRows(run).then(() => fetchRows(run, run.evalLog, 'eval')).then(
         () => { run.error = null; },
         (e) => { run.error = e.message; })));
       const failed = selected.filter((r) => r.error).length;
