@@ -94,8 +94,15 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
   }
 }
 
+const Eigen::MatrixXf& ActorCritic::input(const Eigen::MatrixXf& raw, Eigen::MatrixXf& scratch) const {
+  if (!normalizer_.enabled()) return scaled_input(raw, input_scale_, scratch);
+  scratch.resize(raw.rows(), raw.cols());
+  normalizer_.apply(raw, scratch);
+  return scratch;
+}
+
 const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& raw) {
-  const Eigen::MatrixXf& obs = scaled_input(raw, input_scale_, infer_input_);
+  const Eigen::MatrixXf& obs = input(raw, infer_input_);
   if (!trunk_) return obs;
   activate(trunk_->infer(obs), activation_, infer_features_);
   return infer_features_;
@@ -122,7 +129,7 @@ Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
 }
 
 const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& raw, const Eigen::MatrixXf& actions) {
-  const Eigen::MatrixXf& obs = scaled_input(raw, input_scale_, eval_input_);
+  const Eigen::MatrixXf& obs = input(raw, eval_input_);
   if (trunk_) {
     trunk_pre_ = trunk_->forward_borrowing(obs);  // obs lives until backward(): the header's contract
     activate(trunk_pre_, activation_, features_);
@@ -177,6 +184,18 @@ nn::ParamList ActorCritic::params() {
 }
 
 void ActorCritic::zero_grad() { nn::zero_grad(params()); }
+
+void ActorCritic::add_policy_ops(PolicyProgram& program) const {
+  const auto* trunk = dynamic_cast<const nn::Mlp*>(trunk_.get());
+  if (trunk_ && !trunk) throw Error("export: CNN policies cannot be exported yet (MLP policies can)");
+  normalizer_.add_input_ops(program, input_scale_);
+  if (trunk) program.mlp(*trunk, true);  // the trunk's output is activated (features_infer)
+  program.mlp(policy_);
+  if (discrete_)
+    program.argmax();  // the mode of the categorical distribution
+  else if (low_.size() == action_dim_)
+    program.clip(low_, high_);  // the Gaussian's mean, clipped to the Box (env_action)
+}
 
 Action ActorCritic::env_action(const Eigen::Ref<const Eigen::VectorXf>& column) const {
   if (discrete_) return Action::discrete(static_cast<int>(std::lround(column[0])));

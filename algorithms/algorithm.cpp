@@ -1,11 +1,21 @@
 #include "rdsim/algorithms/algorithm.hpp"
 
+#include "rdsim/algorithms/policy_program.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
 
 std::vector<Metrics> Algorithm::learn_from_demonstrations(const DemoFile&, const DemonstrationsConfig&, Rng&, bool) {
   throw Error("algorithm \"" + name() + "\" cannot learn from demonstrations (bc, ppo, a2c, dqn, sac, td3 and ddpg can)");
+}
+
+PolicyProgram Algorithm::policy_program() const {
+  throw Error("algorithm \"" + name() + "\": its policy cannot be exported yet (ppo, a2c, trpo, dqn, sac, td3 and ddpg "
+              "with MLP networks can)");
+}
+
+void Algorithm::enable_observation_normalization() {
+  throw Error("algorithm \"" + name() + "\" cannot normalize observations (ppo, a2c, trpo, dqn, sac, td3 and ddpg can)");
 }
 
 }  // namespace rdsim

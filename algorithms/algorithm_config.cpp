@@ -38,6 +38,7 @@ bool uses_demonstrations_key(const std::string& algorithm, const std::string& ke
 
 // "demonstrations": read when present; keys the algorithm would ignore are errors.
 void read_demonstrations(ConfigReader& r, const std::string& name, AlgorithmConfig& c) {
+  r.accept("demonstrations");  // known, so that a misspelt key gets "did you mean"
   if (!r.has("demonstrations")) {
     if (name == "bc") r.fail("demonstrations", "missing: bc learns from demonstrations (expected {\"file\": \"F.demo\"})");
     return;
@@ -53,6 +54,7 @@ void read_demonstrations(ConfigReader& r, const std::string& name, AlgorithmConf
 // "her": read when present, for the off-policy algorithms only (whether the env has goals is
 // checked when the algorithm meets the env's spec).
 void read_her(ConfigReader& r, const std::string& name, AlgorithmConfig& c) {
+  r.accept("her");  // known, so that a misspelt key gets "did you mean"
   if (!r.has("her")) return;
   if (!takes_her(name))
     r.fail("her", "has no effect with \"algorithm\": \"" + name +
@@ -66,6 +68,10 @@ void read_her(ConfigReader& r, const std::string& name, AlgorithmConfig& c) {
 }  // namespace
 
 bool takes_her(const std::string& algorithm) { return algorithm == "sac" || algorithm == "td3" || algorithm == "ddpg"; }
+
+bool takes_observation_normalization(const std::string& algorithm) {
+  return algorithm == "ppo" || algorithm == "a2c" || algorithm == "trpo" || algorithm == "dqn" || takes_her(algorithm);
+}
 
 std::string AlgorithmConfig::name() const { return kNames[params.index()]; }
 
@@ -97,6 +103,15 @@ AlgorithmConfig read_algorithm_config(ConfigReader& r) {
   }
   read_demonstrations(r, name, c);
   read_her(r, name, c);
+  r.accept("normalize_observations");
+  if (r.has("normalize_observations")) {
+    r.read("normalize_observations", c.normalize_observations);
+    if (c.normalize_observations && !takes_observation_normalization(name))
+      r.fail("normalize_observations",
+             "has no effect with \"algorithm\": \"" + name + "\"" +
+                 (name == "ars" || name == "cma_es" ? " (it has its own: " + name + ".normalize_observations)"
+                                                    : std::string(" (ppo, a2c, trpo, dqn, sac, td3 and ddpg take it)")));
+  }
   return c;
 }
 
@@ -112,6 +127,7 @@ void write_algorithm_config(const AlgorithmConfig& c, nlohmann::json& out) {
     out["demonstrations"] = std::move(demos);
   }
   if (c.her) out["her"] = config::write_fields(*c.her);
+  if (c.normalize_observations) out["normalize_observations"] = true;
 }
 
 std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_t seed, const Spec& spec) {
@@ -131,7 +147,9 @@ std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_
     std::unique_ptr<Algorithm> operator()(const RandomConfig& p) const { return make_random(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const BcConfig& p) const { return make_bc(p, c.network, seed, spec, c.source); }
   };
-  return std::visit(Make{c, seed, spec}, c.params);
+  std::unique_ptr<Algorithm> algorithm = std::visit(Make{c, seed, spec}, c.params);
+  if (c.normalize_observations) algorithm->enable_observation_normalization();
+  return algorithm;
 }
 
 }  // namespace rdsim

@@ -18,6 +18,8 @@
 #include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/n_step_returns.hpp"
+#include "rdsim/algorithms/observation_normalizer.hpp"
+#include "rdsim/algorithms/policy_program.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
@@ -134,7 +136,7 @@ public:
       input_scale_ = static_cast<float>(network.input_scale);
     }
   }
-  QNet(const QNet& other) : net_(other.net_->clone()), input_scale_(other.input_scale_) {}
+  QNet(const QNet& other) : net_(other.net_->clone()), input_scale_(other.input_scale_), normalizer_(other.normalizer_) {}
   QNet& operator=(const QNet& other) {
     if (this != &other) *this = QNet(other);
     return *this;
@@ -149,13 +151,32 @@ public:
   nn::ParamList params() { return net_->params(); }
   void copy_values_from(const QNet& other) { net_->copy_values_from(*other.net_); }
   void blend_values_from(const QNet& other, float tau) { net_->blend_values_from(*other.net_, tau); }
+  // The network's operations (policy_program.hpp); rdsim::Error for a CNN.
+  void add_ops(PolicyProgram& program) const {
+    const auto* mlp = dynamic_cast<const nn::Mlp*>(net_.get());
+    if (!mlp) throw Error("export: CNN policies cannot be exported yet (MLP policies can)");
+    if (normalizer_)
+      normalizer_->add_input_ops(program, input_scale_);
+    else
+      program.scale(input_scale_);
+    program.mlp(*mlp);
+  }
+  // "normalize_observations": the algorithm's normaliser, which outlives this network.
+  void normalize_with(const ObservationNormalizer* normalizer) { normalizer_ = normalizer; }
 
 private:
   // network.input_scale (the config parser allows it with vector observations only).
-  const Eigen::MatrixXf& scaled(const Eigen::MatrixXf& x) { return scaled_input(x, input_scale_, scaled_input_); }
+  // Or the standardised observations with normalize_observations.
+  const Eigen::MatrixXf& scaled(const Eigen::MatrixXf& x) {
+    if (!normalizer_ || !normalizer_->enabled()) return scaled_input(x, input_scale_, scaled_input_);
+    scaled_input_.resize(x.rows(), x.cols());
+    normalizer_->apply(x, scaled_input_);
+    return scaled_input_;
+  }
 
   std::unique_ptr<nn::Network> net_;
   float input_scale_ = 1.0f;
+  const ObservationNormalizer* normalizer_ = nullptr;
   Eigen::MatrixXf scaled_input_;
 };
 
@@ -183,6 +204,22 @@ public:
   bool data_parallel() const override { return true; }
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  // The greedy action: the largest Q-value.
+  PolicyProgram policy_program() const override {
+    PolicyProgram program;
+    program.algorithm = name();
+    program.input_size = buffer_.observation_size();
+    program.discrete = true;
+    program.action_size = 1;
+    q_.add_ops(program);
+    program.argmax();
+    return program;
+  }
+  void enable_observation_normalization() override {
+    normalizer_ = ObservationNormalizer(buffer_.observation_size());
+    q_.normalize_with(&normalizer_);
+    target_.normalize_with(&normalizer_);
+  }
   void save(std::ostream& out, bool training_state) const override;
   void load(std::istream& in, bool training_state, const std::string& source) override;
   std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config, Rng& rng,
@@ -201,6 +238,7 @@ private:
   DqnConfig cfg_;
   Spec spec_;
   int num_actions_;
+  ObservationNormalizer normalizer_;  // "normalize_observations" (off by default); q_ and target_ point to it
   QNet q_, target_;
   std::unique_ptr<nn::Adam> optimizer_;
   ReplayBuffer buffer_;
@@ -225,7 +263,12 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
   const int n = envs.size();
   actions_.resize(static_cast<std::size_t>(n));
   // Before learning starts every action is random (the network is untrained anyway).
-  const Eigen::MatrixXf* q = warmup ? nullptr : &q_.infer(network_input(envs.observations(), obs_));
+  const Eigen::MatrixXf* q = nullptr;
+  if (!warmup || normalizer_.enabled()) {
+    const Eigen::MatrixXf& input = network_input(envs.observations(), obs_);
+    if (normalizer_.enabled()) normalizer_.observe(input);
+    if (!warmup) q = &q_.infer(input);
+  }
   for (int i = 0; i < n; ++i) {
     const bool random = warmup || explore_rng_.uniform() < epsilon;
     const int a = random ? static_cast<int>(explore_rng_.below(static_cast<std::uint64_t>(num_actions_)))
@@ -376,6 +419,8 @@ Metrics Dqn::update(VecEnv& envs, const TrainProgress& progress) {
           {"gradient_steps", static_cast<double>(gradient_steps_)},
           {"buffer_size", static_cast<double>(buffer_.size())}};
   if (demo_buffer_ && demo_cfg_.large_margin) metrics.push_back({"margin_loss", stats.margin / m});
+  // The next update's inputs: the statistics with this one's observations.
+  if (normalizer_.enabled()) normalizer_.refresh(communicator());
   return metrics;
 }
 
@@ -391,6 +436,7 @@ Action Dqn::act(const Observation& observation, bool deterministic, Rng& rng) {
 void Dqn::save(std::ostream& out, bool training_state) const {
   QNet& q = const_cast<QNet&>(q_);  // params() hands out mutable views; saving only reads them
   nn::save_params(q.params(), out);
+  normalizer_.save(out, training_state);
   if (!training_state) return;
   nn::save_params(const_cast<QNet&>(target_).params(), out);
   optimizer_->save_state(out);
@@ -404,6 +450,7 @@ void Dqn::save(std::ostream& out, bool training_state) const {
 
 void Dqn::load(std::istream& in, bool training_state, const std::string& source) {
   nn::load_params(q_.params(), in, source);
+  normalizer_.load(in, training_state, source);
   if (!training_state) {
     target_.copy_values_from(q_);
     return;

@@ -119,16 +119,33 @@ std::vector<Metrics> OffPolicy::learn_from_demonstrations(const DemoFile& demos,
 }
 
 const Eigen::MatrixXf& OffPolicy::actor_input(const Eigen::MatrixXf& observations, Eigen::MatrixXf& scratch) const {
-  return scaled_input(observations, input_scale_, scratch);
+  if (!normalizer_.enabled()) return scaled_input(observations, input_scale_, scratch);
+  scratch.resize(observations.rows(), observations.cols());
+  normalizer_.apply(observations, scratch);
+  return scratch;
 }
 
 const Eigen::MatrixXf& OffPolicy::critic_input(const Eigen::MatrixXf& observations, const Eigen::MatrixXf& actions,
                                                Eigen::MatrixXf& scratch) const {
   scratch.resize(observations.rows() + actions.rows(), observations.cols());
-  scratch.topRows(observations.rows()) = observations * input_scale_;
+  if (normalizer_.enabled())
+    normalizer_.apply(observations, scratch.topRows(observations.rows()));
+  else
+    scratch.topRows(observations.rows()) = observations * input_scale_;
   scratch.bottomRows(actions.rows()) = actions;
   return scratch;
 }
+
+PolicyProgram OffPolicy::policy_program_start() const {
+  PolicyProgram program;
+  program.algorithm = name();
+  program.input_size = observation_size_;
+  program.action_size = action_dim_;
+  normalizer_.add_input_ops(program, input_scale_);
+  return program;
+}
+
+void OffPolicy::add_env_action_ops(PolicyProgram& program) const { program.rescale(spec_.action.low, spec_.action.high); }
 
 Action OffPolicy::env_action(const Eigen::Ref<const Eigen::VectorXf>& normalized) const {
   const Eigen::ArrayXf a = normalized.array().cwiseMax(-1.0f).cwiseMin(1.0f);
@@ -140,6 +157,7 @@ void OffPolicy::collect_step(VecEnv& envs, bool warmup) {
   const int n = envs.size();
   obs_.resize(observation_size_, n);
   for (int i = 0; i < n; ++i) encode_observation(envs.observations(), i, obs_.col(i));
+  if (normalizer_.enabled()) normalizer_.observe(obs_);
   if (warmup) {
     // Before learning starts every action is uniform in the Box (the networks are untrained).
     actions_.resize(action_dim_, n);
@@ -167,8 +185,12 @@ Metrics OffPolicy::update(VecEnv& envs, const TrainProgress& progress) {
   m.emplace_back("gradient_steps", static_cast<double>(gradient_steps_));
   m.emplace_back("buffer_size", static_cast<double>(buffer_.size()));
   if (her_) m.emplace_back("her_relabelable", static_cast<double>(her_->relabelable()));
+  // The next update's inputs: the statistics with this one's observations.
+  if (normalizer_.enabled()) normalizer_.refresh(communicator());
   return m;
 }
+
+void OffPolicy::enable_observation_normalization() { normalizer_ = ObservationNormalizer(observation_size_); }
 
 Action OffPolicy::act(const Observation& observation, bool deterministic, Rng& rng) {
   Eigen::MatrixXf obs(observation_size_, 1), action;
@@ -180,6 +202,7 @@ Action OffPolicy::act(const Observation& observation, bool deterministic, Rng& r
 void OffPolicy::save(std::ostream& out, bool training_state) const {
   auto& self = const_cast<OffPolicy&>(*this);  // params() hands out mutable views; saving only reads them
   nn::save_params(self.acting_params(), out);
+  normalizer_.save(out, training_state);
   if (!training_state) return;
   save_training(out);
   write_string(out, rng_to_bytes(explore_rng_));
@@ -192,11 +215,13 @@ void OffPolicy::save(std::ostream& out, bool training_state) const {
 void OffPolicy::save_all_weights(std::ostream& out) const {
   auto& self = const_cast<OffPolicy&>(*this);  // params() hands out mutable views; saving only reads them
   nn::save_params(self.acting_params(), out);
+  normalizer_.save(out, false);
   nn::save_params(self.other_params(), out);
 }
 
 void OffPolicy::load_all_weights(std::istream& in, const std::string& source) {
   nn::load_params(acting_params(), in, source);
+  normalizer_.load(in, false, source);
   nn::load_params(other_params(), in, source);
 }
 
@@ -206,6 +231,7 @@ void OffPolicy::average_gradients(const nn::ParamList& params) {
 
 void OffPolicy::load(std::istream& in, bool training_state, const std::string& source) {
   nn::load_params(acting_params(), in, source);
+  normalizer_.load(in, training_state, source);
   if (!training_state) return;
   load_training(in, source);
   explore_rng_ = rng_from_bytes(read_string(in, source), source);

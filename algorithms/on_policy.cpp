@@ -36,10 +36,36 @@ Metrics OnPolicy::update(VecEnv& envs, const TrainProgress& progress) {
   if (rollout_.envs != envs.size() || rollout_.steps != settings_.n_steps) {
     rollout_.resize(settings_.n_steps, envs.size(), policy_->observation_size(), policy_->action_dim());
   }
+  ObservationNormalizer& normalizer = policy_->normalizer();
+  if (normalizer.enabled() && updates_ == 0) {
+    // The first rollout already sees standardised inputs: those of the envs' first observations.
+    Eigen::MatrixXf scratch;
+    normalizer.observe(network_input(envs.observations(), scratch));
+    normalizer.refresh(communicator());
+  }
   collect_rollout(envs, *policy_, sample_rng_, rollout_);
   compute_gae(rollout_, static_cast<float>(settings_.gamma), static_cast<float>(settings_.gae_lambda));
   ++updates_;
-  return train(progress.remaining(envs.timesteps()));
+  Metrics m = train(progress.remaining(envs.timesteps()));
+  if (normalizer.enabled()) {  // the next rollout's inputs: the statistics with this one's observations
+    normalizer.observe(rollout_.observations);
+    normalizer.refresh(communicator());
+  }
+  return m;
+}
+
+PolicyProgram OnPolicy::policy_program() const {
+  PolicyProgram program;
+  program.algorithm = name();
+  program.input_size = policy_->observation_size();
+  program.discrete = policy_->discrete();
+  program.action_size = policy_->discrete() ? 1 : policy_->action_dim();
+  policy_->add_policy_ops(program);
+  return program;
+}
+
+void OnPolicy::enable_observation_normalization() {
+  policy_->normalizer() = ObservationNormalizer(policy_->observation_size());
 }
 
 void OnPolicy::average_gradients(const nn::ParamList& params) {
@@ -56,6 +82,7 @@ Action OnPolicy::act(const Observation& observation, bool deterministic, Rng& rn
 
 void OnPolicy::save(std::ostream& out, bool training_state) const {
   nn::save_params(policy_->params(), out);
+  policy_->normalizer().save(out, training_state);
   if (!training_state) return;
   optimizer_->save_state(out);
   write_string(out, rng_to_bytes(sample_rng_));
@@ -65,6 +92,7 @@ void OnPolicy::save(std::ostream& out, bool training_state) const {
 
 void OnPolicy::load(std::istream& in, bool training_state, const std::string& source) {
   nn::load_params(policy_->params(), in, source);
+  policy_->normalizer().load(in, training_state, source);
   if (!training_state) return;
   optimizer_->load_state(in, source);
   sample_rng_ = rng_from_bytes(read_string(in, source), source);

@@ -59,21 +59,6 @@ PopulationResult evaluate_population(VecEnv& envs, FlatPolicy& policy, const std
   return result;
 }
 
-namespace {
-
-// Every rank's `seen` observation statistics merged in rank order (one allgather).
-RunningNormalizer merge_over_ranks(Communicator& comm, const RunningNormalizer& seen) {
-  const std::vector<double> mine = seen.to_doubles();
-  std::vector<double> all(mine.size() * static_cast<std::size_t>(comm.size()));
-  comm.allgather(mine.data(), mine.size(), all.data());
-  RunningNormalizer merged(seen.size());
-  for (int r = 0; r < comm.size(); ++r)
-    merged.merge(RunningNormalizer::from_doubles(all.data() + static_cast<std::size_t>(r) * mine.size(), seen.size()));
-  return merged;
-}
-
-}  // namespace
-
 PopulationResult evaluate_population_on_ranks(Communicator& comm, VecEnv& envs, FlatPolicy& policy,
                                               const std::vector<Eigen::VectorXf>& candidates, int episodes,
                                               const RunningNormalizer* normalizer, RunningNormalizer* seen) {

@@ -5,6 +5,7 @@
 
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/parallel/communicator.hpp"
 
 namespace rdsim {
 
@@ -95,6 +96,17 @@ void RunningNormalizer::load(std::istream& in, const std::string& source) {
   count_ = count;
   mean_ = mean;
   m2_ = m2;
+}
+
+RunningNormalizer merge_over_ranks(Communicator& comm, const RunningNormalizer& seen) {
+  if (comm.size() == 1) return seen;
+  const std::vector<double> mine = seen.to_doubles();
+  std::vector<double> all(mine.size() * static_cast<std::size_t>(comm.size()));
+  comm.allgather(mine.data(), mine.size(), all.data());
+  RunningNormalizer merged(seen.size());
+  for (int r = 0; r < comm.size(); ++r)
+    merged.merge(RunningNormalizer::from_doubles(all.data() + static_cast<std::size_t>(r) * mine.size(), seen.size()));
+  return merged;
 }
 
 }  // namespace rdsim

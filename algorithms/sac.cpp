@@ -72,6 +72,15 @@ public:
 
 protected:
   void policy(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, Eigen::MatrixXf& actions) override;
+  // The mode: tanh of the Gaussian's mean (the actor's first action_dim outputs), to the Box.
+  PolicyProgram policy_program() const override {
+    PolicyProgram program = policy_program_start();
+    program.mlp(actor_);
+    program.keep_rows(action_dim_);
+    program.activate(nn::Activation::Tanh);
+    add_env_action_ops(program);
+    return program;
+  }
   Metrics train(int steps, const TrainProgress& progress) override;
   nn::ParamList acting_params() override { return actor_.params(); }
   nn::ParamList other_params() override {

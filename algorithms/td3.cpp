@@ -56,6 +56,14 @@ public:
 
 protected:
   void policy(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, Eigen::MatrixXf& actions) override;
+  // tanh of the actor's output, to the Box (actor_action, env_action).
+  PolicyProgram policy_program() const override {
+    PolicyProgram program = policy_program_start();
+    program.mlp(actor_);
+    program.activate(nn::Activation::Tanh);
+    add_env_action_ops(program);
+    return program;
+  }
   void on_episode_end(int env) override {
     if (env < ou_state_.cols()) ou_state_.col(env).setZero();
   }

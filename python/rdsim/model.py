@@ -35,6 +35,14 @@ class Model:
         """Actions for a batch of observations (see the class docstring)."""
         return self._model.predict(observations, bool(deterministic))
 
+    def export_onnx(self, path: Union[str, os.PathLike]) -> int:
+        """Writes the deterministic policy as an ONNX model (``rdsim export MODEL --onnx PATH``): input
+        ``"observation"`` (float32, ``(batch, size)``), output ``"action"`` (int64 ``(batch,)`` for
+        Discrete envs, float32 ``(batch, dim)`` for Box ones). Checked against :meth:`predict` before it
+        is written; returns the file's size in bytes. :class:`rdsim.Error` for a policy that cannot be
+        exported yet (pixel/CNN policies, ARS, CMA-ES, BC, random)."""
+        return self._model.export_onnx(os.fspath(path))
+
     def __repr__(self) -> str:
         return f"<rdsim.Model {self.algorithm} on {self.config.get('env', {}).get('name', '?')} from {self.path}>"
 

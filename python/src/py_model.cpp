@@ -6,7 +6,8 @@
 #include "bindings.hpp"
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/training/model_file.hpp"
+#include "rdsim/training/saved_policy.hpp"
+#include "rdsim/export/policy_export.hpp"
 #include "rdsim/training/train_config.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
@@ -18,15 +19,10 @@ class PyModel {
 public:
   explicit PyModel(const std::string& path) : path_(path) {
     py::gil_scoped_release unlocked;
-    const ModelFile file = read_model_file(path);
-    config_ = parse_train_config(file.config, path + " (embedded config)", "model");
-    spec_ = config_spec(config_);
-    check_model_spec(file, spec_, path);
-    algo_ = make_algorithm(config_.algorithm, config_.seed, spec_);
-    std::istringstream in(file.payload);
-    algo_->load(in, false, path);  // a checkpoint's payload starts with the same weights
-    if (file.kind == ModelKind::Model && in.peek() != std::char_traits<char>::eof())
-      throw Error(path + ": file is damaged (unexpected trailing data after the weights)");
+    SavedPolicy saved = load_saved_policy(path);
+    config_ = std::move(saved.config);
+    spec_ = saved.spec;
+    algo_ = std::move(saved.algorithm);
     rng_ = Rng::derive(config_.seed, rng_stream::evaluation);
   }
 
@@ -92,6 +88,12 @@ public:
     return out;
   }
 
+  // `rdsim export PATH --onnx out`: returns the file's size in bytes.
+  long long export_onnx(const std::string& out) const {
+    py::gil_scoped_release unlocked;
+    return rdsim::export_onnx(path_, out).bytes;
+  }
+
 private:
   std::string path_;
   TrainConfig config_;
@@ -108,7 +110,8 @@ void bind_model(py::module_& m) {
       .def_property_readonly("config_json", &PyModel::config)
       .def_property_readonly("spec", &PyModel::spec)
       .def_property_readonly("algorithm", &PyModel::algorithm)
-      .def("predict", &PyModel::predict, py::arg("observations"), py::arg("deterministic") = true);
+      .def("predict", &PyModel::predict, py::arg("observations"), py::arg("deterministic") = true)
+      .def("export_onnx", &PyModel::export_onnx, py::arg("path"));
 }
 
 }  // namespace rdsim::python

@@ -18,7 +18,7 @@ std::vector<Command> commands() {
           render_command_entry(),    envs_command_entry(),   demos_command_entry(),
           config_reference_command_entry(), serve_command_entry(), keygen_command_entry(),
           bench_remote_command_entry(), bench_learner_command_entry(), teleop_command_entry(), dashboard_command_entry(),
-          plot_command_entry(), urdf_command_entry()};
+          plot_command_entry(), urdf_command_entry(), export_command_entry()};
 }
 
 void check_command_word(const std::vector<std::string>& names, int argc, char** argv) {

@@ -115,6 +115,10 @@ std::string config_reference() {
            "learning from a demonstration file (below; needed by `\"bc\"`, optional for ppo, a2c, dqn, sac, td3 and ddpg)"});
   doc += row({"`her`", "object", "", "", "hindsight experience replay (below; sac, td3 and ddpg on goal-conditioned envs)"});
   doc += row({"`eval`", "object", "", "", "periodic evaluation with best-model saving (below)"});
+  doc += row({"`normalize_observations`", "bool", "`false`", "",
+              "standardise the networks' inputs with running statistics (ppo, a2c, trpo, dqn, sac, td3 and ddpg, "
+              "vector observations): clip((x − mean) / sqrt(var + 1e-8), ±10) per input, refreshed after each update and "
+              "saved in model.bin ([Algorithms](algorithms.md#observation-normalisation))"});
   for (const auto& name : algorithm_names())
     doc += row({code(name), "object", "", "", name + "'s hyperparameters (below; only with `\"algorithm\": \"" + name + "\"`)"});
   for (const auto& r : config::document_fields(TrainConfig{})) doc += row(key_cells(r));

@@ -36,6 +36,15 @@ void check_combination(ConfigReader& r, const TrainConfig& c) {
   } else if (config::write_fields(c.algorithm.network.cnn) != config::write_fields(defaults.cnn)) {
     network.fail("cnn", "has no effect with ground-truth observations (only raw_pixels use a CNN; remove the key)");
   }
+  if (c.algorithm.normalize_observations) {
+    if (pixels)
+      r.fail("normalize_observations", "only for vector observations (pixels are already scaled to [0, 1])");
+    if (c.algorithm.network.input_scale != defaults.input_scale)
+      network.fail("input_scale", "has no effect with normalize_observations (the inputs are standardised; remove the key)");
+    if (c.algorithm.demonstrations)
+      r.fail("normalize_observations", "cannot be combined with demonstrations yet (the pre-training would see other "
+                                       "inputs than the training)");
+  }
   if (c.env.is_discrete && c.algorithm.network.log_std_init != defaults.log_std_init)
     network.fail("log_std_init", "has no effect with discrete actions (only Box actions have a Gaussian policy)");
 
@@ -72,6 +81,7 @@ TrainConfig parse_train_config(const nlohmann::json& json, const std::string& wh
   c.env = read_env_config(env);
   config::FieldReader run(r);
   describe(run, c);
+  r.accept("eval");  // known, so that a misspelt key gets "did you mean"
   if (r.has("eval")) {
     ConfigReader section = r.child("eval");
     EvalConfig eval;

@@ -54,3 +54,29 @@ inline rdsim::AlgorithmConfig algorithm_config(const Setup& s) {
 inline std::unique_ptr<rdsim::Algorithm> make_algorithm(const Setup& s, const rdsim::Spec& spec) {
   return rdsim::make_algorithm(algorithm_config(s), s.seed, spec);
 }
+
+// Toy-sized hyperparameters for every gradient algorithm (16-16 networks, short rollouts, learning
+// after 40 steps): a few hundred toy-env steps exercise every part of an update.
+inline Setup small_setup(const std::string& algorithm, std::uint64_t seed) {
+  Setup s;
+  s.algorithm = algorithm;
+  s.seed = seed;
+  s.network.hidden_sizes = {16, 16};
+  s.ppo.n_steps = 16;
+  s.ppo.batch_size = 32;
+  s.a2c.n_steps = 8;
+  s.trpo.n_steps = 32;
+  s.dqn.learning_starts = 40;
+  s.dqn.buffer_size = 1000;
+  s.dqn.batch_size = 16;
+  s.sac.learning_starts = 40;
+  s.sac.buffer_size = 1000;
+  s.sac.batch_size = 16;
+  s.td3.learning_starts = 40;
+  s.td3.buffer_size = 1000;
+  s.td3.batch_size = 16;
+  s.ddpg.learning_starts = 40;
+  s.ddpg.buffer_size = 1000;
+  s.ddpg.batch_size = 16;
+  return s;
+}

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <csignal>
 #include <fcntl.h>
+#include <filesystem>
 #include <string>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -129,6 +130,19 @@ inline Outcome run(const std::vector<std::string>& args, const std::string& dir,
                    std::chrono::milliseconds timeout = std::chrono::minutes(10)) {
   Child c = start(args, dir + "/out.txt", dir + "/err.txt", address_space);
   return wait(c, timeout);
+}
+
+// `rdsim train --quiet --config CONFIG --log-dir RUN` killed with SIGKILL `after` its first
+// checkpoint.bin appeared (a crash mid-run); false when it ended before it could be killed.
+inline bool kill_after_first_checkpoint(const std::string& config, const std::string& run, const std::string& dir,
+                                        std::chrono::milliseconds after) {
+  Child c = start({"train", "--quiet", "--config", config, "--log-dir", run}, dir + "/out.txt", dir + "/err.txt");
+  while (running(c) && !std::filesystem::exists(run + "/checkpoint.bin")) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  std::this_thread::sleep_for(after);
+  const bool alive = running(c);
+  if (alive) ::kill(c.pid, SIGKILL);
+  wait(c);
+  return alive;
 }
 
 }  // namespace proctest

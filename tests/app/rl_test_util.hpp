@@ -65,6 +65,17 @@ inline RunResult run_rdsim_mpi(int ranks, const std::string& args, const Scratch
                           " -np " + std::to_string(ranks) + " --oversubscribe " + RDSIM_BINARY,
                       args, dir);
 }
+
+// `mpirun -np 2 rdsim train --quiet --config CONFIG` twice, into DIR/a and DIR/b: both must run as
+// 2-rank jobs (the caller compares what they wrote).
+inline void train_twice_on_two_ranks(const std::string& config, const ScratchDir& dir) {
+  for (const char* name : {"a", "b"}) {
+    const auto r = run_rdsim_mpi(2, "train --quiet --config " + config + " --log-dir " + (dir / name), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK_THAT(r.out, Catch::Matchers::Contains("2 MPI ranks"));
+  }
+}
 #endif
 
 inline std::vector<std::string> lines(const std::string& text) {

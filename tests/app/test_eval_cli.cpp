@@ -105,12 +105,7 @@ TEST_CASE("eval: after kill -9 and --resume the evaluations and best_model.bin o
   CHECK(rltest::lines(rltest::slurp(dir / "whole/eval.csv")).size() == 9);  // 1500, 3000, ..., 12000
 
   const std::string run = dir / "killed";
-  proctest::Child c = proctest::start({"train", "--quiet", "--config", config, "--log-dir", run}, dir / "out.txt", dir / "err.txt");
-  while (proctest::running(c) && !fs::exists(run + "/checkpoint.bin")) std::this_thread::sleep_for(2ms);
-  std::this_thread::sleep_for(300ms);
-  REQUIRE(proctest::running(c));
-  ::kill(c.pid, SIGKILL);
-  proctest::wait(c);
+  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 300ms));
   r = run_rdsim("train --quiet --resume " + run, dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
@@ -123,11 +118,7 @@ TEST_CASE("eval: after kill -9 and --resume the evaluations and best_model.bin o
 TEST_CASE("eval: mpirun -np 2 evaluates on rank 0, the same eval.csv twice", "[cli][eval][mpi]") {
   ScratchDir dir("eval_mpi");
   const std::string config = ppo_config(dir, "ppo", true);
-  for (const char* name : {"a", "b"}) {
-    const auto r = rltest::run_rdsim_mpi(2, "train --quiet --config " + config + " --log-dir " + (dir / name), dir);
-    INFO(r.err);
-    REQUIRE(r.exit_code == 0);
-  }
+  rltest::train_twice_on_two_ranks(config, dir);
   CHECK(eval_rows(dir / "a") == eval_rows(dir / "b"));
   CHECK(rltest::lines(rltest::slurp(dir / "a/eval.csv")).size() == 6);
   CHECK(fs::exists(dir / "a/best_model.bin"));

@@ -77,12 +77,7 @@ TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume
 
   // Killed once a checkpoint exists, resumed: the run of one that was never killed.
   const std::string run = dir / "killed";
-  proctest::Child c = proctest::start({"train", "--quiet", "--config", config, "--log-dir", run}, dir / "out.txt", dir / "err.txt");
-  while (proctest::running(c) && !fs::exists(run + "/checkpoint.bin")) std::this_thread::sleep_for(2ms);
-  std::this_thread::sleep_for(100ms);
-  REQUIRE(proctest::running(c));
-  ::kill(c.pid, SIGKILL);
-  proctest::wait(c);
+  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 100ms));
   const auto r = run_rdsim("train --quiet --resume " + run, dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
@@ -93,12 +88,7 @@ TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume
 TEST_CASE("her: mpirun -np 2 trains data-parallel, the same CSV twice", "[cli][her][mpi]") {
   ScratchDir dir("her_mpi");
   const std::string config = small_config(dir, "td3_her");
-  for (const char* name : {"a", "b"}) {
-    const auto r = rltest::run_rdsim_mpi(2, "train --quiet --config " + config + " --log-dir " + (dir / name), dir);
-    INFO(r.err);
-    REQUIRE(r.exit_code == 0);
-    CHECK_THAT(r.out, Contains("2 MPI ranks"));
-  }
+  rltest::train_twice_on_two_ranks(config, dir);
   CHECK(run_logs(dir / "a") == run_logs(dir / "b"));
   CHECK(rltest::lines(rltest::slurp(dir / "a/progress.csv")).back().rfind("12000,", 0) == 0);
 }

@@ -4,6 +4,8 @@
 #include <string>
 
 #include "rdsim/algorithms/network_config.hpp"
+#include "rdsim/algorithms/observation_normalizer.hpp"
+#include "rdsim/algorithms/policy_program.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/nn/cnn.hpp"
@@ -69,6 +71,11 @@ public:
 
   int observation_size() const { return obs_size_; }
   int action_dim() const { return action_dim_; }
+  // The deterministic policy's operations (policy_program.hpp); rdsim::Error for a CNN trunk.
+  void add_policy_ops(PolicyProgram& program) const;
+  // "normalize_observations": applied to the observations of every pass (off by default).
+  ObservationNormalizer& normalizer() { return normalizer_; }
+  const ObservationNormalizer& normalizer() const { return normalizer_; }
   bool discrete() const { return discrete_; }
 
   // ---- TRPO: the policy on its own, over the last evaluate() batch. Needs separate actor and
@@ -91,6 +98,8 @@ public:
 
 private:
   const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
+  // The network input: observations standardised, or times network.input_scale (into `scratch` unless unchanged).
+  const Eigen::MatrixXf& input(const Eigen::MatrixXf& raw, Eigen::MatrixXf& scratch) const;
 
   bool discrete_;
   int obs_size_;
@@ -106,7 +115,8 @@ private:
   nn::Tensor log_std_;
   Eigen::VectorXf low_, high_;
   float input_scale_ = 1.0f;
-  Eigen::MatrixXf infer_input_, eval_input_;  // scaled observations (input_scale != 1)
+  ObservationNormalizer normalizer_;
+  Eigen::MatrixXf infer_input_, eval_input_;  // standardised or scaled observations (input_scale != 1)
   // training caches
   Eigen::MatrixXf trunk_pre_, features_;
   Eigen::VectorXi eval_discrete_;

@@ -33,6 +33,7 @@ namespace rdsim {
 class VecEnv;                 // vec_env.hpp
 struct DemoFile;              // demos/demo_file.hpp
 struct DemonstrationsConfig;  // demonstrations.hpp
+struct PolicyProgram;         // policy_program.hpp
 
 // Named scalar statistics of one update, in a FIXED order for a given algorithm and config:
 // they become the algorithm's columns of progress.csv (the first update fixes the header).
@@ -89,6 +90,15 @@ public:
   // (-> pretrain.csv). The default: rdsim::Error, the algorithm cannot learn from demonstrations.
   virtual std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
                                                          Rng& rng, bool pretrain);
+
+  // The deterministic policy as array operations (policy_program.hpp), for `rdsim export`. The
+  // default: rdsim::Error (the algorithm's policy cannot be exported yet).
+  virtual PolicyProgram policy_program() const;
+
+  // The config's "normalize_observations" (observation_normalizer.hpp): called once, right after
+  // construction. The default: rdsim::Error (the config reader allows it for the algorithms that
+  // override this).
+  virtual void enable_observation_normalization();
 
   // Data-parallel training (`mpirun -np K rdsim train`): every rank runs this algorithm on its
   // own envs with the same initial weights, and the algorithm keeps the weights identical on all

@@ -38,6 +38,7 @@ struct AlgorithmConfig {
   AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
   std::optional<DemonstrationsConfig> demonstrations;  // "demonstrations": learning from a demo file
   std::optional<HerConfig> her;  // "her": hindsight experience replay (sac, td3, ddpg on goal envs)
+  bool normalize_observations = false;  // "normalize_observations" (observation_normalizer.hpp)
   std::string source;      // the config file, for messages
 
   std::string name() const;  // "ppo", "a2c", "dqn", "sac", ..., "bc"
@@ -45,6 +46,9 @@ struct AlgorithmConfig {
 
 // Whether `algorithm` can take a "her" object (the off-policy methods over OffPolicy).
 bool takes_her(const std::string& algorithm);
+// Whether `algorithm` can take "normalize_observations" (the gradient methods; ARS and CMA-ES
+// have their own key).
+bool takes_observation_normalization(const std::string& algorithm);
 
 // Every algorithm name, in registry order.
 std::vector<std::string> algorithm_names();

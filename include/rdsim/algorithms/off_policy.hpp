@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/observation_normalizer.hpp"
+#include "rdsim/algorithms/policy_program.hpp"
 #include "rdsim/algorithms/demonstration_replay.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/her.hpp"
@@ -33,6 +35,7 @@ class OffPolicy : public Algorithm {
 public:
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  void enable_observation_normalization() override;
   // Model: the acting weights. Checkpoint: those, then the method's training state, the random
   // streams, the counters and the replay buffer.
   void save(std::ostream& out, bool training_state) const override;
@@ -77,6 +80,10 @@ protected:
   // The networks' inputs: observations times network.input_scale (actor), and those stacked
   // over the actions (critics: Q(s, a) sees [scale * s; a]).
   const Eigen::MatrixXf& actor_input(const Eigen::MatrixXf& observations, Eigen::MatrixXf& scratch) const;
+  // A policy program (policy_program.hpp) with actor_input()'s operations; the actor's follow, then
+  // add_env_action_ops() (env_action: [-1, 1] to the Box).
+  PolicyProgram policy_program_start() const;
+  void add_env_action_ops(PolicyProgram& program) const;
   const Eigen::MatrixXf& critic_input(const Eigen::MatrixXf& observations, const Eigen::MatrixXf& actions,
                                       Eigen::MatrixXf& scratch) const;
 
@@ -103,6 +110,7 @@ protected:
   int observation_size_;
   int action_dim_;
   float input_scale_;
+  ObservationNormalizer normalizer_;  // "normalize_observations" (off by default)
   OffPolicyConfig settings_;
   ReplayBuffer buffer_;
   std::optional<HindsightReplay> her_;  // with a "her" config

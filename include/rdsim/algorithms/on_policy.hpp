@@ -15,6 +15,8 @@ class OnPolicy : public Algorithm {
 public:
   Metrics update(VecEnv& envs, const TrainProgress& progress) override;
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  void enable_observation_normalization() override;
+  PolicyProgram policy_program() const override;
   // PPO and A2C average every minibatch's gradients over the ranks (average_gradients below).
   bool data_parallel() const override { return true; }
   long long step_multiple(int num_envs) const override { return static_cast<long long>(settings_.n_steps) * num_envs; }

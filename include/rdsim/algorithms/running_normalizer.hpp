@@ -40,4 +40,9 @@ private:
   Eigen::VectorXd mean_, m2_;  // m2: sum of squared deviations from the mean
 };
 
+class Communicator;  // rdsim/parallel/communicator.hpp
+
+// Every rank's `seen` statistics merged in rank order (one allgather): the same on every rank.
+RunningNormalizer merge_over_ranks(Communicator& comm, const RunningNormalizer& seen);
+
 }  // namespace rdsim

@@ -59,5 +59,6 @@ Command teleop_command_entry();
 Command dashboard_command_entry();
 Command plot_command_entry();
 Command urdf_command_entry();
+Command export_command_entry();
 
 }  // namespace rdsim
