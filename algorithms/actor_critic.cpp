@@ -185,16 +185,29 @@ nn::ParamList ActorCritic::params() {
 
 void ActorCritic::zero_grad() { nn::zero_grad(params()); }
 
-void ActorCritic::add_policy_ops(PolicyProgram& program) const {
-  const auto* trunk = dynamic_cast<const nn::Mlp*>(trunk_.get());
-  if (trunk_ && !trunk) throw Error("export: CNN policies cannot be exported yet (MLP policies can)");
+PolicyProgram ActorCritic::policy_program(const std::string& algorithm, const ObservationSpace& space) const {
+  PolicyProgram program;
+  program.algorithm = algorithm;
+  program.input_size = obs_size_;
+  program.pixels = is_image_space(space);
+  if (program.pixels) program.image_shape = space.shape;
+  program.discrete = discrete_;
+  program.action_size = discrete_ ? 1 : action_dim_;
   normalizer_.add_input_ops(program, input_scale_);
-  if (trunk) program.mlp(*trunk, true);  // the trunk's output is activated (features_infer)
+  // The trunk's output is activated (features_infer).
+  if (const auto* mlp = dynamic_cast<const nn::Mlp*>(trunk_.get())) {
+    program.mlp(*mlp);
+    program.activate(activation_);
+  } else if (const auto* cnn = dynamic_cast<const nn::Cnn*>(trunk_.get())) {
+    program.cnn(*cnn);
+    program.activate(activation_);
+  }
   program.mlp(policy_);
   if (discrete_)
     program.argmax();  // the mode of the categorical distribution
   else if (low_.size() == action_dim_)
     program.clip(low_, high_);  // the Gaussian's mean, clipped to the Box (env_action)
+  return program;
 }
 
 Action ActorCritic::env_action(const Eigen::Ref<const Eigen::VectorXf>& column) const {

@@ -10,8 +10,8 @@ std::vector<Metrics> Algorithm::learn_from_demonstrations(const DemoFile&, const
 }
 
 PolicyProgram Algorithm::policy_program() const {
-  throw Error("algorithm \"" + name() + "\": its policy cannot be exported yet (ppo, a2c, trpo, dqn, sac, td3 and ddpg "
-              "with MLP networks can)");
+  throw Error("algorithm \"" + name() + "\": it has no policy to export (every other algorithm "
+              "has)");
 }
 
 void Algorithm::enable_observation_normalization() {

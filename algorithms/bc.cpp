@@ -60,6 +60,8 @@ public:
     return summary_;
   }
 
+  PolicyProgram policy_program() const override { return policy_->policy_program(name(), spec_.observation); }
+
   Action act(const Observation& observation, bool deterministic, Rng& rng) override {
     Eigen::MatrixXf obs(policy_->observation_size(), 1);
     encode_observation(observation, spec_.observation, obs.col(0));

@@ -151,15 +151,16 @@ public:
   nn::ParamList params() { return net_->params(); }
   void copy_values_from(const QNet& other) { net_->copy_values_from(*other.net_); }
   void blend_values_from(const QNet& other, float tau) { net_->blend_values_from(*other.net_, tau); }
-  // The network's operations (policy_program.hpp); rdsim::Error for a CNN.
+  // The network's operations (policy_program.hpp).
   void add_ops(PolicyProgram& program) const {
-    const auto* mlp = dynamic_cast<const nn::Mlp*>(net_.get());
-    if (!mlp) throw Error("export: CNN policies cannot be exported yet (MLP policies can)");
     if (normalizer_)
       normalizer_->add_input_ops(program, input_scale_);
     else
       program.scale(input_scale_);
-    program.mlp(*mlp);
+    if (const auto* cnn = dynamic_cast<const nn::Cnn*>(net_.get()))
+      program.cnn(*cnn);
+    else
+      program.mlp(dynamic_cast<const nn::Mlp&>(*net_));
   }
   // "normalize_observations": the algorithm's normaliser, which outlives this network.
   void normalize_with(const ObservationNormalizer* normalizer) { normalizer_ = normalizer; }
@@ -209,6 +210,8 @@ public:
     PolicyProgram program;
     program.algorithm = name();
     program.input_size = buffer_.observation_size();
+    program.pixels = spec_.observation.type == ObsType::UInt8;
+    if (program.pixels) program.image_shape = spec_.observation.shape;
     program.discrete = true;
     program.action_size = 1;
     q_.add_ops(program);

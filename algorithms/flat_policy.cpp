@@ -1,5 +1,8 @@
 #include "rdsim/algorithms/flat_policy.hpp"
 
+#include <cmath>
+
+#include "rdsim/algorithms/policy_program.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/nn/param.hpp"
@@ -50,6 +53,23 @@ Action FlatPolicy::act(const Eigen::Ref<const Eigen::VectorXf>& observation, con
     return Action::discrete(static_cast<int>(best));
   }
   return Action::continuous(out.col(0).cwiseMax(spec_.action.low).cwiseMin(spec_.action.high));
+}
+
+void FlatPolicy::add_policy_ops(PolicyProgram& program, const RunningNormalizer* normalizer) const {
+  program.input_size = observation_size_;
+  program.discrete = spec_.action.discrete;
+  program.action_size = spec_.action.discrete ? 1 : spec_.action.dim();
+  if (normalizer && normalizer->count() >= 2) {
+    // RunningNormalizer::normalize: in double, not clipped (here in float: within a few ulps)
+    const Eigen::VectorXd inverse_std = (normalizer->variance().array() + 1e-8).sqrt().inverse();
+    program.standardize(normalizer->mean().cast<float>(), inverse_std.cast<float>(), INFINITY);
+  }
+  program.scale(input_scale_);
+  program.mlp(net_);
+  if (spec_.action.discrete)
+    program.argmax();
+  else
+    program.clip(spec_.action.low, spec_.action.high);
 }
 
 }  // namespace rdsim

@@ -54,15 +54,7 @@ Metrics OnPolicy::update(VecEnv& envs, const TrainProgress& progress) {
   return m;
 }
 
-PolicyProgram OnPolicy::policy_program() const {
-  PolicyProgram program;
-  program.algorithm = name();
-  program.input_size = policy_->observation_size();
-  program.discrete = policy_->discrete();
-  program.action_size = policy_->discrete() ? 1 : policy_->action_dim();
-  policy_->add_policy_ops(program);
-  return program;
-}
+PolicyProgram OnPolicy::policy_program() const { return policy_->policy_program(name(), spec_.observation); }
 
 void OnPolicy::enable_observation_normalization() {
   policy_->normalizer() = ObservationNormalizer(policy_->observation_size());

@@ -1,6 +1,8 @@
 #include "rdsim/algorithms/policy_program.hpp"
 
 #include "rdsim/core/assert.hpp"
+#include "rdsim/nn/cnn.hpp"
+#include "rdsim/nn/conv.hpp"
 #include "rdsim/nn/mlp.hpp"
 
 namespace rdsim {
@@ -32,6 +34,17 @@ void PolicyProgram::mlp(const nn::Mlp& net, bool activate_output) {
     ops.push_back(std::move(op));
     if (i + 1 < layers.size() || activate_output) activate(net.shape().activation);
   }
+}
+
+void PolicyProgram::cnn(const nn::Cnn& net) {
+  for (const nn::Conv2d& conv : net.convs()) {
+    PolicyOp op;
+    op.kind = PolicyOp::Kind::Conv;
+    op.conv = std::make_shared<const nn::Conv2d>(conv);
+    ops.push_back(std::move(op));
+    activate(net.shape().activation);
+  }
+  mlp(net.head());
 }
 
 void PolicyProgram::activate(nn::Activation activation) {
@@ -108,6 +121,13 @@ Eigen::MatrixXf run_policy_program(const PolicyProgram& program, const Eigen::Ma
         const Eigen::ArrayXf low = op.a.array(), high = op.b.array();
         y = ((0.5f * (unit + 1.0f)).colwise() * (high - low)).colwise() + low;
         y = y.cwiseMin(op.b.replicate(1, y.cols()));
+        break;
+      }
+      case PolicyOp::Kind::Conv: {
+        nn::ConvWorkspace workspace;
+        Eigen::MatrixXf z;
+        op.conv->forward(y, z, workspace);
+        y = std::move(z);
         break;
       }
       case PolicyOp::Kind::ArgMax: {

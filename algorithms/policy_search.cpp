@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "rdsim/algorithms/policy_program.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/rng_bytes.hpp"
@@ -49,6 +50,13 @@ Action PolicySearch::act(const Observation& observation, bool /*deterministic*/,
   Eigen::VectorXf obs(policy_.observation_size());
   encode_observation(observation, spec_.observation, obs);
   return policy_.act(obs, normalize_observations_ ? &normalizer_ : nullptr);
+}
+
+PolicyProgram PolicySearch::policy_program() const {
+  PolicyProgram program;
+  program.algorithm = name();
+  policy_.add_policy_ops(program, normalize_observations_ ? &normalizer_ : nullptr);
+  return program;
 }
 
 void PolicySearch::save(std::ostream& out, bool training_state) const {

@@ -39,8 +39,8 @@ class Model:
         """Writes the deterministic policy as an ONNX model (``rdsim export MODEL --onnx PATH``): input
         ``"observation"`` (float32, ``(batch, size)``), output ``"action"`` (int64 ``(batch,)`` for
         Discrete envs, float32 ``(batch, dim)`` for Box ones). Checked against :meth:`predict` before it
-        is written; returns the file's size in bytes. :class:`rdsim.Error` for a policy that cannot be
-        exported yet (pixel/CNN policies, ARS, CMA-ES, BC, random)."""
+        is written; returns the file's size in bytes. :class:`rdsim.Error` for the random agent's model
+        (it has no policy). Pixel policies take uint8 ``(batch, height, width, channels)``."""
         return self._model.export_onnx(os.fspath(path))
 
     def __repr__(self) -> str:

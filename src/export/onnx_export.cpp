@@ -5,6 +5,8 @@
 
 #include <vector>
 
+#include "rdsim/nn/conv.hpp"
+
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
@@ -70,6 +72,13 @@ void set_int_attribute(onnx::NodeProto* n, const char* name, std::int64_t value)
   a->set_i(value);
 }
 
+void set_ints_attribute(onnx::NodeProto* n, const char* name, const std::vector<std::int64_t>& values) {
+  onnx::AttributeProto* a = n->add_attribute();
+  a->set_name(name);
+  a->set_type(onnx::AttributeProto::INTS);
+  for (std::int64_t v : values) a->add_ints(v);
+}
+
 void add_value_info(onnx::ValueInfoProto* info, const std::string& name, int type, const std::vector<std::int64_t>& dims) {
   info->set_name(name);
   onnx::TypeProto_Tensor* tensor = info->mutable_type()->mutable_tensor_type();
@@ -77,6 +86,32 @@ void add_value_info(onnx::ValueInfoProto* info, const std::string& name, int typ
   onnx::TensorShapeProto* shape = tensor->mutable_shape();
   shape->add_dim()->set_dim_param("batch");
   for (std::int64_t d : dims) shape->add_dim()->set_dim_value(d);
+}
+
+// A convolution on `x` ([batch, height * width * channels], rdsim's layout): to NCHW images, ONNX's
+// Conv, and back to rdsim's flattened layout.
+std::string add_conv(GraphBuilder& g, const nn::Conv2d& conv, const std::string& x) {
+  const nn::ImageShape& in = conv.input;
+  const nn::ImageShape& out = conv.output;
+  const std::int64_t k = conv.spec.kernel, pad = conv.spec.padding, stride = conv.spec.stride;
+  const std::string images = g.apply("Reshape", {x, g.int64s({-1, in.height, in.width, in.channels})});
+  onnx::NodeProto* to_nchw = g.node("Transpose", {images});
+  set_ints_attribute(to_nchw, "perm", {0, 3, 1, 2});
+  // nn::Conv2d's weight column (ky * k + kx) * in_channels + c is ONNX's W[o][c][ky][kx].
+  std::vector<float> w;
+  w.reserve(static_cast<std::size_t>(conv.weight.value.size()));
+  for (int o = 0; o < out.channels; ++o)
+    for (int c = 0; c < in.channels; ++c)
+      for (std::int64_t ky = 0; ky < k; ++ky)
+        for (std::int64_t kx = 0; kx < k; ++kx) w.push_back(conv.weight.value(o, (ky * k + kx) * in.channels + c));
+  onnx::NodeProto* node = g.node("Conv", {to_nchw->output(0), g.constant({out.channels, in.channels, k, k}, w),
+                                          g.vector(conv.bias.value.col(0))});
+  set_ints_attribute(node, "kernel_shape", {k, k});
+  set_ints_attribute(node, "strides", {stride, stride});
+  set_ints_attribute(node, "pads", {pad, pad, pad, pad});
+  onnx::NodeProto* to_nhwc = g.node("Transpose", {node->output(0)});
+  set_ints_attribute(to_nhwc, "perm", {0, 2, 3, 1});
+  return g.apply("Reshape", {to_nhwc->output(0), g.int64s({-1, static_cast<std::int64_t>(out.size())})});
 }
 
 // The nodes of one op on `x` ([batch, features]); returns the result's name.
@@ -121,6 +156,8 @@ std::string add_op(GraphBuilder& g, const PolicyOp& op, const std::string& x) {
       const std::string spread = g.apply("Mul", {shifted, g.vector(half_range)});
       return g.apply("Min", {g.apply("Add", {spread, g.vector(op.a)}), g.vector(op.b)});
     }
+    case Kind::Conv:
+      return add_conv(g, *op.conv, x);
     case Kind::ArgMax: {
       onnx::NodeProto* n = g.node("ArgMax", {x});
       set_int_attribute(n, "axis", 1);
@@ -148,9 +185,19 @@ std::string onnx_model_bytes(const PolicyProgram& program, const std::map<std::s
   }
   onnx::GraphProto* graph = model.mutable_graph();
   graph->set_name(program.algorithm + "_policy");
-  add_value_info(graph->add_input(), "observation", onnx::TensorProto::FLOAT, {program.input_size});
   GraphBuilder g(*graph);
   std::string x = "observation";
+  if (program.pixels) {
+    // uint8 images [batch, height, width, channels], encoded as rdsim's networks take them: times 1/255, flattened.
+    std::vector<std::int64_t> dims(program.image_shape.begin(), program.image_shape.end());
+    add_value_info(graph->add_input(), "observation", onnx::TensorProto::UINT8, dims);
+    onnx::NodeProto* cast = g.node("Cast", {x});
+    set_int_attribute(cast, "to", onnx::TensorProto::FLOAT);
+    const std::string scaled = g.apply("Mul", {cast->output(0), g.scalar(1.0f / 255.0f)});
+    x = g.apply("Reshape", {scaled, g.int64s({-1, program.input_size})});
+  } else {
+    add_value_info(graph->add_input(), "observation", onnx::TensorProto::FLOAT, {program.input_size});
+  }
   for (const PolicyOp& op : program.ops) x = add_op(g, op, x);
   g.node("Identity", {x})->set_output(0, "action");
   if (program.discrete)

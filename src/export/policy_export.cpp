@@ -10,6 +10,7 @@
 #include "rdsim/core/rng.hpp"
 #include "rdsim/export/onnx_export.hpp"
 #include "rdsim/training/saved_policy.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 
 namespace rdsim {
 namespace {
@@ -17,19 +18,29 @@ namespace {
 constexpr int checked_observations = 256;
 constexpr double tolerance = 1e-5;
 
-// The largest |program - act()| over `n` random observations (standard normal entries: the networks'
-// inputs cover their usual range and beyond); a discrete disagreement counts as infinity.
-double compare_with_act(const PolicyProgram& program, Algorithm& algo, int n) {
+// The largest |program - act()| over `n` random observations (vectors: standard normal entries, so
+// the networks' inputs cover their usual range and beyond; images: uniform bytes); a discrete
+// disagreement counts as infinity.
+double compare_with_act(const PolicyProgram& program, Algorithm& algo, const ObservationSpace& space, int n) {
   Rng rng(20261128);
+  std::vector<Observation> observations(static_cast<std::size_t>(n));
   Eigen::MatrixXf x(program.input_size, n);
-  for (Eigen::Index k = 0; k < x.size(); ++k) x.data()[k] = static_cast<float>(rng.normal());
+  for (int c = 0; c < n; ++c) {
+    Observation& obs = observations[static_cast<std::size_t>(c)];
+    if (program.pixels) {
+      obs.pixels.resize(static_cast<std::size_t>(space.size()));
+      for (auto& p : obs.pixels) p = static_cast<std::uint8_t>(rng.below(256));
+    } else {
+      obs.values.resize(space.size());
+      for (Eigen::Index k = 0; k < obs.values.size(); ++k) obs.values[k] = static_cast<float>(rng.normal());
+    }
+    encode_observation(obs, space, x.col(c));
+  }
   const Eigen::MatrixXf y = run_policy_program(program, x);
   double worst = 0.0;
   Rng unused(0);
   for (int c = 0; c < n; ++c) {
-    Observation obs;
-    obs.values = x.col(c);
-    const Action a = algo.act(obs, true, unused);
+    const Action a = algo.act(observations[static_cast<std::size_t>(c)], true, unused);
     if (program.discrete) {
       if (a.index != static_cast<int>(y(0, c))) worst = INFINITY;
     } else {
@@ -43,8 +54,6 @@ double compare_with_act(const PolicyProgram& program, Algorithm& algo, int n) {
 
 ExportSummary export_onnx(const std::string& model_path, const std::string& out_path) {
   SavedPolicy saved = load_saved_policy(model_path);
-  if (saved.spec.observation.type != ObsType::Float32)
-    throw Error(model_path + ": export: pixel (CNN) policies cannot be exported yet (vector-observation policies can)");
   PolicyProgram program;
   try {
     program = saved.algorithm->policy_program();
@@ -56,7 +65,7 @@ ExportSummary export_onnx(const std::string& model_path, const std::string& out_
   s.env = saved.config.env.name;
   s.spec = describe_spec(saved.spec);
   s.checked = checked_observations;
-  s.max_difference = compare_with_act(program, *saved.algorithm, checked_observations);
+  s.max_difference = compare_with_act(program, *saved.algorithm, saved.spec.observation, checked_observations);
   if (!(s.max_difference <= tolerance))
     throw Error(model_path + ": export: the exported program's actions differ from rdsim's (by " +
                 std::to_string(s.max_difference) + "); please report this as a bug");

@@ -35,6 +35,20 @@ CASES = [
              "td3": {"learning_starts": 500, "batch_size": 64}}),
     ("ddpg", {"algorithm": "ddpg", "env": {"name": "pendulum"}, "total_timesteps": 1200, "network": SMALL,
               "ddpg": {"learning_starts": 500, "batch_size": 64}}),
+    ("ars_normalized", {"algorithm": "ars", "env": {"name": "cartpole"}, "total_timesteps": 3000,
+                        "ars": {"n_delta": 4, "n_top": 2}}),
+    ("cma_es_box", {"algorithm": "cma_es", "env": {"name": "pendulum"}, "total_timesteps": 3000, "network": SMALL,
+                    "cma_es": {"normalize_observations": True}}),
+    # CNN policies on 32x32 pixels: uint8 images in, rdsim's scaling and layout inside the graph
+    ("ppo_cnn", {"algorithm": "ppo", "env": {"name": "jaka_button", "is_discrete": True, "observation": "raw_pixels",
+                                            "image_width": 32, "image_height": 32},
+                 "num_envs": 2, "total_timesteps": 128, "network": {"cnn": {"channels": [8, 8], "kernels": [4, 3],
+                                                                             "strides": [2, 1], "fc": [32]}},
+                 "ppo": {"n_steps": 64, "batch_size": 64}}),
+    ("dqn_cnn", {"algorithm": "dqn", "env": {"name": "jaka_button", "is_discrete": True, "observation": "raw_pixels",
+                                            "image_width": 32, "image_height": 32},
+                 "total_timesteps": 300, "network": {"cnn": {"channels": [8], "kernels": [4], "strides": [2], "fc": [32]}},
+                 "dqn": {"learning_starts": 100, "batch_size": 32, "buffer_size": 1000}}),
 ]
 
 
@@ -46,8 +60,12 @@ def test_onnx_actions_are_rdsims(name, config, tmp_path):
     assert model.export_onnx(str(path)) == path.stat().st_size
     onnx.checker.check_model(onnx.load(str(path)))
 
-    size = model.observation_space.shape[0]
-    observations = np.random.default_rng(7).normal(size=(1000, size)).astype(np.float32)
+    space = model.observation_space
+    rng = np.random.default_rng(7)
+    if space.dtype == np.uint8:
+        observations = rng.integers(0, 256, size=(1000, *space.shape), dtype=np.uint8)
+    else:
+        observations = rng.normal(size=(1000, *space.shape)).astype(np.float32)
     session = onnxruntime.InferenceSession(str(path), providers=["CPUExecutionProvider"])
     (onnx_actions,) = session.run(["action"], {"observation": observations})
     expected = model.predict(observations)
@@ -81,5 +99,5 @@ def test_cli_export_and_errors(tmp_path):
 
     rdsim.train({"algorithm": "random", "env": {"name": "cartpole"}, "total_timesteps": 200, "seed": 1},
                 log_dir=str(tmp_path / "random"), quiet=True)
-    with pytest.raises(rdsim.Error, match="cannot be exported yet"):
+    with pytest.raises(rdsim.Error, match="no policy to export"):
         rdsim.load_model(tmp_path / "random" / "model.bin").export_onnx(str(tmp_path / "r.onnx"))

@@ -71,8 +71,8 @@ public:
 
   int observation_size() const { return obs_size_; }
   int action_dim() const { return action_dim_; }
-  // The deterministic policy's operations (policy_program.hpp); rdsim::Error for a CNN trunk.
-  void add_policy_ops(PolicyProgram& program) const;
+  // The deterministic policy as a policy program (policy_program.hpp) for observations of `space`.
+  PolicyProgram policy_program(const std::string& algorithm, const ObservationSpace& space) const;
   // "normalize_observations": applied to the observations of every pass (off by default).
   ObservationNormalizer& normalizer() { return normalizer_; }
   const ObservationNormalizer& normalizer() const { return normalizer_; }

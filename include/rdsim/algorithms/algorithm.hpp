@@ -92,7 +92,7 @@ public:
                                                          Rng& rng, bool pretrain);
 
   // The deterministic policy as array operations (policy_program.hpp), for `rdsim export`. The
-  // default: rdsim::Error (the algorithm's policy cannot be exported yet).
+  // default: rdsim::Error (the random agent has no policy).
   virtual PolicyProgram policy_program() const;
 
   // The config's "normalize_observations" (observation_normalizer.hpp): called once, right after

@@ -15,6 +15,8 @@
 // clipped to the bounds.
 namespace rdsim {
 
+struct PolicyProgram;  // policy_program.hpp
+
 class FlatPolicy {
 public:
   // Zero parameters when `zero_init` (ARS's start), else the Mlp's orthogonal init from `init`.
@@ -31,6 +33,8 @@ public:
 
   // The env action for one encoded observation.
   Action act(const Eigen::Ref<const Eigen::VectorXf>& observation, const RunningNormalizer* normalizer);
+  // act()'s operations (policy_program.hpp), with `normalizer` as act() takes it.
+  void add_policy_ops(PolicyProgram& program, const RunningNormalizer* normalizer) const;
 
 private:
   Spec spec_;

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,8 +14,10 @@
 namespace rdsim {
 
 namespace nn {
-class Mlp;  // rdsim/nn/mlp.hpp
-}
+class Mlp;      // rdsim/nn/mlp.hpp
+class Cnn;      // rdsim/nn/cnn.hpp
+struct Conv2d;  // rdsim/nn/conv.hpp
+}  // namespace nn
 
 struct PolicyOp {
   enum class Kind {
@@ -26,6 +29,7 @@ struct PolicyOp {
     Clip,         // min(max(x, a), b): a Gaussian policy's mean to the Box
     Rescale,      // min(a + (clip(x, -1, 1) + 1) * (b - a) / 2, b): [-1, 1] to the Box (off-policy actors)
     ArgMax,       // the row of the largest value (discrete actions; the first of equals)
+    Conv,         // conv's convolution (images flattened height x width x channels, as nn::Conv2d keeps them)
   };
   Kind kind = Kind::Scale;
   Eigen::MatrixXf weight;
@@ -33,11 +37,16 @@ struct PolicyOp {
   float scalar = 1.0f;
   nn::Activation activation = nn::Activation::Identity;
   int rows = 0;
+  std::shared_ptr<const nn::Conv2d> conv;
 };
 
 struct PolicyProgram {
   std::string algorithm;  // "ppo", "sac", ...
   int input_size = 0;     // encoded observation size
+  // Pixel observations: uint8 images of `image_shape` (height, width, channels), which the program
+  // takes encoded (scaled to [0, 1] and flattened, as rdsim's networks do).
+  bool pixels = false;
+  std::vector<int> image_shape;
   bool discrete = false;  // the output: one action index per observation (else `action_size` values)
   int action_size = 0;
   std::vector<PolicyOp> ops;
@@ -46,6 +55,8 @@ struct PolicyProgram {
   void scale(float factor);  // nothing for 1
   // The Mlp's layers: activation after each hidden one, and after the last one too when `activate_output`.
   void mlp(const nn::Mlp& net, bool activate_output = false);
+  // The Cnn's conv layers (each followed by its activation), then its dense head as mlp() adds it.
+  void cnn(const nn::Cnn& net);
   void activate(nn::Activation activation);  // nothing for Identity
   void keep_rows(int rows);
   void clip(const Eigen::VectorXf& low, const Eigen::VectorXf& high);

@@ -22,6 +22,7 @@ class PolicySearch : public Algorithm {
 public:
   // The policy is deterministic: stochastic acting is the same as deterministic.
   Action act(const Observation& observation, bool deterministic, Rng& rng) override;
+  PolicyProgram policy_program() const override;
   // Under MPI the ranks share the population (evaluate()): every rank draws the same candidates
   // from the same stream, evaluates its slice and makes the same update from all returns.
   bool data_parallel() const override { return true; }

@@ -16,8 +16,8 @@ struct ExportSummary {
 // Loads `model_path` (training/saved_policy.hpp), builds its policy program, compares the program's
 // actions with the algorithm's deterministic act() on 256 seeded random observations (rdsim::Error
 // if any differs by more than 1e-5, or a discrete action differs), and writes the ONNX model to
-// `out_path` atomically. rdsim::Error naming the file for a damaged model or a policy that cannot be
-// exported (CNN, ARS, CMA-ES, BC, random).
+// `out_path` atomically. rdsim::Error naming the file for a damaged model or the random agent's
+// (which has no policy).
 ExportSummary export_onnx(const std::string& model_path, const std::string& out_path);
 
 }  // namespace rdsim
