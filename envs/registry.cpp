@@ -5,13 +5,13 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/suggest.hpp"
-#include "rdsim/envs/cartpole.hpp"
-#include "rdsim/envs/inmoov_tomato.hpp"
-#include "rdsim/envs/jaka_button.hpp"
-#include "rdsim/envs/jaka_obstacle.hpp"
+#include "rdsim/envs/classic/cartpole.hpp"
+#include "rdsim/envs/reaching/inmoov_tomato.hpp"
+#include "rdsim/envs/reaching/jaka_button.hpp"
+#include "rdsim/envs/reaching/jaka_obstacle.hpp"
 #include "rdsim/envs/manipulation/manipulation_env.hpp"
-#include "rdsim/envs/pendulum.hpp"
-#include "rdsim/envs/reach_arm.hpp"
+#include "rdsim/envs/classic/pendulum.hpp"
+#include "rdsim/envs/reaching/reach_arm.hpp"
 
 namespace rdsim {
 namespace {

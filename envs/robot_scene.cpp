@@ -1,6 +1,6 @@
 #include "rdsim/envs/robot_scene.hpp"
 
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 
 namespace rdsim {
 

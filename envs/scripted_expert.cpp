@@ -2,7 +2,7 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/manipulation/manipulation_expert.hpp"
-#include "rdsim/envs/reach_expert.hpp"
+#include "rdsim/envs/reaching/reach_expert.hpp"
 
 namespace rdsim {
 

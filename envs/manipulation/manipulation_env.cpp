@@ -9,7 +9,7 @@
 #include "rdsim/envs/arm_options.hpp"
 #include "rdsim/envs/episode_state.hpp"
 #include "rdsim/envs/manipulation/gripper_arm.hpp"
-#include "rdsim/envs/reach_arm.hpp"
+#include "rdsim/envs/reaching/reach_arm.hpp"
 
 namespace rdsim {
 namespace {

@@ -12,7 +12,7 @@
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
 #include "rdsim/envs/scripted_expert.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/training/train_config.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/render/png.hpp"
 #include "rdsim/training/train_config.hpp"

@@ -11,7 +11,7 @@
 #include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_writer.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"

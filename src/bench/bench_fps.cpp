@@ -12,7 +12,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/training/train_config.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "bench_util.hpp"
 

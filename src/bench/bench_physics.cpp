@@ -8,7 +8,7 @@
 #include <cstdio>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/physics_fidelity.hpp"
+#include "rdsim/envs/reaching/physics_fidelity.hpp"
 #include "rdsim/training/train_config.hpp"
 
 namespace rdsim {

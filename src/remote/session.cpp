@@ -6,7 +6,7 @@
 #include "rdsim/core/env_caches.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/arm_options.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/codec.hpp"
 #include "rdsim/remote/protocol.hpp"

@@ -2,9 +2,9 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/manipulation/manipulation_env.hpp"
-#include "rdsim/envs/reach_arm.hpp"
-#include "rdsim/envs/reach_env.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_arm.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 namespace rdsim {
@@ -47,7 +47,7 @@ void SceneMirror::update(const RobotSnapshot& state) {
 
 void SceneMirror::mark_target(const Eigen::Vector3f& target) {
   // An item "is" the target when its centre lies within 1 cm of the target point (the tomatoes
-  // are spheres centred on their links, which the targets are: envs/inmoov_tomato.cpp).
+  // are spheres centred on their links, which the targets are: envs/reaching/inmoov_tomato.cpp).
   constexpr float kCentreTolerance = 0.01f;  // m
   // Only a target among several alike (the env's target_choices) needs a mark; a lone button does not.
   if (target_choices_ < 2) return;

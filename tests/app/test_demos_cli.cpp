@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 #include <sys/stat.h>
 
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/training/train_config.hpp"
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "../remote/remote_test_util.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"

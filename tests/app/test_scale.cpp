@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/training/data_parallel.hpp"
 #include "rdsim/training/model_file.hpp"

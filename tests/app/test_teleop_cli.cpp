@@ -9,7 +9,7 @@
 
 #include "../remote/remote_test_util.hpp"
 #include "rdsim/demos/demo_file.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
 #include "rdsim/teleop/scene_mirror.hpp"

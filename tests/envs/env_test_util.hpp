@@ -7,7 +7,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/files.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Helpers shared by the env tests.

@@ -4,7 +4,7 @@
 
 #include "env_test_util.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/cartpole.hpp"
+#include "rdsim/envs/classic/cartpole.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using rdsim::Action;

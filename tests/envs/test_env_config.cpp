@@ -4,8 +4,8 @@
 
 #include "../error_of.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/obstacle_options.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/obstacle_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using Catch::Matchers::Contains;

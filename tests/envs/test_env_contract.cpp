@@ -15,7 +15,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/manipulation/manipulation_options.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;

@@ -13,10 +13,10 @@
 #include "../error_of.hpp"
 #include "rdsim/core/config_fields.hpp"
 #include "rdsim/envs/arm_options.hpp"
-#include "rdsim/envs/button_options.hpp"
+#include "rdsim/envs/reaching/button_options.hpp"
 #include "rdsim/envs/manipulation/manipulation_options.hpp"
-#include "rdsim/envs/obstacle_options.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/obstacle_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;

@@ -8,7 +8,7 @@
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "env_test_util.hpp"
 

@@ -1,4 +1,4 @@
-// inmoov_tomato (envs/inmoov_tomato.cpp): the InMoov's right palm reaching a tomato by IK moves.
+// inmoov_tomato (envs/reaching/inmoov_tomato.cpp): the InMoov's right palm reaching a tomato by IK moves.
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "env_test_util.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
-#include "rdsim/envs/inmoov_tomato.hpp"
+#include "rdsim/envs/reaching/inmoov_tomato.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Spaces, bounds, determinism and truncation: tests/envs/test_env_contract.cpp.

@@ -4,8 +4,8 @@
 
 #include "env_test_util.hpp"
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/jaka_button.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/jaka_button.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Spaces, bounds, determinism and truncation: tests/envs/test_env_contract.cpp.

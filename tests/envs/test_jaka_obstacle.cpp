@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 
 #include "env_test_util.hpp"
-#include "rdsim/envs/jaka_obstacle.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/jaka_obstacle.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 // Spaces, bounds, determinism and truncation: tests/envs/test_env_contract.cpp.

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/core/rng.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;

@@ -13,7 +13,7 @@
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/robot_control.hpp"
 #include "rdsim/core/rng.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 
 using namespace rdsim;
 using namespace rdsim::test;

@@ -3,7 +3,7 @@
 #include <numbers>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/pendulum.hpp"
+#include "rdsim/envs/classic/pendulum.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using rdsim::Action;

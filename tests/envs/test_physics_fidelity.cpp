@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include "env_test_util.hpp"
-#include "rdsim/envs/physics_fidelity.hpp"
+#include "rdsim/envs/reaching/physics_fidelity.hpp"
 
 // The fidelity gate of the physics speed-ups (envs/physics_fidelity.hpp), short enough for CI;
 // `rdsim bench-physics` runs the full 1,000-step sequences over several seeds.

@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/jaka_button.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/jaka_button.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/envs/robot_scene.hpp"
 

@@ -10,9 +10,9 @@
 #include "env_test_util.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/arm_options.hpp"
-#include "rdsim/envs/reach_arm.hpp"
-#include "rdsim/envs/reach_expert.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_arm.hpp"
+#include "rdsim/envs/reaching/reach_expert.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;

@@ -3,8 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/reach_expert.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_expert.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;

@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "env_test_util.hpp"
-#include "rdsim/envs/jaka_obstacle.hpp"
-#include "rdsim/envs/reach_env.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/jaka_obstacle.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;

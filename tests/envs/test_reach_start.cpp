@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "env_test_util.hpp"
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;

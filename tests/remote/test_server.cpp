@@ -20,7 +20,7 @@
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/robot_control.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/protocol.hpp"
 #include "rdsim/remote/remote_env.hpp"

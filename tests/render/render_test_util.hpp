@@ -10,7 +10,7 @@ namespace rdsim::test {
 
 // The two cameras of RobotDrlSim's Jaka scenes, as the paper gives them (PyBullet yaw/pitch
 // orbits, fov 60): the main camera over the workspace and the second, lower one. The envs'
-// cameras are these re-aimed at rdsim's layout (envs/jaka_button.cpp).
+// cameras are these re-aimed at rdsim's layout (envs/reaching/jaka_button.cpp).
 inline OrbitView paper_main_view() {
   return OrbitView{.target = {0.316f, -0.2f, -0.1f}, .distance = 1.6f, .yaw_deg = 155.0f, .pitch_deg = -36.0f};
 }

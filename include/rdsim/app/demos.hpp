@@ -3,7 +3,7 @@
 #include <string>
 
 // `rdsim demos info FILE` and `rdsim demos record --expert ...` (src/app/demos.cpp): demonstration
-// files (rdsim/demos/demo_file.hpp) and the scripted expert (rdsim/envs/reach_expert.hpp).
+// files (rdsim/demos/demo_file.hpp) and the scripted expert (rdsim/envs/reaching/reach_expert.hpp).
 namespace rdsim {
 
 // Prints the file's env, spaces, episodes, steps, success rate and mean return.

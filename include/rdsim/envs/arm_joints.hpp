@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "rdsim/envs/arm_options.hpp"
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 #include "rdsim/sim/robot_model.hpp"
 
 // Which joints of a user's arm a task moves, checked against its URDF, shared by the envs that run

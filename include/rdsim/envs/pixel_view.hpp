@@ -5,7 +5,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 #include "rdsim/envs/robot_scene.hpp"
 #include "rdsim/render/camera.hpp"
 #include "rdsim/render/renderer.hpp"

@@ -6,7 +6,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/robot_control.hpp"
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 #include "rdsim/envs/robot_scene.hpp"
 #include "rdsim/render/camera.hpp"
 #include "rdsim/render/renderer.hpp"

@@ -18,7 +18,7 @@ struct Camera {
 
 // PyBullet-style orbit parameters (computeViewMatrixFromYawPitchRoll with upAxisIndex = 2 and
 // computeProjectionMatrixFOV), because the paper gives its cameras this way. Each task keeps its
-// cameras in its own file (envs/jaka_button.cpp reach_main_view, ...).
+// cameras in its own file (envs/reaching/jaka_button.cpp reach_main_view, ...).
 struct OrbitView {
   Eigen::Vector3f target{0.0f, 0.0f, 0.0f};
   float distance = 1.0f;  // metres from target to eye

@@ -34,7 +34,7 @@ struct IkResult {
 // One damped-least-squares step: the joint change dq = J^T (J J^T + damping^2 I)^-1 e that best
 // reduces the task error `e` (M values: 3 for a position, 6 for a pose) under the task Jacobian `j`
 // (M x dof), with `damping` (m) keeping the step bounded near singular poses. Both solve_ik and
-// the reaching envs' per-step moves (envs/reach_task.cpp) take their steps through this function.
+// the reaching envs' per-step moves (envs/reaching/reach_task.cpp) take their steps through this function.
 // A template over the Jacobian's Eigen type, so a caller's block (ChainJacobian::topRows<3>())
 // is used as it is, without a copy.
 template <class Jacobian, class TaskError>
@@ -55,7 +55,7 @@ JointVector damped_least_squares_step(const Eigen::MatrixBase<Jacobian>& j, cons
 // change at max_joint_step, and stops once the error measured at the start of the previous
 // iteration is within `tolerance`. Iterates are not clamped to the limits (pybullet's are not: the
 // push brings a joint back), so the result may lie slightly outside them; the robot's targets are
-// clamped. Used by the reaching envs' ik_method "null_space" (envs/reach_task.cpp). The chain holds
+// clamped. Used by the reaching envs' ik_method "null_space" (envs/reaching/reach_task.cpp). The chain holds
 // only the joints between the root and the tip (pybullet's Jacobian has zero columns for the
 // others, which then only feel the pull). tools/fidelity compares the two (docs/fidelity.md).
 struct NullSpaceIkOptions {

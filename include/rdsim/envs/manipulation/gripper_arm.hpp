@@ -4,7 +4,7 @@
 
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/manipulation/manipulation_task.hpp"
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 
 // The robot half of a manipulation env: an arm with fingers (ArmOptions, ManipulationOptions::
 // finger_joints) checked against its

@@ -13,7 +13,7 @@
 #include "rdsim/envs/manipulation/manipulation_task.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/robot_cameras.hpp"
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 
 // A goal-conditioned manipulation env (Gymnasium-Robotics' GoalEnv, panda-gym's conventions): an
 // arm with a gripper (ArmOptions, ManipulationOptions::finger_joints), a table, the task's 4 cm cubes, and a goal each episode

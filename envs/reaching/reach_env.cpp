@@ -1,4 +1,4 @@
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 
 #include <algorithm>
 #include <sstream>

@@ -4,7 +4,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 #include "rdsim/render/camera.hpp"
 
 // inmoov_tomato — RobotDrlSim section 4.3: the InMoov humanoid (assets/inmoov/inmoov.urdf, 54

@@ -11,7 +11,7 @@
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/core/robot_control.hpp"
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/sim/kinematics.hpp"
 #include "rdsim/sim/physics_world.hpp"
 

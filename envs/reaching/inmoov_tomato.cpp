@@ -1,4 +1,4 @@
-#include "rdsim/envs/inmoov_tomato.hpp"
+#include "rdsim/envs/reaching/inmoov_tomato.hpp"
 
 #include <cmath>
 #include <string>

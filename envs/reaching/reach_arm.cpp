@@ -1,4 +1,4 @@
-#include "rdsim/envs/reach_arm.hpp"
+#include "rdsim/envs/reaching/reach_arm.hpp"
 
 #include <algorithm>
 #include <cmath>

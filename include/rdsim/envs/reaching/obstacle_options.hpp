@@ -3,7 +3,7 @@
 
 // jaka_obstacle's own options (besides the reaching tasks' ReachOptions): how its column moves and
 // which reward rule it pays. One option group (core/env_options.hpp) in jaka_obstacle's defaults;
-// envs/jaka_obstacle.cpp and envs/reach_env.cpp (ReachTerms) implement them.
+// envs/reaching/jaka_obstacle.cpp and envs/reaching/reach_env.cpp (ReachTerms) implement them.
 namespace rdsim {
 
 enum class ColumnMotion { Static, RandomWalk };

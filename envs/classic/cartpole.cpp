@@ -1,4 +1,4 @@
-#include "rdsim/envs/cartpole.hpp"
+#include "rdsim/envs/classic/cartpole.hpp"
 
 #include <cmath>
 #include <cstddef>

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "rdsim/core/env_config.hpp"
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 
 // The fidelity gate of the physics speed-ups: a reaching env run twice over the same fixed action
 // sequence, once with the solver doing all of its original work and once as configured (with the

@@ -1,13 +1,13 @@
-#include "rdsim/envs/physics_fidelity.hpp"
+#include "rdsim/envs/reaching/physics_fidelity.hpp"
 
 #include <algorithm>
 #include <chrono>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
-#include "rdsim/envs/inmoov_tomato.hpp"
-#include "rdsim/envs/jaka_button.hpp"
-#include "rdsim/envs/jaka_obstacle.hpp"
+#include "rdsim/envs/reaching/inmoov_tomato.hpp"
+#include "rdsim/envs/reaching/jaka_button.hpp"
+#include "rdsim/envs/reaching/jaka_obstacle.hpp"
 
 namespace rdsim {
 

@@ -1,4 +1,4 @@
-#include "rdsim/envs/jaka_button.hpp"
+#include "rdsim/envs/reaching/jaka_button.hpp"
 
 #include "rdsim/core/error.hpp"
 

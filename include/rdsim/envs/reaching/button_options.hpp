@@ -3,7 +3,7 @@
 
 // jaka_button's own option (besides the reaching tasks' ReachOptions), jaka_obstacle's too: which
 // button stands on the table. One option group (core/env_options.hpp) in their defaults;
-// envs/jaka_button.cpp implements it.
+// envs/reaching/jaka_button.cpp implements it.
 namespace rdsim {
 
 enum class ButtonBody { Static, Paper };

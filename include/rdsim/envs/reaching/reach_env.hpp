@@ -9,9 +9,9 @@
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/core/robot_control.hpp"
-#include "rdsim/envs/obstacle_options.hpp"
+#include "rdsim/envs/reaching/obstacle_options.hpp"
 #include "rdsim/envs/pixel_view.hpp"
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 #include "rdsim/envs/robot_cameras.hpp"
 #include "rdsim/render/camera.hpp"
 

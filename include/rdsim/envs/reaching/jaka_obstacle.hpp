@@ -3,7 +3,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 #include "rdsim/render/camera.hpp"
 
 // jaka_obstacle — RobotDrlSim section 4.2: jaka_button's scene and numbers (see jaka_button.hpp) with

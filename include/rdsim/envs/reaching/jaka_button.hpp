@@ -3,8 +3,8 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
-#include "rdsim/envs/button_options.hpp"
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/button_options.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 #include "rdsim/render/camera.hpp"
 
 // jaka_button — RobotDrlSim section 4.1: a JAKA Zu 7 arm moves its flange to a push button on a table.

@@ -4,7 +4,7 @@
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/envs/arm_options.hpp"
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 #include "rdsim/render/camera.hpp"
 
 // reach — the reaching task for any arm: the robot of env.urdf (ArmOptions, envs/arm_options.hpp)

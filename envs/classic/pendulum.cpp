@@ -1,4 +1,4 @@
-#include "rdsim/envs/pendulum.hpp"
+#include "rdsim/envs/classic/pendulum.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "rdsim/envs/reach_expert.hpp"
+#include "rdsim/envs/reaching/reach_expert.hpp"
 
 #include <algorithm>
 

@@ -1,7 +1,7 @@
-#include "rdsim/envs/jaka_obstacle.hpp"
+#include "rdsim/envs/reaching/jaka_obstacle.hpp"
 
 #include "rdsim/core/error.hpp"
-#include "rdsim/envs/jaka_button.hpp"
+#include "rdsim/envs/reaching/jaka_button.hpp"
 
 namespace rdsim {
 

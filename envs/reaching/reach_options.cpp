@@ -1,4 +1,4 @@
-#include "rdsim/envs/reach_options.hpp"
+#include "rdsim/envs/reaching/reach_options.hpp"
 
 #include <utility>
 

@@ -1,4 +1,4 @@
-#include "rdsim/envs/reach_task.hpp"
+#include "rdsim/envs/reaching/reach_task.hpp"
 
 #include <algorithm>
 #include <cmath>

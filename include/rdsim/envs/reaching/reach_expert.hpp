@@ -3,7 +3,7 @@
 
 #include "rdsim/core/env.hpp"
 #include "rdsim/envs/scripted_expert.hpp"
-#include "rdsim/envs/reach_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 
 // The scripted expert of the reaching envs (`rdsim demos record --expert`): a planner that reads the
 // env's privileged state (end-effector and target positions in the world from ReachTask, not the
