@@ -144,7 +144,8 @@ def test_envs_still_work_after_bad_calls():
     vdisc.step(np.array([0, 1, 2]))
 
 
-def test_make_takes_its_own_resolved_config():
+def test_item1_make_takes_its_own_resolved_config():
+    """First contact, item 1: rdsim.make accepts its own resolved config back."""
     # env.config (and a model's config["env"]) holds render_mode "none": make accepts it back.
     config = {key: value for key, value in rdsim.make(J).config.items() if key != "name"}
     again = rdsim.make(J, **config)
