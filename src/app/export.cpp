@@ -6,11 +6,13 @@
 #include <memory>
 
 #include "rdsim/app/command.hpp"
+#include "rdsim/core/error.hpp"
 #include "rdsim/export/policy_export.hpp"
 
 namespace rdsim {
 
 int export_command(const ExportOptions& o) {
+  if (o.onnx_path.empty()) throw Error("--onnx: expected a file name, got an empty string");
   const ExportSummary s = export_onnx(o.model_path, o.onnx_path);
   std::printf("wrote %s (%lld bytes): %s on %s, input \"observation\" [batch, ...] float32, output \"action\"; %s\n",
               o.onnx_path.c_str(), s.bytes, s.algorithm.c_str(), s.env.c_str(), s.spec.c_str());

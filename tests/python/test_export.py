@@ -96,6 +96,9 @@ def test_cli_export_and_errors(tmp_path):
                              text=True, timeout=60)
         assert out.returncode == 1 and why in out.stderr and len(out.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "x.onnx").exists()
+    out = subprocess.run([binary, "export", str(tmp_path / "run" / "model.bin"), "--onnx", ""], capture_output=True,
+                         text=True, timeout=60)
+    assert out.returncode == 1 and "--onnx: expected a file name" in out.stderr
 
     rdsim.train({"algorithm": "random", "env": {"name": "cartpole"}, "total_timesteps": 200, "seed": 1},
                 log_dir=str(tmp_path / "random"), quiet=True)
