@@ -94,15 +94,8 @@ ActorCritic::ActorCritic(const Spec& spec, const NetworkConfig& config, Rng& rng
   }
 }
 
-const Eigen::MatrixXf& ActorCritic::input(const Eigen::MatrixXf& raw, Eigen::MatrixXf& scratch) const {
-  if (!normalizer_.enabled()) return scaled_input(raw, input_scale_, scratch);
-  scratch.resize(raw.rows(), raw.cols());
-  normalizer_.apply(raw, scratch);
-  return scratch;
-}
-
 const Eigen::MatrixXf& ActorCritic::features_infer(const Eigen::MatrixXf& raw) {
-  const Eigen::MatrixXf& obs = input(raw, infer_input_);
+  const Eigen::MatrixXf& obs = normalizer_.network_input(raw, input_scale_, infer_input_);
   if (!trunk_) return obs;
   activate(trunk_->infer(obs), activation_, infer_features_);
   return infer_features_;
@@ -129,7 +122,7 @@ Eigen::VectorXf ActorCritic::predict_values(const Eigen::MatrixXf& obs) {
 }
 
 const PolicyEval& ActorCritic::evaluate(const Eigen::MatrixXf& raw, const Eigen::MatrixXf& actions) {
-  const Eigen::MatrixXf& obs = input(raw, eval_input_);
+  const Eigen::MatrixXf& obs = normalizer_.network_input(raw, input_scale_, eval_input_);
   if (trunk_) {
     trunk_pre_ = trunk_->forward_borrowing(obs);  // obs lives until backward(): the header's contract
     activate(trunk_pre_, activation_, features_);

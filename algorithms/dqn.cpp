@@ -169,10 +169,8 @@ private:
   // network.input_scale (the config parser allows it with vector observations only).
   // Or the standardised observations with normalize_observations.
   const Eigen::MatrixXf& scaled(const Eigen::MatrixXf& x) {
-    if (!normalizer_ || !normalizer_->enabled()) return scaled_input(x, input_scale_, scaled_input_);
-    scaled_input_.resize(x.rows(), x.cols());
-    normalizer_->apply(x, scaled_input_);
-    return scaled_input_;
+    if (!normalizer_) return scaled_input(x, input_scale_, scaled_input_);
+    return normalizer_->network_input(x, input_scale_, scaled_input_);
   }
 
   std::unique_ptr<nn::Network> net_;

@@ -8,6 +8,7 @@
 #include "rdsim/core/assert.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/vecenv/observation_batch.hpp"
 
 namespace rdsim {
 
@@ -39,6 +40,14 @@ void ObservationNormalizer::apply(const Eigen::MatrixXf& x, Eigen::Ref<Eigen::Ma
     return;
   }
   out = ((x.colwise() - mean_).array().colwise() * inv_std_.array()).cwiseMax(-clip).cwiseMin(clip).matrix();
+}
+
+const Eigen::MatrixXf& ObservationNormalizer::network_input(const Eigen::MatrixXf& x, float input_scale,
+                                                            Eigen::MatrixXf& scratch) const {
+  if (!enabled()) return scaled_input(x, input_scale, scratch);
+  scratch.resize(x.rows(), x.cols());
+  apply(x, scratch);
+  return scratch;
 }
 
 void ObservationNormalizer::add_input_ops(PolicyProgram& program, float input_scale) const {

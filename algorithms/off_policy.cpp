@@ -119,10 +119,7 @@ std::vector<Metrics> OffPolicy::learn_from_demonstrations(const DemoFile& demos,
 }
 
 const Eigen::MatrixXf& OffPolicy::actor_input(const Eigen::MatrixXf& observations, Eigen::MatrixXf& scratch) const {
-  if (!normalizer_.enabled()) return scaled_input(observations, input_scale_, scratch);
-  scratch.resize(observations.rows(), observations.cols());
-  normalizer_.apply(observations, scratch);
-  return scratch;
+  return normalizer_.network_input(observations, input_scale_, scratch);
 }
 
 const Eigen::MatrixXf& OffPolicy::critic_input(const Eigen::MatrixXf& observations, const Eigen::MatrixXf& actions,

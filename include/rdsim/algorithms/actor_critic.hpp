@@ -98,8 +98,6 @@ public:
 
 private:
   const Eigen::MatrixXf& features_infer(const Eigen::MatrixXf& obs);
-  // The network input: observations standardised, or times network.input_scale (into `scratch` unless unchanged).
-  const Eigen::MatrixXf& input(const Eigen::MatrixXf& raw, Eigen::MatrixXf& scratch) const;
 
   bool discrete_;
   int obs_size_;

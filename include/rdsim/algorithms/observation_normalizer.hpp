@@ -37,6 +37,9 @@ public:
 
   // The standardised `x` (one observation per column) into `out` of the same shape. Only when enabled.
   void apply(const Eigen::MatrixXf& x, Eigen::Ref<Eigen::MatrixXf> out) const;
+  // A network's input for observations `x`: standardised into `scratch` when enabled, else `x` times
+  // network.input_scale `input_scale` (scaled_input: `x` itself at 1).
+  const Eigen::MatrixXf& network_input(const Eigen::MatrixXf& x, float input_scale, Eigen::MatrixXf& scratch) const;
 
   // What a policy program's input ops are: the standardisation (when on and refreshed), else times
   // network.input_scale `input_scale`.
