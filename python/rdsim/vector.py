@@ -93,7 +93,6 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         #: The resolved env config (every key the env reads, with its value).
         self.config: dict[str, Any] = json.loads(self._vec.config_json)
         self._observations = self._vec.observations()
-        self._ones = np.ones(self.num_envs, dtype=np.bool_)
         self._seeded = seed is not None
         if gym_id in gymnasium.registry:
             self.spec = gymnasium.registry[gym_id]
@@ -171,33 +170,17 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         return goal_dict(self.goal, flat, copy=self.copy)
 
     def _results(self):
-        v = self._vec
-        infos: dict[str, Any] = {}
-        for key in _INFO_KEYS:
-            infos[key] = getattr(v, key).copy()
-            infos["_" + key] = self._ones
-        ended = v.final_mask
-        if ended.any():
-            mask = ended.copy()
-            final_obs = np.full(self.num_envs, None, dtype=object)
-            finals = v.final_observations
-            final_info: dict[str, Any] = {}
-            for i in np.flatnonzero(mask):
-                final_obs[i] = finals[i].copy() if self.goal is None else goal_dict(self.goal, finals[i])
-            for key in _INFO_KEYS:
-                final_info[key] = infos[key].copy()
-                final_info["_" + key] = mask
-            infos["final_obs"], infos["_final_obs"] = final_obs, mask
-            infos["final_info"], infos["_final_info"] = final_info, mask
-        if self.goal is not None:
-            infos["is_success"], infos["_is_success"] = infos["success"], self._ones
-        return (
-            self._observation_out(self._observations),
-            self._out(v.rewards),
-            self._out(v.terminations),
-            self._out(v.truncations),
-            infos,
-        )
+        """The last step's tuple, built by the binding; goal envs' observations become dicts."""
+        out = self._vec.results(self.copy)
+        if self.goal is None:
+            return out
+        obs, rewards, terminations, truncations, infos = out
+        infos["is_success"], infos["_is_success"] = infos["success"], infos["_success"]
+        if "final_obs" in infos:
+            final_obs = infos["final_obs"]
+            for i in infos["_final_obs"].nonzero()[0]:
+                final_obs[i] = goal_dict(self.goal, final_obs[i], copy=False)
+        return goal_dict(self.goal, obs, copy=False), rewards, terminations, truncations, infos
 
 
 def make_vec(env_id: str, num_envs: int = 1, num_threads: Optional[int] = None, **options: Any) -> RdsimVectorEnv:

@@ -6,6 +6,9 @@
 // from Python as a NumPy array without a copy; rewards, terminations, truncations, the info flags and
 // the final observations of ended episodes are NumPy arrays this object allocates once and fills
 // after each step. Nothing per env is a Python object. The GIL is released while the envs step.
+// results() builds the tuple a Gymnasium step returns (copies of these arrays, or the arrays
+// themselves) in one call.
+#include <cstring>
 #include <memory>
 
 #include "background_job.hpp"
@@ -50,6 +53,12 @@ public:
     for (auto* flags : {&terminations_, &truncations_, &success_, &collision_, &out_of_bounds_, &final_mask_})
       *flags = py::array_t<bool>(n_);
     final_observations_ = observation_array(spec_.observation, n_);
+    ones_ = py::array_t<bool>(n_);
+    std::fill_n(ones_.mutable_data(), n_, true);
+    info_arrays_ = {InfoArray{py::str("success"), py::str("_success"), success_},
+                    InfoArray{py::str("collision"), py::str("_collision"), collision_},
+                    InfoArray{py::str("out_of_bounds"), py::str("_out_of_bounds"), out_of_bounds_},
+                    InfoArray{py::str("distance"), py::str("_distance"), distance_}};
     row_size_ = spec_.observation.size();
     // Raw pointers, taken here with the GIL held: run_step() writes through them without it.
     out_ = {rewards_.mutable_data(), distance_.mutable_data(), terminations_.mutable_data(), truncations_.mutable_data(),
@@ -92,13 +101,16 @@ public:
     if (!s) throw Error(where_ + ": reset: seed: expected an integer (the package draws one when none is given)");
     py::gil_scoped_release unlocked;
     vec.reset(*s);
+    ended_ = 0;
   }
 
-  void step(const py::handle& actions) {
+  // Returns how many episodes ended in the step (final_obs and final_info in results() say which).
+  int step(const py::handle& actions) {
     idle();
     read_actions(spec_.action, actions, actions_);
     py::gil_scoped_release unlocked;
     run_step();
+    return ended_;
   }
 
   void step_async(const py::handle& actions) {
@@ -107,14 +119,36 @@ public:
     job_.start([this] { run_step(); });
   }
 
-  void step_wait() {
+  int step_wait() {
     open();
     if (!job_.busy()) throw Error(where_ + ": step_wait: no step was started (call step_async first)");
     py::gil_scoped_release unlocked;
     job_.wait();
+    return ended_;
+  }
+
+  // The last step's (observations, rewards, terminations, truncations, infos): the tuple
+  // gymnasium's VectorEnv.step returns in the same-step autoreset mode. infos: the four info
+  // arrays and their all-true masks and, when episodes ended, final_obs (an object array: the
+  // ended envs' last observations, None elsewhere), final_info and their masks. Built here in one
+  // call because every Python call and object per step costs time beside the envs' own work
+  // (tools/bench/python.sh --overhead). copy=false: the arrays this object overwrites next step.
+  py::tuple results(bool copy) {
+    idle();
+    if (!observations_view_) observations_view_ = observations();
+    py::dict infos;
+    for (const InfoArray& info : info_arrays_) {
+      infos[info.key] = fresh(info.array);  // a copy: final_info shares it when episodes end
+      infos[info.mask_key] = ones_;
+    }
+    if (ended_ > 0) add_final(infos);
+    if (!copy) return py::make_tuple(observations_view_, rewards_, terminations_, truncations_, infos);
+    return py::make_tuple(fresh(observations_view_), fresh(rewards_), fresh(terminations_), fresh(truncations_),
+                          infos);
   }
 
   void close() {
+    observations_view_ = py::object();  // its capsule keeps the VecEnv alive
     py::gil_scoped_release unlocked;
     try {
       if (job_.busy()) job_.wait();
@@ -129,6 +163,50 @@ public:
   py::array final_observations_;
 
 private:
+  // An info array of results() and the keys it goes by.
+  struct InfoArray {
+    py::str key, mask_key;
+    py::array array;
+  };
+
+  // A new array with `array`'s shape, type and values (C-contiguous, as every array here is).
+  static py::array fresh(const py::handle& handle) {
+    const auto& array = py::reinterpret_borrow<py::array>(handle);
+    py::array copy(array.dtype(), std::vector<py::ssize_t>(array.shape(), array.shape() + array.ndim()));
+    std::memcpy(copy.mutable_data(), array.data(), static_cast<std::size_t>(array.nbytes()));
+    return copy;
+  }
+
+  // results()'s final_obs, final_info and their masks (a copy of final_mask).
+  void add_final(py::dict& infos) {
+    py::array mask = fresh(final_mask_);
+    const bool* ended = final_mask_.data();
+    py::array final_obs(py::dtype("O"), std::vector<py::ssize_t>{n_});
+    auto** slots = static_cast<PyObject**>(final_obs.mutable_data());
+    const auto row_bytes = static_cast<std::size_t>(final_observations_.nbytes() / n_);
+    const auto* rows = static_cast<const char*>(final_observations_.data());
+    std::vector<py::ssize_t> row_shape(spec_.observation.shape.begin(), spec_.observation.shape.end());
+    for (int i = 0; i < n_; ++i) {
+      py::object entry = py::none();
+      if (ended[i]) {
+        py::array row(final_observations_.dtype(), row_shape);
+        std::memcpy(row.mutable_data(), rows + static_cast<std::size_t>(i) * row_bytes, row_bytes);
+        entry = std::move(row);
+      }
+      Py_XDECREF(slots[i]);  // numpy fills a new object array with None (or NULL)
+      slots[i] = entry.release().ptr();
+    }
+    py::dict final_info;
+    for (const InfoArray& info : info_arrays_) {
+      final_info[info.key] = infos[info.key];  // the ended episodes' last infos (a reset adds none)
+      final_info[info.mask_key] = mask;
+    }
+    infos["final_obs"] = final_obs;
+    infos["_final_obs"] = mask;
+    infos["final_info"] = final_info;
+    infos["_final_info"] = mask;
+  }
+
   VecEnv& open() {
     if (!vec_) throw Error(where_ + ": the vector env is closed");
     return *vec_;
@@ -139,10 +217,11 @@ private:
     return vec;
   }
 
-  // Steps every env and writes the results into the arrays. Runs without the GIL: it touches only
-  // C++ objects and the arrays' memory, which this object owns.
+  // Steps every env, writes the results into the arrays and counts the ended episodes. Runs
+  // without the GIL: it touches only C++ objects and the arrays' memory, which this object owns.
   void run_step() {
     const std::vector<EnvStep>& steps = vec_->step(actions_);
+    int ended = 0;
     for (int i = 0; i < n_; ++i) {
       const EnvStep& s = steps[static_cast<std::size_t>(i)];
       out_.reward[i] = s.reward;
@@ -154,12 +233,14 @@ private:
       out_.distance[i] = s.info.distance;
       out_.ended[i] = s.done();
       if (!s.done()) continue;
+      ++ended;
       const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(i) * row_size_;
       ObservationOut row = out_.final_observation;
       if (row.values) row.values += at;
       if (row.pixels) row.pixels += at;
       copy_observation(s.final_observation, spec_.observation, row);
     }
+    ended_ = ended;
   }
 
   // Where run_step() writes (the arrays' memory).
@@ -177,6 +258,10 @@ private:
   std::vector<Action> actions_;
   Outputs out_{};
   BackgroundJob job_;
+  py::array_t<bool> ones_;         // the info masks: every env has every info key
+  std::vector<InfoArray> info_arrays_;
+  py::object observations_view_;   // observations(), made by the first results()
+  int ended_ = 0;                  // episodes ended in the last step (run_step writes it)
 };
 
 }  // namespace
@@ -198,6 +283,7 @@ void bind_vec_env(py::module_& m) {
       .def("step", &PyVecEnv::step, py::arg("actions"))
       .def("step_async", &PyVecEnv::step_async, py::arg("actions"))
       .def("step_wait", &PyVecEnv::step_wait)
+      .def("results", &PyVecEnv::results, py::arg("copy"))
       .def("close", &PyVecEnv::close)
       .def_readonly("rewards", &PyVecEnv::rewards_)
       .def_readonly("terminations", &PyVecEnv::terminations_)

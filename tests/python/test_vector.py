@@ -64,6 +64,41 @@ def test_copy_false_returns_the_batch_itself():
     assert np.isfinite(obs).all()
 
 
+def test_returned_arrays_are_the_callers_and_final_obs_is_none_where_no_episode_ended():
+    venv = rdsim.make_vec("rdsim/CartPole-v1", 3, num_threads=1, max_steps=4)
+    venv.reset(seed=1)
+    kept = [venv.step(np.array([0, 1, 0])) for _ in range(3)]
+    saved = [tuple(np.copy(x) for x in out[:4]) + ({k: np.copy(out[4][k]) for k in ("success", "distance")},)
+             for out in kept]
+    for _ in range(6):  # later steps (and episode ends) leave the returned arrays alone
+        obs, rew, term, trunc, info = venv.step(np.array([1, 1, 0]))
+    for out, copy in zip(kept, saved):
+        for x, y in zip(out[:4], copy[:4]):
+            np.testing.assert_array_equal(x, y)
+        for key in ("success", "distance"):
+            np.testing.assert_array_equal(out[4][key], copy[4][key])
+    # Episodes of 4 steps: the 9th step ends no episode, the 8th ended all three.
+    assert "final_obs" not in info
+    venv.reset(seed=1)
+    for t in range(4):
+        obs, rew, term, trunc, info = venv.step(np.array([0, 1, 0]))
+    assert list(info["_final_obs"]) == [True, True, True]
+    assert info["final_info"]["success"] is info["success"]
+    venv.close()
+    venv = rdsim.make_vec("rdsim/CartPole-v1", 4, num_threads=1)
+    venv.reset(seed=0)
+    for _ in range(500):  # pushing one way ends some episodes before the others
+        obs, rew, term, trunc, info = venv.step(np.array([0, 0, 1, 1]))
+        if (term | trunc).any() and not (term | trunc).all():
+            break
+    ended = term | trunc
+    np.testing.assert_array_equal(info["_final_obs"], ended)
+    assert 0 < ended.sum() < 4
+    for i in range(4):
+        assert (info["final_obs"][i] is None) == (not ended[i])
+    venv.close()
+
+
 def test_gymnasium_make_vec_uses_the_cpp_vector_env():
     venv = gymnasium.make_vec("rdsim/CartPole-v1", num_envs=3)
     assert isinstance(venv, rdsim.RdsimVectorEnv)

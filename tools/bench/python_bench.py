@@ -44,13 +44,72 @@ def cpp_vec_env_rate(binary: str, env: str, num_envs: int, threads: int) -> dict
     return json.loads(out[out.index("{"):] if "{" in out else out)
 
 
+def fixed_rate(venv, step, actions, steps: int) -> float:
+    """Env steps/s of `steps` vector steps after `reset(seed=0)` and `steps // 4` untimed ones (past
+    the first episodes' start), with `actions` in turn: the same trajectories for every `step`
+    function given, so only the per-call cost differs."""
+    venv.reset(seed=0)
+    warm_up = steps // 4
+    for k in range(warm_up):
+        venv._vec.step(actions[k % len(actions)])
+    start = time.perf_counter()
+    for k in range(warm_up, warm_up + steps):
+        step(actions[k % len(actions)])
+    return steps * venv.num_envs / (time.perf_counter() - start)
+
+
+def overhead_ratios(binary: str, env: str, num_envs: int, seconds: float, rounds: int) -> None:
+    """make_vec (one thread) against the C++ VecEnv on one thread (`rdsim bench-fps`, no Python) and
+    against the same VecEnv stepped through the binding alone (the same seeds and actions, so the
+    same trajectories), in rounds that rotate the order; prints each kind's median and the ratios."""
+    name = rdsim._ids.env_name(env)
+    venv = rdsim.make_vec(env, num_envs, num_threads=1)
+    acts = random_actions(venv.single_action_space, num_envs)
+    venv.reset(seed=0)
+    steps = max(1000, int(seconds * rate(venv._vec.step, acts, 1.0, num_envs) / num_envs))
+
+    def cpp_rate() -> float:
+        out = subprocess.run([binary, "bench-fps", "--env", name, "--mode", "ground_truth", "--threads", "1",
+                              "--num-envs", str(num_envs), "--runs", "1", "--steps", str(steps * num_envs),
+                              "--json", "-"], check=True, capture_output=True, text=True).stdout
+        return float(json.loads(out[out.index("{"):])["rows"][0]["threads"][0]["steps_per_s"])
+
+    kinds = {"make_vec": lambda: fixed_rate(venv, venv.step, acts, steps),
+             "binding": lambda: fixed_rate(venv, venv._vec.step, acts, steps), "cpp": cpp_rate}
+    runs: dict[str, list[float]] = {kind: [] for kind in kinds}
+    order = list(kinds)
+    for r in range(rounds):
+        for kind in order[r % 3:] + order[:r % 3]:  # each kind goes first in every third round
+            runs[kind].append(kinds[kind]())
+    venv.close()
+    med = {k: float(np.median(v)) for k, v in runs.items()}
+    # Ratios within each round (the same minute of a shared machine), then their median.
+    ratio_cpp = float(np.median(np.array(runs["make_vec"]) / np.array(runs["cpp"])))
+    ratio_binding = float(np.median(np.array(runs["make_vec"]) / np.array(runs["binding"])))
+    print(f"{env}, {num_envs} envs, one thread, {rounds} rounds of {steps} vector steps (medians):")
+    print(f"  rdsim.make_vec                       {med['make_vec']:>12,.0f} steps/s")
+    print(f"  C++ VecEnv through the binding alone {med['binding']:>12,.0f} steps/s")
+    print(f"  C++ VecEnv, no Python (bench-fps)    {med['cpp']:>12,.0f} steps/s")
+    print(f"  make_vec / C++ VecEnv = {ratio_cpp:.3f}   make_vec / binding = {ratio_binding:.3f}"
+          "   (medians of the per-round ratios)", flush=True)
+    if os.environ.get("RDSIM_BENCH_VERBOSE"):
+        print("  runs:", {k: [round(x) for x in v] for k, v in runs.items()})
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--seconds", type=float, default=3.0, help="per row")
     p.add_argument("--num-envs", type=int, default=8)
     p.add_argument("--env", default="rdsim/JakaButton-v0")
     p.add_argument("--binary", default=os.environ.get("RDSIM_BIN", "build/rdsim"))
+    p.add_argument("--overhead", action="store_true",
+                   help="only the Python layer's cost: make_vec against the C++ VecEnv at 8 and 64 envs, alternating rounds")
+    p.add_argument("--rounds", type=int, default=21, help="--overhead: alternating rounds")
     args = p.parse_args(argv)
+    if args.overhead:
+        for n in (8, 64):
+            overhead_ratios(args.binary, args.env, n, min(args.seconds, 0.5), args.rounds)
+        return
     n, s = args.num_envs, args.seconds
     rows = []
 
@@ -74,8 +133,10 @@ def main(argv=None) -> None:
     try:
         name = rdsim._ids.env_name(args.env)
         result = cpp_vec_env_rate(args.binary, name, n, 2)
-        print("rdsim bench-fps (C++ only):", json.dumps(result)[:600])
-    except (OSError, subprocess.CalledProcessError, ValueError) as e:
+        for t in result["rows"][0]["threads"]:
+            row(f"rdsim bench-fps (C++ only, no Python), {t['threads']} thread(s), {t['env_groups']} group(s)",
+                t["steps_per_s"])
+    except (OSError, subprocess.CalledProcessError, ValueError, KeyError, IndexError) as e:
         print(f"rdsim bench-fps not run: {e}")
 
     sync = gymnasium.vector.SyncVectorEnv([lambda: rdsim.make(args.env) for _ in range(n)])
