@@ -1,6 +1,6 @@
 #include "rdsim/algorithms/algorithm.hpp"
 
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {

@@ -19,7 +19,7 @@
 #include "rdsim/algorithms/gradient_averaging.hpp"
 #include "rdsim/algorithms/n_step_returns.hpp"
 #include "rdsim/algorithms/observation_normalizer.hpp"
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
 #include "rdsim/vecenv/vec_env.hpp"

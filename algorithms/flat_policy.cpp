@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/nn/param.hpp"

@@ -4,7 +4,7 @@
 #include <istream>
 #include <ostream>
 
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/core/assert.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/rng_bytes.hpp"

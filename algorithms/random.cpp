@@ -26,6 +26,7 @@ public:
 
   std::string name() const override { return "random"; }
   bool data_parallel() const override { return true; }  // no weights: each rank just acts
+  bool has_policy_program() const override { return false; }
 
   Metrics update(VecEnv& envs, const TrainProgress& progress) override {
     const int n = envs.size();

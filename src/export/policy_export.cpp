@@ -4,7 +4,7 @@
 #include <cmath>
 #include <map>
 
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/files.hpp"
 #include "rdsim/core/rng.hpp"

@@ -17,6 +17,8 @@
 #include "rdsim/core/run_files.hpp"
 #include "rdsim/dashboard/dashboard_server.hpp"
 #include "rdsim/nn/gemm.hpp"
+#include "rdsim/policy/policy_file.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/tensorboard/event_writer.hpp"
 #include "rdsim/training/checkpoint.hpp"
 #include "rdsim/training/data_parallel.hpp"
@@ -148,6 +150,8 @@ void Trainer::Run::save_file(const std::string& name, ModelKind kind) {
   f.kind = kind;
   f.config = resolved;
   f.spec = describe_spec(vec->spec());
+  // The policy alone, for controllers that link only rdsim_policy (policy/policy.hpp).
+  if (root && algo->has_policy_program()) f.policy = encode_policy_program(algo->policy_program());
   if (kind == ModelKind::Model) {
     if (!root) return;
     std::ostringstream out;

@@ -5,30 +5,6 @@
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
-namespace {
-
-constexpr float kPixelScale = 1.0f / 255.0f;
-
-}  // namespace
-
-int observation_input_size(const ObservationSpace& space) { return space.size(); }
-
-void encode_observation(const Observation& obs, const ObservationSpace& space, Eigen::Ref<Eigen::VectorXf> out) {
-  const int n = space.size();
-  if (space.type == ObsType::Float32) {
-    if (obs.values.size() != n) {
-      throw Error("observation has " + std::to_string(obs.values.size()) + " values, the env's spec says " +
-                  std::to_string(n));
-    }
-    out = obs.values;
-    return;
-  }
-  if (static_cast<int>(obs.pixels.size()) != n) {
-    throw Error("observation has " + std::to_string(obs.pixels.size()) + " pixels bytes, the env's spec says " +
-                std::to_string(n));
-  }
-  for (int i = 0; i < n; ++i) out[i] = static_cast<float>(obs.pixels[static_cast<std::size_t>(i)]) * kPixelScale;
-}
 
 Eigen::MatrixXf observation_batch(const std::vector<Observation>& obs, const ObservationSpace& space) {
   Eigen::MatrixXf batch(observation_input_size(space), static_cast<Eigen::Index>(obs.size()));
@@ -79,7 +55,7 @@ const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::Matri
     if (first == 0 && count == batch.values.cols()) return batch.values;
     scratch = batch.values.middleCols(first, count);
   } else {
-    scratch = batch.pixels.middleCols(first, count).cast<float>() * kPixelScale;
+    scratch = batch.pixels.middleCols(first, count).cast<float>() * pixel_input_scale;
   }
   return scratch;
 }
@@ -88,7 +64,7 @@ void encode_observation(const ObservationBatch& batch, int env, Eigen::Ref<Eigen
   if (batch.type == ObsType::Float32)
     out = batch.values.col(env);
   else
-    out = batch.pixels.col(env).cast<float>() * kPixelScale;
+    out = batch.pixels.col(env).cast<float>() * pixel_input_scale;
 }
 
 const Eigen::MatrixXf& scaled_input(const Eigen::MatrixXf& batch, float scale, Eigen::MatrixXf& scratch) {

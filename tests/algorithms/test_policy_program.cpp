@@ -1,10 +1,12 @@
-// Policy programs (policy_program.hpp, what `rdsim export` writes as ONNX): for every exportable
-// algorithm and network form, run_policy_program() gives the algorithm's own deterministic act() on
-// 1,000 observations; the others refuse clearly.
+// Policy programs (policy/policy_program.hpp, what `rdsim export` writes as ONNX and model files
+// carry for rdsim_policy): for every exportable algorithm and network form, run_policy_program()
+// gives the algorithm's own deterministic act() on 1,000 observations after a round trip through
+// the policy file format (policy/policy_file.hpp); the others refuse clearly.
 #include <catch2/catch.hpp>
 
 #include "algorithm_setup.hpp"
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_file.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/vecenv/observation_batch.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
@@ -21,6 +23,14 @@ struct Case {
   bool shared = false;
   double input_scale = 1.0;
 };
+
+// The program as a model file carries it: encoded, decoded, and encoded again to the same bytes.
+rdsim::PolicyProgram round_trip(const rdsim::PolicyProgram& program) {
+  const std::string bytes = rdsim::encode_policy_program(program);
+  rdsim::PolicyProgram back = rdsim::decode_policy_program(bytes, "policy");
+  CHECK(rdsim::encode_policy_program(back) == bytes);
+  return back;
+}
 
 Setup setup(const Case& c) {
   Setup s = small_setup(c.algorithm, 3);
@@ -45,7 +55,7 @@ TEST_CASE("policy programs give every exportable algorithm's deterministic actio
     config.normalize_observations = c.normalize;
     auto algo = rdsim::make_algorithm(config, 3, vec.spec());
     while (vec.timesteps() < 300) algo->update(vec, {vec.timesteps(), 300});
-    const rdsim::PolicyProgram program = algo->policy_program();
+    const rdsim::PolicyProgram program = round_trip(algo->policy_program());
     CHECK(program.discrete == c.discrete);
     CHECK(program.algorithm == c.algorithm);
     rdsim::Rng rng(11), unused(0);
@@ -82,7 +92,7 @@ TEST_CASE("policy programs give CNN policies' deterministic actions on pixel obs
     s.network.cnn.fc = {16};
     auto algo = make_algorithm(s, vec.spec());
     while (vec.timesteps() < 200) algo->update(vec, {vec.timesteps(), 200});
-    const rdsim::PolicyProgram program = algo->policy_program();
+    const rdsim::PolicyProgram program = round_trip(algo->policy_program());
     CHECK(program.pixels);
     CHECK(program.image_shape == vec.spec().observation.shape);
     rdsim::Rng rng(12), unused(0);
@@ -105,5 +115,7 @@ TEST_CASE("policy programs: the random agent has no policy to export", "[policy_
   rdsim::VecEnv vec(toy::make_envs(1, true), 1);
   Setup s;
   s.algorithm = "random";
-  CHECK_THROWS_WITH(make_algorithm(s, vec.spec())->policy_program(), Contains("no policy to export"));
+  auto algo = make_algorithm(s, vec.spec());
+  CHECK_FALSE(algo->has_policy_program());
+  CHECK_THROWS_WITH(algo->policy_program(), Contains("no policy to export"));
 }

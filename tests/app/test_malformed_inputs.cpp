@@ -90,7 +90,7 @@ void put_u64(std::string& s, std::uint64_t v) { s.append(reinterpret_cast<const 
 
 // A model file from its parts, with the checksum it needs, so only the contents are wrong.
 std::string raw_model(std::uint32_t version, std::uint32_t kind, const std::string& config, const std::string& spec,
-                      const std::string& payload) {
+                      const std::string& payload, const std::string& policy = "") {
   std::string out = "RDSIMMDL";
   put_u32(out, version);
   put_u32(out, kind);
@@ -102,6 +102,10 @@ std::string raw_model(std::uint32_t version, std::uint32_t kind, const std::stri
   }
   put_u64(out, payload.size());
   out += payload;
+  if (version >= 4) {
+    put_u64(out, policy.size());
+    out += policy;
+  }
   put_u64(out, rdsim::fnv1a64(out));
   return out;
 }
@@ -239,7 +243,9 @@ TEST_CASE("malformed inputs: damaged, edited and foreign model and checkpoint fi
 
   // --- model.bin cases: `rdsim replay FILE`
   std::vector<std::pair<std::string, std::string>> models;  // (bytes, expected)
-  const std::string good = raw_model(3, 0, cfg, spec, model.payload);
+  // Today's files (version 4) hold the policy part too; the cases below write version 3 files
+  // (which this rdsim still reads) unless they are about the envelope.
+  const std::string good = raw_model(4, 0, cfg, spec, model.payload, model.policy);
   REQUIRE(good == rltest::slurp(dir / "run/model.bin"));
   for (std::size_t cut : {std::size_t{0}, std::size_t{4}, std::size_t{8}, std::size_t{12}, std::size_t{20}, good.size() / 3,
                           good.size() / 2, good.size() - 9, good.size() - 1})
@@ -252,7 +258,7 @@ TEST_CASE("malformed inputs: damaged, edited and foreign model and checkpoint fi
   models.push_back({good + "x", "damaged"});
   models.push_back({"PK\x03\x04 zip", "not an rdsim model file"});
   models.push_back({std::string(4096, '\0'), "not an rdsim model file"});
-  for (std::uint32_t v : {0u, 4u, 99u, 0xffffffffu}) models.push_back({raw_model(v, 0, cfg, spec, model.payload), "version"});
+  for (std::uint32_t v : {0u, 5u, 99u, 0xffffffffu}) models.push_back({raw_model(v, 0, cfg, spec, model.payload), "version"});
   models.push_back({raw_model(3, 7, cfg, spec, model.payload), "unknown kind 7"});
   // Header sizes larger than the file: refused before anything that size is allocated.
   for (std::uint64_t size : {std::uint64_t{1} << 40, std::numeric_limits<std::uint64_t>::max(), std::uint64_t{1} << 62}) {

@@ -79,9 +79,13 @@ def substituted(text):
 
 
 def checkout(scratch, rdsim, venv_python):
-    """A folder laid out like the checkout: the binary under test as build/rdsim, and the rest."""
+    """A folder laid out like the checkout: the binary under test as build/rdsim (and the policy
+    library's example beside it), and the rest."""
     (scratch / "build").mkdir()
     (scratch / "build" / "rdsim").symlink_to(rdsim)
+    example = pathlib.Path(rdsim).parent / "rdsim_policy_example"  # built beside it (docs/export.md)
+    if example.exists():
+        (scratch / "build" / "rdsim_policy_example").symlink_to(example)
     shutil.copytree(ROOT / "configs", scratch / "configs")
     for name in ("tools", "examples", "assets", "python"):
         if (ROOT / name).exists():

@@ -21,6 +21,7 @@ rdsim::ModelFile sample() {
   f.kind = rdsim::ModelKind::Checkpoint;
   f.config = {{"algorithm", "ppo"}, {"seed", 3}};
   f.payload = std::string("\x00\x01weights\xff", 10);
+  f.policy = "policy";
   return f;
 }
 
@@ -33,6 +34,7 @@ TEST_CASE("model files round-trip", "[model_file]") {
   CHECK(back.kind == rdsim::ModelKind::Checkpoint);
   CHECK(back.config == sample().config);
   CHECK(back.payload == sample().payload);
+  CHECK(back.policy == "policy");
 }
 
 TEST_CASE("damaged, truncated and foreign model files are rejected clearly", "[model_file]") {
@@ -46,7 +48,7 @@ TEST_CASE("damaged, truncated and foreign model files are rejected clearly", "[m
     CHECK_THAT(msg, Contains("m.bin: "));
   }
   std::string flipped = bytes;
-  flipped[bytes.size() - 12] ^= 1;  // inside the payload
+  flipped[bytes.size() - 8 - 6 - 8 - 3] ^= 1;  // inside the payload (before the policy, its length and the checksum)
   CHECK_THAT(decode_error(flipped), Contains("checksum mismatch"));
   for (std::size_t n = 8; n < bytes.size(); ++n) {
     const std::string msg = decode_error(bytes.substr(0, n));

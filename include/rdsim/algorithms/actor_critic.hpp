@@ -5,7 +5,7 @@
 
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/algorithms/observation_normalizer.hpp"
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/nn/cnn.hpp"

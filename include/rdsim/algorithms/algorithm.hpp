@@ -91,9 +91,11 @@ public:
   virtual std::vector<Metrics> learn_from_demonstrations(const DemoFile& demos, const DemonstrationsConfig& config,
                                                          Rng& rng, bool pretrain);
 
-  // The deterministic policy as array operations (policy_program.hpp), for `rdsim export`. The
-  // default: rdsim::Error (the random agent has no policy).
+  // The deterministic policy as array operations (policy/policy_program.hpp), for `rdsim export`
+  // and the policy part of model files. The default: rdsim::Error (the random agent has no policy).
   virtual PolicyProgram policy_program() const;
+  // Whether policy_program() gives one (every algorithm but the random agent).
+  virtual bool has_policy_program() const { return true; }
 
   // The config's "normalize_observations" (observation_normalizer.hpp): called once, right after
   // construction. The default: rdsim::Error (the config reader allows it for the algorithms that

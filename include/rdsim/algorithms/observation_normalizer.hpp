@@ -20,7 +20,7 @@
 namespace rdsim {
 
 class Communicator;    // rdsim/parallel/communicator.hpp
-struct PolicyProgram;  // rdsim/algorithms/policy_program.hpp
+struct PolicyProgram;  // rdsim/policy/policy_program.hpp
 
 class ObservationNormalizer {
 public:

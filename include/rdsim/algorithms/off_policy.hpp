@@ -9,7 +9,7 @@
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/observation_normalizer.hpp"
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 #include "rdsim/algorithms/demonstration_replay.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/her.hpp"

@@ -2,7 +2,7 @@
 #include <map>
 #include <string>
 
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 
 // A policy program (algorithms/policy_program.hpp) as an ONNX model, built with ONNX's own protobuf
 // classes (Debian's libonnx-dev) and checked with its checker: input "observation" (float32

@@ -4,15 +4,11 @@
 #include <vector>
 
 #include "rdsim/core/env.hpp"
+#include "rdsim/core/observation_input.hpp"
 
-// How observations become network input: Float32 vectors as they are; UInt8 pixels (HWC)
-// scaled to [0, 1] and flattened in storage order. One column per observation.
+// Batches of network input (core/observation_input.hpp says how one observation becomes it):
+// one column per observation.
 namespace rdsim {
-
-// Number of network inputs for observations of this space.
-int observation_input_size(const ObservationSpace& space);
-
-void encode_observation(const Observation& obs, const ObservationSpace& space, Eigen::Ref<Eigen::VectorXf> out);
 
 Eigen::MatrixXf observation_batch(const std::vector<Observation>& obs, const ObservationSpace& space);
 

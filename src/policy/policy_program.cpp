@@ -1,4 +1,4 @@
-#include "rdsim/algorithms/policy_program.hpp"
+#include "rdsim/policy/policy_program.hpp"
 
 #include "rdsim/core/assert.hpp"
 #include "rdsim/nn/cnn.hpp"
