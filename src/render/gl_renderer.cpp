@@ -5,14 +5,14 @@
 
 namespace rdsim::render {
 
-void GlRenderer::render(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) {
+void GlRenderer::render(const Scene& scene, const Camera& camera, const RenderTargets& targets) {
   if (camera.width != width_ || camera.height != height_)
     throw Error("renderer: camera is " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
                 " but the renderer was made for " + std::to_string(width_) + "x" + std::to_string(height_));
   check_camera(camera);
   RDSIM_ASSERT(drawer_.has_value(), "GlRenderer: the backend's constructor did not call start()");
   make_current();
-  drawer_->draw(scene, camera, rgb_out);
+  drawer_->draw(scene, camera, targets);
 }
 
 void GlRenderer::start(GlGetProc get_proc, const std::function<void()>& setup) {

@@ -15,7 +15,8 @@ namespace rdsim::render {
 class GlRenderer : public Renderer {
 public:
   // rdsim::Error when the camera's size is not this renderer's or the camera is unusable.
-  void render(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) final;
+  void render(const Scene& scene, const Camera& camera, const RenderTargets& targets) final;
+  using Renderer::render;
 
   int width() const final { return width_; }
   int height() const final { return height_; }

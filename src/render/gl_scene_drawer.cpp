@@ -34,6 +34,11 @@ void flip_rows(std::uint8_t* rgb, int width, int height) {
                      rgb + row * static_cast<size_t>(bottom));
 }
 
+// Metres along the view direction from a depth-buffer value d in [0, 1] of a perspective
+// projection with clip planes n and f: the inverse of d = (f / (f - n)) (1 - n / z). In double:
+// near f the float form loses the millimetres.
+float linear_depth(float d, double n, double f) { return static_cast<float>(n * f / (f - static_cast<double>(d) * (f - n))); }
+
 }  // namespace
 
 GlSceneDrawer::GlSceneDrawer(const GlApi& gl, int width, int height)
@@ -55,8 +60,9 @@ GlSceneDrawer::GlSceneDrawer(const GlApi& gl, int width, int height)
   if (gl_.glGetError() != GL_NO_ERROR) throw Error("renderer: GL setup failed");
 }
 
-void GlSceneDrawer::add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view,
-                             const Eigen::Vector3f& rgb, const Lighting& light) {
+void GlSceneDrawer::add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view, const Paint& paint,
+                             const Lighting& light) {
+  const Eigen::Vector3f& rgb = paint.rgb;
   const MeshRange& r = meshes_.range(mesh);
   const Eigen::Matrix3f linear = model_view.topLeftCorner<3, 3>();
   const Eigen::Vector3f offset = model_view.topRightCorner<3, 1>();
@@ -69,14 +75,15 @@ void GlSceneDrawer::add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view,
     const float shade = light.ambient + light.diffuse * std::max(0.0f, n.dot(light.to_light));
     vertices_.push_back({p.x(), p.y(), p.z(),
                          {to_byte(rgb.x() * shade), to_byte(rgb.y() * shade),
-                          to_byte(rgb.z() * shade), 255}});
+                          to_byte(rgb.z() * shade), paint.segment}});
   }
   const std::uint16_t* tri = meshes_.indices.data() + r.first_index;
   for (int t = 0; t < r.index_count; t += 3, tri += 3) add_if_facing(base + tri[0], base + tri[1], base + tri[2]);
 }
 
 void GlSceneDrawer::add_triangle_mesh(const TriangleMesh& mesh, const Eigen::Matrix4f& model_view,
-                                      const Eigen::Vector3f& rgb, const Lighting& light) {
+                                      const Paint& paint, const Lighting& light) {
+  const Eigen::Vector3f& rgb = paint.rgb;
   const Eigen::Matrix3f linear = model_view.topLeftCorner<3, 3>();
   const Eigen::Vector3f offset = model_view.topRightCorner<3, 1>();
   const auto base = static_cast<GLuint>(vertices_.size());
@@ -87,7 +94,7 @@ void GlSceneDrawer::add_triangle_mesh(const TriangleMesh& mesh, const Eigen::Mat
     const float shade = light.ambient + light.diffuse * std::max(0.0f, n.dot(light.to_light));
     const Eigen::Vector3f c = coloured ? Eigen::Vector3f(rgb.cwiseProduct(mesh.colors[i])) : rgb;
     vertices_.push_back({p.x(), p.y(), p.z(),
-                         {to_byte(c.x() * shade), to_byte(c.y() * shade), to_byte(c.z() * shade), 255}});
+                         {to_byte(c.x() * shade), to_byte(c.y() * shade), to_byte(c.z() * shade), paint.segment}});
   }
   for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
     add_if_facing(base + mesh.indices[t], base + mesh.indices[t + 1], base + mesh.indices[t + 2]);
@@ -109,39 +116,39 @@ void GlSceneDrawer::add_item(const DrawItem& item, const Eigen::Matrix4f& view, 
                              const Lighting& light) {
   const Eigen::Matrix4f mv = view * item.pose.matrix();
   const Eigen::Vector3f& s = item.size;
-  const Eigen::Vector3f rgb = item.rgba.head<3>();
+  const Paint paint{item.rgba.head<3>(), item.segment};
   switch (item.kind) {
     case DrawShape::Box:
-      add_mesh(UnitMesh::Box, scaled(mv, s), rgb, light);
+      add_mesh(UnitMesh::Box, scaled(mv, s), paint, light);
       break;
     case DrawShape::Cylinder:
-      add_mesh(UnitMesh::Cylinder, scaled(mv, {s.x(), s.x(), 0.5f * s.y()}), rgb, light);
+      add_mesh(UnitMesh::Cylinder, scaled(mv, {s.x(), s.x(), 0.5f * s.y()}), paint, light);
       break;
     case DrawShape::Sphere:
-      add_mesh(UnitMesh::Sphere, scaled(mv, Eigen::Vector3f::Constant(s.x())), rgb, light);
+      add_mesh(UnitMesh::Sphere, scaled(mv, Eigen::Vector3f::Constant(s.x())), paint, light);
       break;
     case DrawShape::Capsule: {
       const float r = s.x(), half = 0.5f * s.y();
-      if (half > 0.0f) add_mesh(UnitMesh::Cylinder, scaled(mv, {r, r, half}), rgb, light);
+      if (half > 0.0f) add_mesh(UnitMesh::Cylinder, scaled(mv, {r, r, half}), paint, light);
       // The lower cap is the upper one turned upside down (x and z flipped: a rotation).
       add_mesh(UnitMesh::Hemisphere, scaled(translated_z(mv, half), Eigen::Vector3f::Constant(r)),
-               rgb, light);
-      add_mesh(UnitMesh::Hemisphere, scaled(translated_z(mv, -half), {-r, r, -r}), rgb, light);
+               paint, light);
+      add_mesh(UnitMesh::Hemisphere, scaled(translated_z(mv, -half), {-r, r, -r}), paint, light);
       break;
     }
     case DrawShape::Mesh:
-      if (item.mesh) add_triangle_mesh(*item.mesh, mv, rgb, light);
+      if (item.mesh) add_triangle_mesh(*item.mesh, mv, paint, light);
       break;
     case DrawShape::Plane: {
       const float hx = s.x() > 0.0f ? s.x() : far_extent;
       const float hy = s.y() > 0.0f ? s.y() : far_extent;
-      add_mesh(UnitMesh::Quad, scaled(mv, {hx, hy, 1.0f}), rgb, light);
+      add_mesh(UnitMesh::Quad, scaled(mv, {hx, hy, 1.0f}), paint, light);
       break;
     }
   }
 }
 
-void GlSceneDrawer::draw(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) {
+void GlSceneDrawer::draw(const Scene& scene, const Camera& camera, const RenderTargets& targets) {
   const Eigen::Matrix4f view = view_matrix(camera);
   const Lighting light{-(view.topLeftCorner<3, 3>() * scene.light_direction).normalized(),
                        scene.ambient, scene.diffuse};
@@ -150,7 +157,8 @@ void GlSceneDrawer::draw(const Scene& scene, const Camera& camera, std::uint8_t*
   for (const DrawItem& item : scene.items)
     if (item.rgba[3] > 0.0f) add_item(item, view, camera.zfar, light);
 
-  gl_.glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 1.0f);
+  // Alpha 0: the background's segment id.
+  gl_.glClearColor(scene.background.x(), scene.background.y(), scene.background.z(), 0.0f);
   gl_.glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   gl_.glLoadMatrixf(projection_matrix(camera).data());
   if (!indices_.empty()) {
@@ -159,8 +167,36 @@ void GlSceneDrawer::draw(const Scene& scene, const Camera& camera, std::uint8_t*
     gl_.glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(indices_.size()), GL_UNSIGNED_INT,
                        indices_.data());
   }
-  gl_.glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, rgb_out);
-  flip_rows(rgb_out, width_, height_);
+  read_back(camera, targets);
+}
+
+void GlSceneDrawer::read_back(const Camera& camera, const RenderTargets& targets) {
+  const auto pixels = static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_);
+  if (targets.segmentation) {
+    rgba_.resize(4 * pixels);
+    gl_.glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rgba_.data());
+    for (int y = 0; y < height_; ++y) {  // GL's bottom row first: row y is image row height - 1 - y
+      const std::uint8_t* from = rgba_.data() + 4 * static_cast<std::size_t>(y) * static_cast<std::size_t>(width_);
+      const std::size_t to = static_cast<std::size_t>(height_ - 1 - y) * static_cast<std::size_t>(width_);
+      for (int x = 0; x < width_; ++x, from += 4) {
+        targets.segmentation[to + static_cast<std::size_t>(x)] = from[3];
+        if (targets.rgb) std::copy(from, from + 3, targets.rgb + 3 * (to + static_cast<std::size_t>(x)));
+      }
+    }
+  } else if (targets.rgb) {
+    gl_.glReadPixels(0, 0, width_, height_, GL_RGB, GL_UNSIGNED_BYTE, targets.rgb);
+    flip_rows(targets.rgb, width_, height_);
+  }
+  if (targets.depth) {
+    depth_.resize(pixels);
+    gl_.glReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth_.data());
+    const double n = camera.znear, f = camera.zfar;
+    for (int y = 0; y < height_; ++y) {
+      const float* from = depth_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(width_);
+      float* to = targets.depth + static_cast<std::size_t>(height_ - 1 - y) * static_cast<std::size_t>(width_);
+      for (int x = 0; x < width_; ++x) to[x] = linear_depth(from[x], n, f);
+    }
+  }
 }
 
 }  // namespace rdsim::render

@@ -12,6 +12,7 @@
 
 #include "rdsim/render/gl_api.hpp"
 #include "rdsim/render/camera.hpp"
+#include "rdsim/render/render_targets.hpp"
 #include "rdsim/render/scene.hpp"
 #include "unit_meshes.hpp"
 
@@ -24,8 +25,11 @@ public:
   GlSceneDrawer(const GlSceneDrawer&) = delete;
   GlSceneDrawer& operator=(const GlSceneDrawer&) = delete;
 
-  // The drawer's context must be current. Writes height x width x 3 bytes, row 0 = top.
-  void draw(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out);
+  // The drawer's context must be current. Draws once and reads back the targets given (row 0 =
+  // top): colour from the colour buffer's RGB, segmentation from its alpha (each vertex carries
+  // its item's id there, constant over each triangle, and nothing blends), depth from the depth
+  // buffer, made linear.
+  void draw(const Scene& scene, const Camera& camera, const RenderTargets& targets);
 
 private:
   struct Vertex {
@@ -37,13 +41,20 @@ private:
     float ambient, diffuse;
   };
 
+  // What each vertex of an item gets besides its position: the item's colour and segment id.
+  struct Paint {
+    Eigen::Vector3f rgb;
+    std::uint8_t segment;
+  };
+
   void add_item(const DrawItem& item, const Eigen::Matrix4f& view, float far_extent,
                 const Lighting& light);
-  void add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view, const Eigen::Vector3f& rgb,
-                const Lighting& light);
+  void add_mesh(UnitMesh mesh, const Eigen::Matrix4f& model_view, const Paint& paint, const Lighting& light);
   // A loaded mesh (DrawShape::Mesh): the same transform, lighting and culling, 32-bit indices.
-  void add_triangle_mesh(const TriangleMesh& mesh, const Eigen::Matrix4f& model_view, const Eigen::Vector3f& rgb,
+  void add_triangle_mesh(const TriangleMesh& mesh, const Eigen::Matrix4f& model_view, const Paint& paint,
                          const Lighting& light);
+  // The colour buffer into rgb and/or segmentation, the depth buffer into depth (RenderTargets).
+  void read_back(const Camera& camera, const RenderTargets& targets);
   // Back-face culling of the triangle (a, b, c) of vertices_ (indices absolute).
   void add_if_facing(GLuint a, GLuint b, GLuint c);
 
@@ -53,6 +64,9 @@ private:
   // Rebuilt every frame; kept to reuse their capacity.
   std::vector<Vertex> vertices_;
   std::vector<GLuint> indices_;
+  // Read-back scratch (RGBA bytes, depth buffer values), kept to reuse their capacity.
+  std::vector<std::uint8_t> rgba_;
+  std::vector<float> depth_;
 };
 
 }  // namespace rdsim::render

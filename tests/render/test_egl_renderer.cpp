@@ -119,6 +119,32 @@ TEST_CASE("egl draws the workspace scene like osmesa", "[render][egl]") {
   }
 }
 
+TEST_CASE("egl gives osmesa's depth and segmentation images", "[render][egl][depth][segmentation]") {
+  if (!egl_available()) return;
+  const int w = 64, h = 48;
+  auto egl = make_renderer("egl", w, h);
+  auto osmesa = make_renderer("osmesa", w, h);
+  Scene s = workspace_scene();
+  for (std::size_t i = 0; i < s.items.size(); ++i) s.items[i].segment = static_cast<std::uint8_t>(1 + i);
+  const Camera cam = make_orbit_camera(paper_main_view(), w, h);
+  const auto n = static_cast<std::size_t>(w * h);
+  std::vector<float> depth_egl(n), depth_osmesa(n);
+  std::vector<std::uint8_t> seg_egl(n), seg_osmesa(n);
+  egl->render(s, cam, RenderTargets{.depth = depth_egl.data(), .segmentation = seg_egl.data()});
+  osmesa->render(s, cam, RenderTargets{.depth = depth_osmesa.data(), .segmentation = seg_osmesa.data()});
+  std::size_t ids_differ = 0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    ids_differ += seg_egl[i] != seg_osmesa[i];
+    if (seg_egl[i] == seg_osmesa[i]) worst = std::max(worst, static_cast<double>(std::abs(depth_egl[i] - depth_osmesa[i])));
+  }
+  INFO("egl on " << egl->device() << ": " << ids_differ << " ids of " << n << " differ; largest depth difference "
+                 << worst << " m");
+  // As for colour (above): on llvmpipe a pixel on a shared edge may fall to the other triangle.
+  CHECK(ids_differ <= (is_llvmpipe(*egl) && is_llvmpipe(*osmesa) ? n / 1000 : n / 50));
+  CHECK(worst <= 1e-3);
+}
+
 TEST_CASE("egl rendering is deterministic, across frames and across renderers", "[render][egl]") {
   if (!egl_available()) return;
   Scene s = workspace_scene();

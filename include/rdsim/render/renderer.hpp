@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rdsim/render/camera.hpp"
+#include "rdsim/render/render_targets.hpp"
 #include "rdsim/render/scene.hpp"
 
 namespace rdsim {
@@ -18,10 +19,13 @@ class Renderer {
 public:
   virtual ~Renderer() = default;
 
+  // Draws the scene once into the targets given. rdsim::Error when camera.width/height differ
+  // from this renderer's size or the camera is unusable (see check_camera).
+  virtual void render(const Scene& scene, const Camera& camera, const RenderTargets& targets) = 0;
   // Writes height x width x 3 bytes (RGB, row-major, row 0 = TOP of the image) to rgb_out.
-  // rdsim::Error when camera.width/height differ from this renderer's size or the camera is
-  // unusable (see check_camera).
-  virtual void render(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) = 0;
+  void render(const Scene& scene, const Camera& camera, std::uint8_t* rgb_out) {
+    render(scene, camera, RenderTargets{.rgb = rgb_out});
+  }
 
   virtual int width() const = 0;
   virtual int height() const = 0;

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -22,12 +23,15 @@ enum class DrawShape { Box, Cylinder, Sphere, Capsule, Plane, Mesh };
 //   Mesh:     `mesh`'s triangles as they are (size unused); its own colours, when it has any,
 //             are multiplied with rgb. Triangles seen from behind are not drawn.
 // rgba: colours in [0, 1]. Items are opaque; alpha == 0 hides the item without removing it.
+// segment: the id a segmentation image shows where the item is visible (RenderTargets); 0 is
+// the background's, so an item left at 0 is indistinguishable from it.
 struct DrawItem {
   DrawShape kind = DrawShape::Box;
   Eigen::Vector3f size{0.05f, 0.05f, 0.05f};
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
   Eigen::Vector4f rgba{0.7f, 0.7f, 0.7f, 1.0f};
   std::shared_ptr<const TriangleMesh> mesh;  // Mesh only; shared, never changed
+  std::uint8_t segment = 0;
 };
 
 DrawItem make_box(const Eigen::Vector3f& half_extents, const Eigen::Vector4f& rgba);
