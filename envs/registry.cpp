@@ -6,6 +6,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/suggest.hpp"
 #include "rdsim/envs/classic/cartpole.hpp"
+#include "rdsim/envs/randomization.hpp"
 #include "rdsim/envs/reaching/inmoov_tomato.hpp"
 #include "rdsim/envs/reaching/jaka_button.hpp"
 #include "rdsim/envs/reaching/jaka_obstacle.hpp"
@@ -106,7 +107,10 @@ std::vector<config::FieldDoc> env_fields(const EnvEntry& entry) {
 
 std::vector<std::string> env_keys(const EnvEntry& entry) {
   std::vector<std::string> keys;
-  for (const config::FieldDoc& row : env_fields(entry)) keys.push_back(row.key);
+  for (const config::FieldDoc& row : env_fields(entry)) {
+    const std::string key = row.key.substr(0, row.key.find('.'));  // an object's keys: the object once
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  }
   return keys;
 }
 
@@ -118,6 +122,19 @@ bool env_reads(const EnvEntry& entry, const std::string& key) {
 void resolve_env_paths(EnvConfig& config, const std::string& folder) {
   if (auto* arm = config.find<ArmOptions>()) resolve_arm_paths(*arm, folder);
 }
+
+namespace {
+
+// What "randomize" needs of the rest of the env's config.
+void check_randomization(ConfigReader& r, const Randomization& z, const EnvConfig& c, const std::string& name) {
+  if (z.action_latency >= c.max_steps)
+    r.fail("randomize.action_latency", std::to_string(z.action_latency) + " steps is not shorter than " + name +
+                                           "'s episode (max_steps " + std::to_string(c.max_steps) + ")");
+  if (z.observation_noise > 0.0 && c.observation != ObservationMode::GroundTruth)
+    r.fail("randomize.observation_noise", "applies to ground-truth observations only (\"observation\": \"ground_truth\")");
+}
+
+}  // namespace
 
 EnvConfig read_env_config(ConfigReader& r) {
   std::string name;
@@ -163,6 +180,7 @@ EnvConfig read_env_config(ConfigReader& r) {
     r.fail("render_height", "has no effect without \"render_mode\": \"rgb_array\"");
   if (!pixels && !frames && c.renderer != defaults.renderer)
     r.fail("renderer", "has no effect when nothing is drawn (needs \"observation\": \"raw_pixels\" or \"render_mode\": \"rgb_array\")");
+  if (const auto* group = c.find<RandomizeOptions>()) check_randomization(r, group->randomize, c, name);
   return c;
 }
 
@@ -223,7 +241,10 @@ std::unique_ptr<Env> make_env(const EnvConfig& config) {
   // env reads, even when `config` was built in code without them.)
   const nlohmann::json json = to_json(config);
   ConfigReader reader(json, config.name, "env");
-  return entry.make(read_env_config(reader));
+  const EnvConfig resolved = read_env_config(reader);
+  std::unique_ptr<Env> env = entry.make(resolved);
+  if (const auto* r = resolved.find<RandomizeOptions>()) return randomized(std::move(env), r->randomize);
+  return env;
 }
 
 }  // namespace rdsim

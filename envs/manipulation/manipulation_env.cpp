@@ -9,6 +9,7 @@
 #include "rdsim/envs/arm_options.hpp"
 #include "rdsim/envs/episode_state.hpp"
 #include "rdsim/envs/manipulation/gripper_arm.hpp"
+#include "rdsim/envs/randomization.hpp"
 #include "rdsim/envs/reaching/reach_arm.hpp"
 
 namespace rdsim {
@@ -74,7 +75,7 @@ EnvConfig manipulation_env_config(const std::string& name, ManipulationOptions o
                  .workspace_min = {0.2, -0.35, 0.025},
                  .workspace_max = {0.75, 0.35, 0.35}};
   arm.has_target = false;
-  c.options = {EnvOptions(std::move(options)), EnvOptions(std::move(arm))};
+  c.options = {EnvOptions(std::move(options)), EnvOptions(std::move(arm)), EnvOptions(RandomizeOptions{})};
   return c;
 }
 

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "rdsim/envs/randomization.hpp"
+
 namespace rdsim {
 
 std::string asset_root(const ReachOptions& options) {
@@ -10,7 +12,7 @@ std::string asset_root(const ReachOptions& options) {
 }
 
 EnvConfig reach_env_config(EnvConfig common, ReachOptions options) {
-  common.options = {EnvOptions(std::move(options))};
+  common.options = {EnvOptions(std::move(options)), EnvOptions(RandomizeOptions{})};
   return common;
 }
 

@@ -28,12 +28,22 @@ nlohmann::json json_value(const std::string& where, const std::string& key, cons
     for (const py::handle item : value) list.push_back(json_value(where, key, item));
     return list;
   }
+  // Option objects ("randomize": {...}): a dict of string keys and the values above.
+  if (py::isinstance<py::dict>(value)) {
+    nlohmann::json object = nlohmann::json::object();
+    for (const auto& [k, v] : value.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(k)) throw Error(where + ": " + key + ": expected string keys, got a Python " + type_name(k));
+      const std::string name = k.cast<std::string>();
+      object[name] = json_value(where, key + "." + name, v);
+    }
+    return object;
+  }
   if (py::hasattr(value, "tolist") && py::hasattr(value, "dtype") && py::len(value.attr("shape")) == 1)
     return json_value(where, key, value.attr("tolist")());
   // NumPy scalars (np.int64(5), np.float32(0.1), np.bool_) read as the Python values they hold.
   if (py::hasattr(value, "item") && py::hasattr(value, "dtype") && py::len(value.attr("shape")) == 0)
     return json_value(where, key, value.attr("item")());
-  throw Error(where + ": " + key + ": expected a number, true/false, a string or a list of them, got a Python " +
+  throw Error(where + ": " + key + ": expected a number, true/false, a string, or a list or dict of them, got a Python " +
               type_name(value));
 }
 

@@ -17,6 +17,7 @@
 #include "rdsim/envs/manipulation/manipulation_options.hpp"
 #include "rdsim/envs/reaching/obstacle_options.hpp"
 #include "rdsim/envs/reaching/reach_options.hpp"
+#include "rdsim/envs/randomization.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using namespace rdsim;
@@ -71,9 +72,10 @@ TEST_CASE("every env option key is declared exactly once", "[config][envs]") {
     CHECK(count == 1);
   }
   // The groups are the reaching tasks', the Jaka's button, the obstacle's, the arm (reach's and the
-  // manipulation tasks') and the manipulation tasks' (a new group shows up here).
+  // manipulation tasks'), the manipulation tasks' and every robot task's randomization (a new group
+  // shows up here).
   CHECK(groups == std::set<std::type_index>{typeid(ReachOptions), typeid(ButtonOptions), typeid(ObstacleOptions),
-                                            typeid(ArmOptions), typeid(ManipulationOptions)});
+                                            typeid(ArmOptions), typeid(ManipulationOptions), typeid(RandomizeOptions)});
 }
 
 TEST_CASE("the registry accepts for each env exactly the union of the descriptions it uses", "[config][envs]") {
@@ -88,7 +90,10 @@ TEST_CASE("the registry accepts for each env exactly the union of the descriptio
   std::vector<std::string> arm = group<ArmOptions>();
   std::erase(arm, "target_centre");
   std::erase(arm, "target_half_range");
-  const std::set<std::string> manipulation = with(with(pixel_core, group<ManipulationOptions>()), arm);
+  const std::set<std::string> manipulation =
+      with(with(with(pixel_core, group<ManipulationOptions>()), arm), std::vector<std::string>{"randomize"});
+  // Every robot task also reads "randomize" (one object key).
+  pixel_core.insert("randomize");
   const std::map<std::string, std::set<std::string>> expected = {
       {"cartpole", core},
       {"pendulum", core},

@@ -41,7 +41,8 @@ EnvConfig default_env_config(const std::string& name);
 // one declaration: core's describe_env_basics, describe_env_drawing (envs with cameras), then the
 // describe() of each option group its defaults hold.
 std::vector<config::FieldDoc> env_fields(const EnvEntry& entry);
-// The keys of env_fields(entry), in that order.
+// The keys of env_fields(entry), in that order, as the env object holds them: an object key
+// ("randomize") once for all its fields ("randomize.action_latency", ...).
 std::vector<std::string> env_keys(const EnvEntry& entry);
 bool env_reads(const EnvEntry& entry, const std::string& key);
 

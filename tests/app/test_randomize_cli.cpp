@@ -1,0 +1,67 @@
+// Domain randomization ("randomize" in the env object, issue #43 item 1) through the real binary:
+// the same CSVs for the same seed on 1 and 2 threads, after kill -9 and
+// --resume the run of one never killed, and one clear error per misuse. The randomization itself:
+// tests/envs/test_randomization.cpp.
+#include <catch2/catch.hpp>
+
+#include "process_util.hpp"
+#include "rl_test_util.hpp"
+
+using rltest::run_logs;
+using rltest::run_rdsim;
+using rltest::ScratchDir;
+using namespace std::chrono_literals;
+
+namespace {
+
+// PPO on jaka_button with 2 steps of latency and 5 mm of noise (about a second), checkpoints every 2048 steps.
+const char* ppo_text = R"({"algorithm": "ppo", "env": {"name": "jaka_button", "random_target": true,
+  "randomize": {"action_latency": 2, "observation_noise": 0.005}}, "seed": 6, "total_timesteps": 40960, "num_envs": 4,
+  "checkpoint_interval": 2048, "network": {"hidden_sizes": [32, 32]}, "ppo": {"n_steps": 256, "batch_size": 256}})";
+
+}  // namespace
+
+TEST_CASE("randomize: the same seed gives the same CSVs on 1 and 2 threads", "[cli][randomize]") {
+  ScratchDir dir("randomize_threads");
+  const std::string config = dir / "ppo.json";
+  rltest::spit(config, ppo_text);
+  for (const std::string threads : {"1", "2"}) {
+    const auto r = run_rdsim("train --quiet --config " + config + " --threads " + threads + " --log-dir " + (dir / ("t" + threads)), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  CHECK(run_logs(dir / "t1") == run_logs(dir / "t2"));
+  // Not the run without randomization: the option is in effect.
+  nlohmann::json plain = nlohmann::json::parse(ppo_text);
+  plain["env"].erase("randomize");
+  rltest::spit(dir / "plain.json", plain.dump());
+  REQUIRE(run_rdsim("train --quiet --config " + (dir / "plain.json") + " --log-dir " + (dir / "plain"), dir).exit_code == 0);
+  CHECK_FALSE(run_logs(dir / "t1") == run_logs(dir / "plain"));
+}
+
+TEST_CASE("randomize: after kill -9 and --resume the run of one never killed", "[cli][randomize]") {
+  ScratchDir dir("randomize_resume");
+  const std::string config = dir / "ppo.json";
+  rltest::spit(config, ppo_text);
+  auto r = run_rdsim("train --quiet --config " + config + " --log-dir " + (dir / "whole"), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string run = dir / "killed";
+  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 20ms));
+  r = run_rdsim("train --quiet --resume " + run, dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(run_logs(run) == run_logs(dir / "whole"));
+}
+
+TEST_CASE("randomize: misuse is one clear error naming the config and the key", "[cli][randomize]") {
+  ScratchDir dir("randomize_errors");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"env": {"name": "jaka_button", "randomize": {"observation_noise": -1}}})", "env.randomize.observation_noise"},
+      {R"({"env": {"name": "jaka_button", "randomize": {"friction": [0.5, 1.5]}}})", "env.randomize.friction"},
+      {R"({"env": {"name": "jaka_button", "max_steps": 20, "randomize": {"action_latency": 25}}})",
+       "env.randomize.action_latency: 25 steps is not shorter than"},
+      {R"({"env": {"name": "cartpole", "randomize": {"action_latency": 1}}})", "env.randomize"},
+  };
+  rltest::check_config_errors(dir, cases);
+}
