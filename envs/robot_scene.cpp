@@ -1,5 +1,7 @@
 #include "rdsim/envs/robot_scene.hpp"
 
+#include <algorithm>
+
 #include "rdsim/envs/reaching/reach_task.hpp"
 
 namespace rdsim {
@@ -19,12 +21,25 @@ DrawItem visual_item(const VisualShape& visual) {
   return item;
 }
 
+namespace {
+
+// The next segmentation id, named `name` (RobotScene::segments), as an image's byte holds it.
+std::uint8_t new_segment(RobotScene& scene, const std::string& name) {
+  const std::size_t id = scene.segments.size();
+  scene.segments.push_back(name);
+  return static_cast<std::uint8_t>(std::min<std::size_t>(id, 255));
+}
+
+}  // namespace
+
 void add_robot(RobotScene& scene, const Robot& robot) {
   const RobotModel& model = robot.model();
   for (size_t l = 0; l < model.links.size(); ++l) {
     const int link = static_cast<int>(l);
+    const std::uint8_t segment = new_segment(scene, model.name + "/" + model.links[l].name);
     for (const VisualShape& v : model.links[l].visuals) {
       DrawItem item = visual_item(v);
+      item.segment = segment;
       const Eigen::Isometry3f offset = item.pose;
       item.pose = robot.link_pose(link) * offset;
       scene.parts.push_back({robot.body(), link, scene.scene.add(item), offset});
@@ -35,9 +50,11 @@ void add_robot(RobotScene& scene, const Robot& robot) {
 void add_static_body(RobotScene& scene, const PhysicsWorld& world, int body, const RobotModel& model) {
   const std::vector<Eigen::Isometry3d> frames = model.link_poses_at_zero();
   const Eigen::Isometry3f pose = world.static_pose(body);
+  const std::uint8_t segment = new_segment(scene, model.name);
   for (size_t l = 0; l < model.links.size(); ++l)
     for (const VisualShape& v : model.links[l].visuals) {
       DrawItem item = visual_item(v);
+      item.segment = segment;
       const Eigen::Isometry3f offset = frames[l].cast<float>() * item.pose;
       item.pose = pose * offset;
       scene.parts.push_back({body, -1, scene.scene.add(item), offset});

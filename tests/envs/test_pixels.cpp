@@ -1,10 +1,12 @@
 #include <catch2/catch.hpp>
+#include <set>
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/reaching/jaka_button.hpp"
 #include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/envs/robot_scene.hpp"
+#include "rdsim/render/renderer.hpp"
 
 using rdsim::EnvConfig;
 using rdsim::ObsType;
@@ -109,6 +111,45 @@ TEST_CASE("raw pixels are deterministic, and two envs render independently in on
     c.step(rdsim::Action::discrete(5));
   }
   CHECK(alone[4] != alone[0]);  // the arm moved
+}
+
+TEST_CASE("RobotScene: one segmentation id per robot link and static body, each seen where it is visible",
+          "[pixels][segmentation]") {
+  EnvConfig config = rdsim::default_env_config("jaka_button");
+  rdsim::JakaButton env(config);
+  env.reset(0);
+  const rdsim::ReachTask& task = env.task();
+  rdsim::RobotScene scene;
+  rdsim::add_task_bodies(scene, task);
+  const rdsim::RobotModel& robot = task.robot_model();
+  const std::size_t statics = task.spec().statics.size();
+  REQUIRE(scene.segments.size() == 1 + robot.links.size() + statics);
+  CHECK(scene.segments[0] == "background");
+  for (std::size_t l = 0; l < robot.links.size(); ++l) CHECK(scene.segments[1 + l] == robot.name + "/" + robot.links[l].name);
+  for (std::size_t i = 0; i < statics; ++i)
+    CHECK(scene.segments[1 + robot.links.size() + i] == task.static_model(static_cast<int>(i)).name);
+  // Each item carries its link's or body's id.
+  for (const rdsim::ScenePart& part : scene.parts) {
+    const int id = scene.scene.items[static_cast<std::size_t>(part.item)].segment;
+    if (part.link >= 0) CHECK(id == 1 + part.link);
+    else CHECK(id > static_cast<int>(robot.links.size()));
+  }
+  // From the main camera, every static body (table, button) and the arm's links show their ids.
+  const int w = 160, h = 120;
+  auto renderer = rdsim::make_renderer("osmesa", w, h);
+  std::vector<std::uint8_t> ids(static_cast<std::size_t>(w * h));
+  renderer->render(scene.scene, rdsim::make_orbit_camera(rdsim::reach_main_view(), w, h),
+                   rdsim::RenderTargets{.segmentation = ids.data()});
+  const std::set<int> seen(ids.begin(), ids.end());
+  CHECK(*seen.rbegin() < static_cast<int>(scene.segments.size()));
+  for (std::size_t i = 0; i < statics; ++i) {
+    INFO(scene.segments[1 + robot.links.size() + i]);
+    CHECK(seen.count(static_cast<int>(1 + robot.links.size() + i)) == 1);
+  }
+  int links_seen = 0;
+  for (std::size_t l = 0; l < robot.links.size(); ++l)
+    if (!robot.links[l].visuals.empty()) links_seen += static_cast<int>(seen.count(static_cast<int>(1 + l)));
+  CHECK(links_seen >= 5);  // the arm's base and links in view
 }
 
 TEST_CASE("RobotScene: one item per URDF visual, poses follow the robot", "[pixels]") {

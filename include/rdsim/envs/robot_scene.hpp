@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Geometry>
+#include <string>
 #include <vector>
 
 #include "rdsim/render/scene.hpp"
@@ -20,9 +21,15 @@ struct ScenePart {
   Eigen::Isometry3f offset = Eigen::Isometry3f::Identity();
 };
 
+// Segmentation ids (DrawItem::segment, what a segmentation image shows): 0 is the background;
+// then, in the order they are added, one id per link of each robot (every link of its URDF, with
+// visuals or not, so a robot's ids follow from its URDF alone) and one per static body.
+// `segments[id]` names each: "<robot>/<link>" or the static body's model name. Ids above 255 do
+// not fit a segmentation image's byte: their items show 255.
 struct RobotScene {
   Scene scene;
   std::vector<ScenePart> parts;
+  std::vector<std::string> segments{"background"};
 };
 
 // The draw item of a URDF visual shape, centred on the shape (pose = its origin in the link).
