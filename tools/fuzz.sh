@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs rdsim's libFuzzer targets (tests/fuzz/) for as long as asked.
-#   tools/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      targets: config urdf model request demos mesh (default: all)
+#   tools/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]      targets: config urdf model request demos mesh policy (default: all)
 # Builds build-fuzz/ with clang, ASan+UBSan and libFuzzer (RDSIM_FUZZ) if needed. Each target
 # starts from its seed corpus (tests/fuzz/corpus/<target>, copied to build-fuzz/corpus/<target>,
 # which keeps what the fuzzer adds) and writes crashes to build-fuzz/findings/<target>/.
@@ -11,13 +11,13 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(config urdf model request demos mesh)
+[ ${#targets[@]} -gt 0 ] || targets=(config urdf model request demos mesh policy)
 build=${RDSIM_FUZZ_BUILD_DIR:-$root/build-fuzz}
 
 if [ ! -x "$build/fuzz_model" ] || [ -n "${RDSIM_FUZZ_REBUILD:-}" ]; then
   CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRDSIM_FUZZ=ON >/dev/null
 fi
-cmake --build "$build" -j "$(nproc)" --target fuzz_config fuzz_urdf fuzz_model fuzz_request fuzz_demos fuzz_mesh rdsim >/dev/null
+cmake --build "$build" -j "$(nproc)" --target fuzz_config fuzz_urdf fuzz_model fuzz_request fuzz_demos fuzz_mesh fuzz_policy rdsim >/dev/null
 
 export RDSIM_ROOT="$root"
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:allocator_may_return_null=1}
