@@ -9,20 +9,18 @@
 
 namespace rdsim {
 
-Policy Policy::load(const std::string& path) {
-  ModelEnvelope e = read_model_envelope(path);
-  if (e.version < 4)
-    throw Error(path + ": written by an rdsim whose model files had no policy part (format version " +
-                std::to_string(e.version) + "); train it again, or load it with `rdsim replay` or Python's rdsim.load_model");
-  if (e.policy.empty())
-    throw Error(path + ": its algorithm has no policy to run (a random agent's model holds no weights)");
-  return Policy(decode_policy_program(e.policy, path), std::move(e.spec));
-}
+Policy Policy::load(const std::string& path) { return from_envelope(read_model_envelope(path), path); }
 
 Policy Policy::from_bytes(std::string_view bytes, const std::string& source) {
-  ModelEnvelope e = decode_model_envelope(bytes, source);
-  if (e.version < 4 || e.policy.empty())
-    throw Error(source + ": has no policy part (written before model format 4, or by an algorithm without a policy)");
+  return from_envelope(decode_model_envelope(bytes, source), source);
+}
+
+Policy Policy::from_envelope(ModelEnvelope&& e, const std::string& source) {
+  if (e.version < 4)
+    throw Error(source + ": has no policy part (written by an rdsim whose model files had none, format version " +
+                std::to_string(e.version) + "); train it again, or load it with `rdsim replay` or Python's rdsim.load_model");
+  if (e.policy.empty())
+    throw Error(source + ": has no policy part: its algorithm has no policy to run (a random agent's model holds no weights)");
   return Policy(decode_policy_program(e.policy, source), std::move(e.spec));
 }
 

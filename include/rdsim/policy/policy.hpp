@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rdsim/core/env.hpp"
+#include "rdsim/core/model_envelope.hpp"
 #include "rdsim/policy/policy_program.hpp"
 
 // A trained policy loaded from a model.bin (or checkpoint.bin) that `rdsim train` wrote, without
@@ -46,6 +47,8 @@ public:
 
 private:
   Policy(PolicyProgram program, std::string spec);
+  // The policy part of a decoded model file; the errors load() describes, naming `source`.
+  static Policy from_envelope(ModelEnvelope&& envelope, const std::string& source);
   Action action(const Eigen::MatrixXf& y) const;
 
   PolicyProgram program_;
