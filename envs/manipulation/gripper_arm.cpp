@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "rdsim/core/data_dir.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/suggest.hpp"
 #include "rdsim/envs/arm_joints.hpp"

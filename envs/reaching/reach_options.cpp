@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "rdsim/core/data_dir.hpp"
 #include "rdsim/envs/randomization.hpp"
 
 namespace rdsim {

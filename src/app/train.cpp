@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "rdsim/app/command.hpp"
+#include "rdsim/core/data_dir.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/training/data_parallel.hpp"
 #include "rdsim/training/process_communicator.hpp"
@@ -50,7 +51,7 @@ Command train_command_entry() {
             };
             auto l = std::make_shared<Line>();
             TrainerSettings& o = l->settings;
-            auto* config = cmd.add_option("-c,--config", o.config_path, "JSON config file (see configs/)");
+            auto* config = cmd.add_option("-c,--config", o.config_path, "JSON config file (see configs/; a relative path not found here is looked up in the configs rdsim carries)");
             auto* resume = cmd.add_option("--resume", o.resume_dir, "Continue the run in this folder from its last checkpoint");
             config->excludes(resume);
             resume->excludes(config);
@@ -75,6 +76,7 @@ Command train_command_entry() {
             return [l, &cmd] {
               TrainerSettings& s = l->settings;
               if (s.config_path.empty() && s.resume_dir.empty()) throw Error("train: give --config FILE or --resume DIR");
+              if (!s.config_path.empty()) s.config_path = shipped_file(s.config_path);  // an installed rdsim's configs/
               if (cmd.count("--seed")) s.overrides.push_back({"--seed", "seed", l->seed});
               if (cmd.count("--timesteps")) s.overrides.push_back({"--timesteps", "total_timesteps", l->timesteps});
               if (cmd.count("--log-dir")) s.overrides.push_back({"--log-dir", "log_dir", l->log_dir});

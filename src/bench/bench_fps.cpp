@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "rdsim/bench/bench_run.hpp"
+#include "rdsim/core/data_dir.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/training/train_config.hpp"

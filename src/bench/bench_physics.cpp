@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "rdsim/core/data_dir.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/reaching/physics_fidelity.hpp"
 #include "rdsim/training/train_config.hpp"

@@ -1,7 +1,5 @@
 #include "rdsim/core/env_config.hpp"
 
-#include <cstdlib>
-
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
@@ -15,11 +13,6 @@ const char* to_string(RenderMode mode) { return mode == RenderMode::RgbArray ? "
 void EnvConfig::throw_missing_group() const {
   throw Error("env " + name + ": its config has no options of that kind (start from default_env_config(\"" + name +
               "\"); envs/registry.hpp)");
-}
-
-std::string repo_root() {
-  if (const char* root = std::getenv("RDSIM_ROOT"); root && *root) return root;
-  return RDSIM_SOURCE_DIR;
 }
 
 }  // namespace rdsim

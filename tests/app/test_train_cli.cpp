@@ -47,6 +47,33 @@ TEST_CASE("train: a bad config exits non-zero with one clear message", "[cli]") 
   CHECK_THAT(r.err, Contains("cartpole"));
 }
 
+TEST_CASE("train: a relative config not found from the working folder is one rdsim carries (configs/)", "[cli]") {
+  // An installed rdsim (the wheel) carries its configs: `rdsim train --config configs/X.json` works from
+  // any folder. The folder searched is the data root ($RDSIM_ROOT here, else the source tree or the
+  // data beside the installed binary).
+  ScratchDir dir("cli_shipped_config");
+  std::filesystem::create_directories(dir.path / "data/configs");
+  std::filesystem::create_directories(dir.path / "work");
+  std::filesystem::copy_file(short_ppo(dir), dir.path / "data/configs/carried.json");
+  const std::string in_work = "cd " + (dir / "work") + " && RDSIM_ROOT=" + (dir / "data") + " " + RDSIM_BINARY;
+  auto r = rltest::run_captured(in_work, "train --quiet --config configs/carried.json --log-dir run", dir);
+  REQUIRE(r.exit_code == 0);
+  CHECK(std::filesystem::exists(dir.path / "work/run/model.bin"));  // the run folder stays relative to the working folder
+  CHECK_THAT(rltest::slurp(dir / "work/run/config.json"), Contains("\"seed\": 3"));
+
+  // A file of that name in the working folder comes first.
+  std::filesystem::create_directories(dir.path / "work/configs");
+  rltest::spit(dir / "work/configs/carried.json", R"({"env": {"name": "cartpole"}, "ppo": {"n_stepz": 8}})");
+  r = rltest::run_captured(in_work, "train --quiet --config configs/carried.json --log-dir run2", dir);
+  CHECK(r.exit_code == 1);
+  CHECK_THAT(r.err, StartsWith("rdsim: error: configs/carried.json: ppo.n_stepz: unknown key"));
+
+  r = rltest::run_captured(in_work, "train --config configs/nowhere.json", dir);
+  CHECK(r.exit_code == 1);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, Contains("configs/nowhere.json"));
+}
+
 TEST_CASE("train: same config and seed give identical logs, the run folder has every file", "[cli]") {
   ScratchDir dir("cli_determinism");
   const std::string config = short_ppo(dir);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "env_test_util.hpp"
+#include "rdsim/core/data_dir.hpp"
 #include "rdsim/core/env.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/robot_control.hpp"

@@ -8,6 +8,7 @@
 
 #include "../error_of.hpp"
 #include "env_test_util.hpp"
+#include "rdsim/core/data_dir.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/arm_options.hpp"
 #include "rdsim/envs/reaching/reach_arm.hpp"

@@ -111,7 +111,4 @@ void describe(V& v, C& c) {
 const char* to_string(ObservationMode mode);
 const char* to_string(RenderMode mode);
 
-// rdsim's source tree: $RDSIM_ROOT when set, else the one known at build time.
-std::string repo_root();
-
 }  // namespace rdsim
