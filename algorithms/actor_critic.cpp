@@ -20,12 +20,10 @@ void activate(const Eigen::MatrixXf& z, nn::Activation a, Eigen::MatrixXf& y) {
 
 }  // namespace
 
-bool is_image_space(const ObservationSpace& space) {
-  return space.type == ObsType::UInt8 && space.shape.size() == 3;
-}
+bool is_image_space(const ObservationSpace& space) { return space.shape.size() == 3; }
 
 nn::CnnShape cnn_shape(const CnnConfig& config, const ObservationSpace& space, int outputs, const std::string& where) {
-  if (!is_image_space(space)) throw Error(where + ": a CNN needs UInt8 image observations {height, width, channels}");
+  if (!is_image_space(space)) throw Error(where + ": a CNN needs image observations {height, width, channels}");
   const nn::ImageShape image{space.shape[0], space.shape[1], space.shape[2]};
   std::string preset = config.preset;
   if (preset == "auto") preset = image.height >= 84 && image.width >= 84 ? "nature" : "small";
@@ -182,7 +180,7 @@ PolicyProgram ActorCritic::policy_program(const std::string& algorithm, const Ob
   PolicyProgram program;
   program.algorithm = algorithm;
   program.input_size = obs_size_;
-  program.pixels = is_image_space(space);
+  program.pixels = space.type == ObsType::UInt8 && is_image_space(space);  // Float32 images go in as values
   if (program.pixels) program.image_shape = space.shape;
   program.discrete = discrete_;
   program.action_size = discrete_ ? 1 : action_dim_;

@@ -1,7 +1,9 @@
 #include "rdsim/envs/pixel_view.hpp"
 
+#include <algorithm>
 #include <string>
 
+#include "rdsim/core/assert.hpp"
 #include "rdsim/core/error.hpp"
 
 namespace rdsim {
@@ -14,8 +16,16 @@ void check_size(const char* key, int value) {
 
 }  // namespace
 
+ImageChannels::ImageChannels(const std::string& name)
+    : rgb(name.find("rgb") != std::string::npos),
+      depth(name.find("depth") != std::string::npos),
+      segmentation(name.find("segmentation") != std::string::npos) {
+  RDSIM_ASSERT(count() > 0, "image_channels was read from image_channel_names()");
+}
+
 PixelView::PixelView(const ReachTask& task, const EnvConfig& config, const OrbitView& main_view,
-                     const OrbitView& second_view) {
+                     const OrbitView& second_view)
+    : channels_(config.image_channels) {
   check_size("image_width", config.image_width);
   check_size("image_height", config.image_height);
   const int w = config.image_width, h = config.image_height;
@@ -23,18 +33,52 @@ PixelView::PixelView(const ReachTask& task, const EnvConfig& config, const Orbit
   cameras_.push_back(make_orbit_camera(main_view, w, h));
   if (config.multi_view) cameras_.push_back(make_orbit_camera(second_view, w, h));
   for (const Camera& c : cameras_) check_camera(c);
+  for (const Camera& c : cameras_) RDSIM_ASSERT(c.zfar == OrbitView{}.zfar, "pixel_space's depth bound is the cameras' far plane");
   renderer_ = make_renderer(config.renderer, w, h);
-  space_.type = ObsType::UInt8;
-  space_.shape = {h, w, 3 * views()};
+  space_ = pixel_space(config);
+}
+
+ObservationSpace pixel_space(const EnvConfig& config) {
+  const ImageChannels channels(config.image_channels);
+  const int views = config.multi_view ? 2 : 1;
+  ObservationSpace space;
+  space.shape = {config.image_height, config.image_width, channels.count() * views};
+  if (channels.uint8()) {
+    space.type = ObsType::UInt8;
+    return space;
+  }
+  // Float32 channels: bounds per channel, the same at every pixel.
+  space.type = ObsType::Float32;
+  std::vector<float> high;
+  for (int v = 0; v < views; ++v) {
+    if (channels.rgb) high.insert(high.end(), 3, 1.0f);
+    if (channels.depth) high.push_back(OrbitView{}.zfar);
+    if (channels.segmentation) high.push_back(255.0f);
+  }
+  const int pixels = config.image_height * config.image_width, stride = static_cast<int>(high.size());
+  space.low = Eigen::VectorXf::Zero(space.size());
+  space.high.resize(space.size());
+  for (int p = 0; p < pixels; ++p)
+    for (int k = 0; k < stride; ++k) space.high[p * stride + k] = high[static_cast<size_t>(k)];
+  return space;
 }
 
 void PixelView::render(const ReachTask& task, std::vector<std::uint8_t>& pixels) {
+  RDSIM_ASSERT(space_.type == ObsType::UInt8, "UInt8 frames come from an rgb view");
   pixels.resize(static_cast<size_t>(space_.size()));
-  render(task, pixels.data());
+  update_poses(scene_, task.world());
+  render_rgb(pixels.data());
 }
 
-void PixelView::render(const ReachTask& task, std::uint8_t* pixels) {
+void PixelView::render(const ReachTask& task, ObservationOut out) {
   update_poses(scene_, task.world());
+  if (space_.type == ObsType::UInt8)
+    render_rgb(out.pixels);
+  else
+    render_channels(out.values);
+}
+
+void PixelView::render_rgb(std::uint8_t* pixels) {
   if (views() == 1) {
     renderer_->render(scene_.scene, cameras_[0], pixels);
     return;
@@ -49,6 +93,31 @@ void PixelView::render(const ReachTask& task, std::uint8_t* pixels) {
       out[6 * p] = frame_[3 * p];
       out[6 * p + 1] = frame_[3 * p + 1];
       out[6 * p + 2] = frame_[3 * p + 2];
+    }
+  }
+}
+
+// Each camera draws once into the images asked for; each pixel's channels are written in the
+// documented order (r, g, b, depth, segmentation; the first camera's first).
+void PixelView::render_channels(float* values) {
+  const size_t count = static_cast<size_t>(space_.shape[0]) * static_cast<size_t>(space_.shape[1]);
+  const size_t stride = static_cast<size_t>(space_.shape[2]);
+  frame_.resize(channels_.rgb ? 3 * count : 0);
+  depth_.resize(channels_.depth ? count : 0);
+  segmentation_.resize(channels_.segmentation ? count : 0);
+  const RenderTargets targets{.rgb = channels_.rgb ? frame_.data() : nullptr,
+                              .depth = channels_.depth ? depth_.data() : nullptr,
+                              .segmentation = channels_.segmentation ? segmentation_.data() : nullptr};
+  for (int v = 0; v < views(); ++v) {
+    renderer_->render(scene_.scene, cameras_[static_cast<size_t>(v)], targets);
+    float* out = values + static_cast<size_t>(v * channels_.count());
+    for (size_t p = 0; p < count; ++p, out += stride) {
+      float* c = out;
+      if (channels_.rgb) {
+        for (size_t k = 0; k < 3; ++k) *c++ = static_cast<float>(frame_[3 * p + k]) * (1.0f / 255.0f);
+      }
+      if (channels_.depth) *c++ = depth_[p];
+      if (channels_.segmentation) *c = static_cast<float>(segmentation_[p]);
     }
   }
 }

@@ -6,6 +6,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/suggest.hpp"
 #include "rdsim/envs/classic/cartpole.hpp"
+#include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/randomization.hpp"
 #include "rdsim/envs/reaching/inmoov_tomato.hpp"
 #include "rdsim/envs/reaching/jaka_button.hpp"
@@ -174,6 +175,8 @@ EnvConfig read_env_config(ConfigReader& r) {
     r.fail("image_width", "has no effect without \"observation\": \"raw_pixels\"");
   if (!pixels && c.image_height != defaults.image_height)
     r.fail("image_height", "has no effect without \"observation\": \"raw_pixels\"");
+  if (!pixels && c.image_channels != defaults.image_channels)
+    r.fail("image_channels", "has no effect without \"observation\": \"raw_pixels\"");
   if (!frames && c.render_width != defaults.render_width)
     r.fail("render_width", "has no effect without \"render_mode\": \"rgb_array\"");
   if (!frames && c.render_height != defaults.render_height)
@@ -203,15 +206,12 @@ Spec env_spec(const EnvConfig& config) {
   probe.multi_view = d.multi_view;
   probe.image_width = d.image_width;
   probe.image_height = d.image_height;
+  probe.image_channels = d.image_channels;
   probe.render_width = d.render_width;
   probe.render_height = d.render_height;
   probe.renderer = d.renderer;
   Spec spec = make_env(probe)->spec();
-  if (config.observation == ObservationMode::RawPixels) {
-    spec.observation = ObservationSpace{};
-    spec.observation.type = ObsType::UInt8;
-    spec.observation.shape = {config.image_height, config.image_width, config.multi_view ? 6 : 3};
-  }
+  if (config.observation == ObservationMode::RawPixels) spec.observation = pixel_space(config);
   return spec;
 }
 
@@ -226,7 +226,12 @@ void estimate_env_memory(const EnvConfig& config, int num_envs, MemoryEstimate& 
   constexpr double bytes_per_pixel = 32.0;
   if (config.observation == ObservationMode::RawPixels) {
     const double pixels = static_cast<double>(config.image_width) * config.image_height * (config.multi_view ? 2 : 1);
-    estimate.add("raw-pixel images (env.image_width x image_height x num_envs)", bytes_per_pixel * pixels * num_envs);
+    // Float32 channels (image_channels): the larger observation in each of its three copies, and
+    // the depth and id images the renderer writes.
+    const ImageChannels channels(config.image_channels);
+    const double floats = channels.uint8() ? 0.0 : 3.0 * (4.0 * channels.count() - 3.0) + 5.0;
+    estimate.add("raw-pixel images (env.image_width x image_height x num_envs)",
+                 (bytes_per_pixel + floats) * pixels * num_envs);
   }
   if (config.render_mode == RenderMode::RgbArray) {
     const double pixels = static_cast<double>(config.render_width) * config.render_height;

@@ -121,6 +121,7 @@ ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& 
     view.image_width = config.render_width;
     view.image_height = config.render_height;
     view.multi_view = false;
+    view.image_channels = "rgb";  // frames for people
     viewer_ = std::make_unique<PixelView>(*world_, view, arm_main_view(w), arm_second_view(w));
   }
   renderer_backend_ = config.renderer;

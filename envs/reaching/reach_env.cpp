@@ -118,6 +118,7 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
     view.image_width = config.render_width;
     view.image_height = config.render_height;
     view.multi_view = false;
+    view.image_channels = "rgb";  // frames for people
     viewer_ = std::make_unique<PixelView>(*task_, view, terms_.main_view, terms_.second_view);
   }
   renderer_backend_ = config.renderer;
@@ -134,7 +135,7 @@ ReachEnv::~ReachEnv() = default;
 
 void ReachEnv::observe(ObservationOut out) const {
   if (pixels_) {
-    pixels_->render(*task_, out.pixels);
+    pixels_->render(*task_, out);
     return;
   }
   Eigen::Map<Eigen::VectorXf> o(out.values, spec_.observation.size());

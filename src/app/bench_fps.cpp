@@ -4,6 +4,7 @@
 
 #include "rdsim/app/command.hpp"
 #include "rdsim/bench/bench_fps.hpp"
+#include "rdsim/core/env_config.hpp"
 
 namespace rdsim {
 
@@ -18,6 +19,10 @@ Command bench_fps_command_entry() {
             cmd.add_option("--image-size", o->image_sizes,
                            "Raw-pixel image side in pixels, one row each (repeatable; default: 64 and 224)")
                 ->check(CLI::Range(1, 4096));
+            cmd.add_option("--image-channels", o->image_channels,
+                           "Raw-pixel image channels (env image_channels: rgb, rgb_depth_segmentation, ...), one row each "
+                           "(repeatable; default: rgb)")
+                ->check(CLI::IsMember(image_channel_names()));
             cmd.add_option("--runs", o->runs, "Runs per row; the median is reported")->check(CLI::Range(1, 1000))->capture_default_str();
             cmd.add_option("--steps", o->steps, "Env steps per run")->check(CLI::Range(1LL, 1'000'000'000LL))->capture_default_str();
             cmd.add_option("--threads", o->threads,

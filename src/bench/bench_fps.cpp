@@ -28,6 +28,7 @@ struct BenchRow {
   std::string mode;
   std::string preset;                      // "default" or "paper" (configs/paper/)
   int image_size = 0;                      // raw_pixels: square image side; 0 for ground truth
+  std::string image_channels = "rgb";      // raw_pixels: EnvConfig::image_channels
   int action_repeat = 0, solver_iterations = 0, ik_iterations = 0;  // the per-step work (robot envs)
   double steps_per_s = 0;                  // median over runs
   std::vector<double> runs;                // every run, for the JSON
@@ -64,6 +65,7 @@ std::optional<BenchRow> bench_row(const EnvConfig& config, const std::string& pr
   const int image_size = pixels ? config.image_width : 0;
   std::fprintf(stderr, "bench-fps: %s / %s", entry.name.c_str(), mode.c_str());
   if (pixels) std::fprintf(stderr, " %dx%d", config.image_width, config.image_height);
+  if (pixels && config.image_channels != "rgb") std::fprintf(stderr, " %s", config.image_channels.c_str());
   std::fprintf(stderr, "%s ...\n", preset == "default" ? "" : (" / " + preset + " preset").c_str());
   std::unique_ptr<Env> env;
   try {
@@ -77,6 +79,7 @@ std::optional<BenchRow> bench_row(const EnvConfig& config, const std::string& pr
   row.mode = mode;
   row.preset = preset;
   row.image_size = image_size;
+  row.image_channels = config.image_channels;
   row.paper_steps_per_s = paper_rate(entry.name, mode, image_size);
   if (const auto* reach = config.find<ReachOptions>()) {  // the reaching envs: what one env step simulates
     row.action_repeat = reach->action_repeat;
@@ -114,7 +117,10 @@ void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchF
   std::fprintf(out, "\nrdsim bench-fps: env steps/s on one thread, random actions, resets included\n");
   std::fprintf(out, "median of %d runs x %lld steps; physics = the same world stepped with no env work\n\n",
               o.runs, o.steps);
-  std::fprintf(out, "%-16s %-13s %9s ", "env", "observation", "image");
+  int image_width = 9;  // the image column: "224x224", or wider with named channels
+  for (const auto& r : rows)
+    image_width = std::max(image_width, static_cast<int>(bench::image_label(r.image_size, r.image_channels).size()));
+  std::fprintf(out, "%-16s %-13s %*s ", "env", "observation", image_width, "image");
   if (o.paper) std::fprintf(out, "%-8s %13s ", "preset", "work/step");
   std::fprintf(out, "%12s %14s %12s %11s %12s\n", "steps/s", "physics st/s", "env/physics", "paper st/s", "vs paper");
   for (const auto& r : rows) {
@@ -126,8 +132,8 @@ void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchF
       const double g = r.steps_per_s / *r.paper_steps_per_s;
       gain = fmt(g, g < 10.0 ? "%.2fx" : "%.0fx");
     }
-    const std::string image = r.image_size > 0 ? std::to_string(r.image_size) + "x" + std::to_string(r.image_size) : "-";
-    std::fprintf(out, "%-16s %-13s %9s ", r.env.c_str(), r.mode.c_str(), image.c_str());
+    const std::string image = bench::image_label(r.image_size, r.image_channels);
+    std::fprintf(out, "%-16s %-13s %*s ", r.env.c_str(), r.mode.c_str(), image_width, image.c_str());
     if (o.paper) {
       const std::string work = std::to_string(r.action_repeat) + "/" + std::to_string(r.solver_iterations) + "/" +
                                std::to_string(r.ik_iterations);
@@ -150,6 +156,7 @@ nlohmann::json to_json(const std::vector<BenchRow>& rows, const BenchFpsOptions&
   for (const auto& r : rows) {
     nlohmann::json row = {{"env", r.env}, {"observation", r.mode}, {"preset", r.preset},
                           {"image_size", r.image_size > 0 ? nlohmann::json(r.image_size) : nlohmann::json(nullptr)},
+                          {"image_channels", r.image_size > 0 ? nlohmann::json(r.image_channels) : nlohmann::json(nullptr)},
                           {"steps_per_s", r.steps_per_s},
                           {"runs_steps_per_s", r.runs}, {"episodes", r.episodes}};
     row["physics_steps_per_s"] = r.physics_per_s ? nlohmann::json(*r.physics_per_s) : nlohmann::json(nullptr);
@@ -170,6 +177,17 @@ std::vector<int> pixel_sizes(const BenchFpsOptions& o) {
     if (size < 1 || size > 4096)
       throw Error("bench-fps: --image-size: expected 1..4096 pixels, got " + std::to_string(size));
   return o.image_sizes;
+}
+
+// The rows of one env and mode: ground truth has no image (one row of size 0); raw pixels one row
+// per image size and channel choice.
+std::vector<bench::Case> cases_of(const EnvEntry& entry, const std::string& mode, const BenchFpsOptions& o) {
+  if (mode != "raw_pixels") return {{&entry, mode, 0}};
+  const std::vector<std::string> channels = o.image_channels.empty() ? std::vector<std::string>{"rgb"} : o.image_channels;
+  std::vector<bench::Case> cases;
+  for (int size : pixel_sizes(o))
+    for (const std::string& c : channels) cases.push_back({&entry, mode, size, c});
+  return cases;
 }
 
 bool wanted(const std::vector<std::string>& filter, const std::string& value) {
@@ -194,9 +212,9 @@ std::vector<BenchRow> measure(const BenchFpsOptions& o) {
         continue;
       }
       // Ground truth has no image: one row with size 0.
-      const std::vector<int> sizes = mode == "raw_pixels" ? pixel_sizes(o) : std::vector<int>{0};
-      for (int size : sizes)
-        if (auto row = bench_row(bench::row_config(entry.name, mode, size), "default", o)) rows.push_back(std::move(*row));
+      for (const bench::Case& c : cases_of(entry, mode, o))
+        if (auto row = bench_row(bench::row_config(entry.name, mode, c.image_size, c.image_channels), "default", o))
+          rows.push_back(std::move(*row));
     }
   }
   return rows;
@@ -210,9 +228,7 @@ int threads_command(const BenchFpsOptions& o) {
     if (!wanted(o.envs, entry.name)) continue;
     for (std::string mode : {"ground_truth", "raw_pixels"}) {
       if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.observes_pixels())) continue;
-      // Ground truth has no image: one row with size 0.
-      const std::vector<int> sizes = mode == "raw_pixels" ? pixel_sizes(o) : std::vector<int>{0};
-      for (int size : sizes) cases.push_back({&entry, mode, size});
+      for (bench::Case& c : cases_of(entry, mode, o)) cases.push_back(std::move(c));
     }
   }
   if (cases.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");
@@ -223,16 +239,17 @@ int threads_command(const BenchFpsOptions& o) {
 
 namespace bench {
 
-EnvConfig row_config(const std::string& env, const std::string& mode, int image_size) {
+EnvConfig row_config(const std::string& env, const std::string& mode, int image_size, const std::string& image_channels) {
   EnvConfig config = default_env_config(env);
   config.observation = mode == "raw_pixels" ? ObservationMode::RawPixels : ObservationMode::GroundTruth;
   if (image_size > 0) config.image_width = config.image_height = image_size;
+  if (config.observation == ObservationMode::RawPixels) config.image_channels = image_channels;
   return config;
 }
 
 void announce(const Case& c) {
   std::fprintf(stderr, "bench-fps: %s / %s", c.entry->name.c_str(), c.mode.c_str());
-  if (c.image_size > 0) std::fprintf(stderr, " %dx%d", c.image_size, c.image_size);
+  if (c.image_size > 0) std::fprintf(stderr, " %s", image_label(c.image_size, c.image_channels).c_str());
   std::fprintf(stderr, " ...\n");
 }
 

@@ -40,7 +40,7 @@ std::vector<int> thread_counts(const BenchFpsOptions& o) {
 
 std::vector<std::unique_ptr<Env>> make_envs(const Case& c, int n) {
   std::vector<std::unique_ptr<Env>> envs;
-  const EnvConfig config = row_config(c.entry->name, c.mode, c.image_size);
+  const EnvConfig config = row_config(c.entry->name, c.mode, c.image_size, c.image_channels);
   for (int i = 0; i < n; ++i) envs.push_back(c.entry->make(config));
   return envs;
 }
@@ -215,7 +215,7 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
   std::vector<std::unique_ptr<VecEnv>> vecs;
   // Where training's env_workers "auto" picks processes, the same counts on threads too: the
   // comparison in one run.
-  const bool processes = auto_env_workers(row_config(c.entry->name, c.mode, c.image_size)) == EnvWorkers::processes;
+  const bool processes = auto_env_workers(row_config(c.entry->name, c.mode, c.image_size, c.image_channels)) == EnvWorkers::processes;
   // On threads, also in two pipelined groups (the config's env_groups: 2), for envs whose groups
   // overlap (any worker may step them; others would step one group at a time).
   const bool overlapping = make_envs(c, 1).front()->steps_on_any_thread();
@@ -268,7 +268,7 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
   std::fprintf(out, "%-16s %-13s %9s %6s %11s %12s %9s %s\n", "env", "observation", "image", "envs", "workers",
                "steps/s", "speed-up", "  as");
   for (const auto& r : results) {
-    const std::string image = image_label(r.c.image_size);
+    const std::string image = image_label(r.c.image_size, r.c.image_channels);
     std::fprintf(out, "%-16s %-13s %9s %6d %11s %12.0f %9s\n", r.c.entry->name.c_str(), r.c.mode.c_str(),
                  image.c_str(), r.envs, "plain loop", r.plain_per_s, "-");
     for (const auto& t : r.rows) {
@@ -299,7 +299,7 @@ void print(std::FILE* out, const std::vector<CaseResult>& results, const BenchFp
              out);
   for (const auto& r : results) {
     std::fprintf(out, "  %-16s %-13s %9s %+8.0f ns (%.0f vs %.0f ns per env step)\n", r.c.entry->name.c_str(),
-                 r.c.mode.c_str(), image_label(r.c.image_size).c_str(), r.overhead_ns(),
+                 r.c.mode.c_str(), image_label(r.c.image_size, r.c.image_channels).c_str(), r.overhead_ns(),
                  1e9 / r.rows.front().steps_per_s, 1e9 / r.plain_per_s);
   }
   for (const auto& r : results) {
@@ -327,6 +327,7 @@ nlohmann::json to_json(const std::vector<CaseResult>& results, const BenchFpsOpt
                         {"speedup_over_plain_loop", l.steps_per_s / r.plain_per_s}});
     j["rows"].push_back({{"env", r.c.entry->name}, {"observation", r.c.mode}, {"independent_processes", limits},
                          {"image_size", r.c.image_size > 0 ? nlohmann::json(r.c.image_size) : nlohmann::json(nullptr)},
+                         {"image_channels", r.c.image_size > 0 ? nlohmann::json(r.c.image_channels) : nlohmann::json(nullptr)},
                          {"envs", r.envs}, {"plain_loop_steps_per_s", r.plain_per_s},
                          {"plain_loop_runs_steps_per_s", r.plain_runs}, {"threads", threads},
                          {"pool_overhead_ns_per_step", r.overhead_ns()},

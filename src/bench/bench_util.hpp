@@ -40,6 +40,7 @@ struct Case {
   const EnvEntry* entry;
   std::string mode;    // "ground_truth" or "raw_pixels"
   int image_size = 0;  // raw_pixels: square image side; 0 for ground truth
+  std::string image_channels = "rgb";  // raw_pixels: EnvConfig::image_channels
 };
 
 // "bench-fps: env / mode WxH ..." on stderr.
@@ -48,12 +49,16 @@ void announce(const Case& c);
 // `bench-fps --threads N` / `--scaling` (src/bench/bench_threads.cpp).
 int threads_command(const std::vector<Case>& cases, const BenchFpsOptions& o);
 
-// The env's defaults with the row's observation mode and square image side (0: ground truth).
-EnvConfig row_config(const std::string& env, const std::string& mode, int image_size);
+// The env's defaults with the row's observation mode, square image side (0: ground truth) and
+// image channels.
+EnvConfig row_config(const std::string& env, const std::string& mode, int image_size,
+                     const std::string& image_channels = "rgb");
 
-// "64x64", or "-" for ground truth.
-inline std::string image_label(int image_size) {
-  return image_size > 0 ? std::to_string(image_size) + "x" + std::to_string(image_size) : "-";
+// "64x64", "64x64 rgb_depth" (channels other than rgb), or "-" for ground truth.
+inline std::string image_label(int image_size, const std::string& image_channels = "rgb") {
+  if (image_size <= 0) return "-";
+  const std::string size = std::to_string(image_size) + "x" + std::to_string(image_size);
+  return image_channels == "rgb" ? size : size + " " + image_channels;
 }
 
 }  // namespace rdsim::bench

@@ -6,6 +6,7 @@
 #include "rdsim/core/env_caches.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/arm_options.hpp"
+#include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/codec.hpp"
@@ -25,8 +26,10 @@ EnvConfig read_hello_env(const nlohmann::json& env) {
   if (c.render_mode != RenderMode::None)
     reader.fail("render_mode", "not available over the link: ask for camera images with the cameras request");
   if (c.observation == ObservationMode::RawPixels) {
-    const std::size_t bytes = static_cast<std::size_t>(c.image_width) * static_cast<std::size_t>(c.image_height) * 3 *
-                              (c.multi_view ? 2 : 1);
+    const ImageChannels channels(c.image_channels);
+    const std::size_t per_pixel = channels.uint8() ? 3 : sizeof(float) * static_cast<std::size_t>(channels.count());
+    const std::size_t bytes = static_cast<std::size_t>(c.image_width) * static_cast<std::size_t>(c.image_height) *
+                              per_pixel * (c.multi_view ? 2 : 1);
     if (bytes > max_observation_bytes)
       reader.fail("image_width", "an observation of " + std::to_string(c.image_width) + "x" + std::to_string(c.image_height) +
                                      " pixels is larger than this server allows (" +

@@ -83,3 +83,33 @@ TEST_CASE("train -> replay with a CNN policy on jaka_button raw pixels", "[cli][
   CHECK_THAT(a.out, Contains("episode 2"));
   CHECK(a.out == b.out);
 }
+
+TEST_CASE("train -> replay -> export with CNN policies on Float32 colour, depth and segmentation", "[cli][cnn]") {
+  // image_channels: the CNN reads the stacked Float32 channels as they are (PPO, and DQN, whose
+  // replay buffer keeps them as floats); replay rebuilds the env; the ONNX export matches rdsim.
+  rltest::ScratchDir dir("cli_cnn_channels");
+  for (const std::string algorithm : {"ppo", "dqn"}) {
+    INFO(algorithm);
+    const std::string config = dir / (algorithm + ".json");
+    rltest::spit(config, R"({
+      "algorithm": ")" + algorithm + R"(", "env": {"name": "jaka_button", "observation": "raw_pixels", "max_steps": 20,
+                                  "image_width": 32, "image_height": 32, "image_channels": "rgb_depth_segmentation"},
+      "seed": 2, "total_timesteps": 128, "num_envs": 2,
+      "network": {"cnn": {"channels": [8], "kernels": [4], "strides": [4], "fc": [16]}},
+      )" + (algorithm == "ppo" ? R"("ppo": {"n_steps": 32, "batch_size": 32, "n_epochs": 1})"
+                               : R"("dqn": {"learning_starts": 64, "batch_size": 16, "buffer_size": 256})") + R"(
+    })");
+    const std::string run = dir / ("run_" + algorithm);
+    auto r = rltest::run_rdsim("train --quiet --config " + config + " --log-dir " + run, dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto a = rltest::run_rdsim("replay " + run + "/model.bin -n 2 --seed 5", dir);
+    INFO(a.err);
+    REQUIRE(a.exit_code == 0);
+    CHECK_THAT(a.out, Contains("episode 2"));
+    const auto e = rltest::run_rdsim("export " + run + "/model.bin --onnx " + run + "/policy.onnx", dir);
+    INFO(e.err);
+    CHECK(e.exit_code == 0);
+    CHECK(std::filesystem::exists(run + "/policy.onnx"));
+  }
+}

@@ -49,6 +49,19 @@ TEST_CASE("bench-fps: pixel rows default to 64 and 224, bad sizes are refused", 
   CHECK_THROWS_WITH(bench_fps_command(o), Catch::Contains("--image-size") && Catch::Contains("0"));
 }
 
+TEST_CASE("bench-fps: one raw-pixel row per --image-channels, named in the JSON", "[bench]") {
+  BenchFpsOptions o;
+  o.envs = {"jaka_button"};
+  o.modes = {"raw_pixels"};
+  o.image_sizes = {16};
+  o.image_channels = {"rgb", "rgb_depth_segmentation"};
+  const nlohmann::json rows = run_bench(o).at("rows");
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0].at("image_channels") == "rgb");
+  CHECK(rows[1].at("image_channels") == "rgb_depth_segmentation");
+  for (const auto& row : rows) CHECK(row.at("steps_per_s").get<double>() > 0.0);
+}
+
 TEST_CASE("bench-fps --paper: each mode's paper preset next to the defaults, with the work per step", "[bench]") {
   BenchFpsOptions o;
   o.envs = {"jaka_button"};

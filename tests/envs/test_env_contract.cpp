@@ -45,6 +45,8 @@ std::vector<Case> contract_cases() {
     cases.push_back({entry.name + ", raw_pixels", c});
     c.multi_view = true;
     cases.push_back({entry.name + ", raw_pixels, multi_view", c});
+    c.image_channels = "rgb_depth_segmentation";
+    cases.push_back({entry.name + ", raw_pixels, multi_view, depth and segmentation", c});
   }
   // The paper presets (configs/paper/): the same contract with RobotDrlSim's task semantics.
   for (const char* name : {"jaka_button", "jaka_obstacle", "inmoov_tomato"}) {
@@ -62,7 +64,14 @@ void check_spaces(const Spec& spec, const EnvConfig& config) {
   CHECK(spec.max_episode_steps == config.max_steps);
   CHECK(spec.control_dt >= 0.0);
   const ObservationSpace& o = spec.observation;
-  if (o.type == ObsType::Float32) {
+  if (o.type == ObsType::Float32 && config.observation == ObservationMode::RawPixels) {
+    // Stacked Float32 channels (image_channels): r, g, b, depth, segmentation per camera.
+    CHECK(config.image_channels == "rgb_depth_segmentation");
+    CHECK(o.shape == std::vector<int>{config.image_height, config.image_width, config.multi_view ? 10 : 5});
+    REQUIRE(o.low.size() == o.size());
+    REQUIRE(o.high.size() == o.size());
+    CHECK((o.low.array() <= o.high.array()).all());
+  } else if (o.type == ObsType::Float32) {
     REQUIRE(o.shape.size() == 1);
     CHECK(o.shape[0] > 0);
     REQUIRE(o.low.size() == o.shape[0]);

@@ -6,6 +6,7 @@
 #include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/envs/robot_scene.hpp"
+#include "rdsim/render/camera.hpp"
 #include "rdsim/render/renderer.hpp"
 
 using rdsim::EnvConfig;
@@ -216,4 +217,79 @@ TEST_CASE("jaka_obstacle raw pixels: button and column in view, two views stack"
       CHECK(column >= 10);
     }
   }
+}
+
+TEST_CASE("image_channels: Float32 colour, depth and segmentation from one drawing, as the renderer gives them",
+          "[pixels][segmentation]") {
+  EnvConfig colour = pixel_config(true);
+  EnvConfig all = colour;
+  all.image_channels = "rgb_depth_segmentation";
+  rdsim::JakaButton a(colour), b(all);
+  const rdsim::ObservationSpace& space = b.spec().observation;
+  CHECK(space.type == ObsType::Float32);
+  REQUIRE(space.shape == std::vector<int>{64, 64, 5});
+  const rdsim::Camera camera = rdsim::make_orbit_camera(rdsim::reach_main_view(), 64, 64);
+  REQUIRE(space.high.size() == 64 * 64 * 5);
+  CHECK(space.low.isZero());
+  CHECK(space.high.head<5>() == Eigen::Vector<float, 5>(1.0f, 1.0f, 1.0f, camera.zfar, 255.0f));
+  CHECK(space.high.tail<5>() == space.high.head<5>());
+
+  const std::vector<std::uint8_t> rgb = a.reset(5).pixels;
+  const Eigen::VectorXf stacked = b.reset(5).values;
+  REQUIRE(stacked.size() == 64 * 64 * 5);
+  // The same scene drawn straight by a renderer: its depth and ids are what the observation holds.
+  rdsim::RobotScene scene;
+  rdsim::add_task_bodies(scene, b.task());
+  auto renderer = rdsim::make_renderer("osmesa", 64, 64);
+  std::vector<float> depth(64 * 64);
+  std::vector<std::uint8_t> ids(64 * 64);
+  renderer->render(scene.scene, camera, rdsim::RenderTargets{.depth = depth.data(), .segmentation = ids.data()});
+  int mismatches = 0, background = 0, mc = 0, md = 0, ms = 0;
+  for (int p = 0; p < 64 * 64; ++p) {
+    // Colour as the networks scale UInt8 images (times 1/255, not divided by 255: they can differ in the last bit).
+    for (int k = 0; k < 3; ++k) mc += stacked[5 * p + k] != static_cast<float>(rgb[3 * p + k]) * (1.0f / 255.0f);
+    md += stacked[5 * p + 3] != depth[static_cast<size_t>(p)];
+    ms += stacked[5 * p + 4] != static_cast<float>(ids[static_cast<size_t>(p)]);
+    if (ids[static_cast<size_t>(p)] == 0) {
+      ++background;
+      CHECK(stacked[5 * p + 3] == camera.zfar);  // nothing drawn: the far plane
+    } else {
+      CHECK(stacked[5 * p + 3] > 0.1f);  // the table and robot lie a metre or two away
+      CHECK(stacked[5 * p + 3] < 5.0f);
+    }
+  }
+  CHECK(mc == 0);
+  CHECK(md == 0);
+  CHECK(ms == 0);
+  CHECK(background < 64 * 64);
+  std::set<int> id_seen;
+  for (int p = 0; p < 64 * 64; ++p) id_seen.insert(static_cast<int>(stacked[5 * p + 4]));
+  CHECK(id_seen.size() >= 4);  // background, table, button and arm links
+  CHECK(*id_seen.rbegin() < static_cast<int>(scene.segments.size()));
+
+  // One channel alone, and two cameras (the first camera's channels first).
+  EnvConfig depth_only = colour;
+  depth_only.image_channels = "depth";
+  rdsim::JakaButton d(depth_only);
+  CHECK(d.spec().observation.shape == std::vector<int>{64, 64, 1});
+  const Eigen::VectorXf dv = d.reset(5).values;
+  for (int p = 0; p < 64 * 64; ++p) mismatches += dv[p] != stacked[5 * p + 3];
+  CHECK(mismatches == 0);
+  EnvConfig two = colour;
+  two.image_channels = "rgb_depth";
+  two.multi_view = true;
+  rdsim::JakaButton t(two);
+  REQUIRE(t.spec().observation.shape == std::vector<int>{64, 64, 8});
+  const Eigen::VectorXf tv = t.reset(5).values;
+  bool second_differs = false;
+  for (int p = 0; p < 64 * 64; ++p) {
+    for (int k = 0; k < 4; ++k) mismatches += tv[8 * p + k] != stacked[5 * p + k];
+    second_differs = second_differs || tv[8 * p + 7] != tv[8 * p + 3];
+  }
+  CHECK(mismatches == 0);
+  CHECK(second_differs);
+  // Steps give the same channels as a fresh drawing (the observation is rendered every step).
+  const rdsim::StepResult r = b.step(rdsim::Action::discrete(5));
+  CHECK(r.observation.values.size() == stacked.size());
+  CHECK(r.observation.values != stacked);
 }

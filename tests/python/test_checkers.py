@@ -58,6 +58,28 @@ def test_spaces_are_exact():
     assert multi.observation_space.shape == (36, 36, 6)
 
 
+def test_depth_and_segmentation_channels_pass_the_checkers_single_and_vector():
+    options = dict(observation="raw_pixels", image_channels="rgb_depth_segmentation", image_width=36, image_height=32)
+    env = rdsim.make("rdsim/JakaButton-v0", **options)
+    space = env.observation_space
+    assert space.shape == (32, 36, 5) and space.dtype.name == "float32"
+    assert (space.low == 0).all() and (space.high[..., :3] == 1).all() and (space.high[..., 4] == 255).all()
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        gymnasium_check_env(env)
+    obs, _ = env.reset(seed=2)
+    assert space.contains(obs)
+    assert obs[..., 4].max() >= 3 and (obs[..., 4] == obs[..., 4].round()).all()  # integer ids, several bodies
+    depth = rdsim.make("rdsim/JakaButton-v0", observation="raw_pixels", image_channels="depth", image_width=36,
+                       image_height=32).reset(seed=2)[0]
+    assert (depth[..., 0] == obs[..., 3]).all()
+    vec = rdsim.make_vec("rdsim/JakaButton-v0", 2, **options)
+    batch, _ = vec.reset(seed=2)
+    assert batch.shape == (2, 32, 36, 5) and batch.dtype.name == "float32"
+    assert vec.single_observation_space.contains(batch[1])
+    vec.close()
+
+
 def test_render_rgb_array():
     env = rdsim.make("rdsim/JakaButton-v0", render_mode="rgb_array", render_width=64, render_height=48)
     env.reset(seed=3)

@@ -191,6 +191,24 @@ TEST_CASE("server: an authorised CurveZMQ client gets the local env's results bi
   CHECK_THAT(server.log(), Contains("opened: jaka_button for client " + keys.client.public_key + " from 127.0.0.1"));
 }
 
+TEST_CASE("server: Float32 depth and segmentation images travel bit for bit", "[remote][server]") {
+  Scratch dir("curve_channels");
+  TestKeys keys(dir);
+  ServerThread server(curve_options(keys));
+  EnvConfig config = default_env_config("jaka_button");
+  config.observation = ObservationMode::RawPixels;
+  config.image_width = 24;
+  config.image_height = 16;
+  config.image_channels = "rgb_depth_segmentation";
+  const auto remote = connect_remote_env(keys.link(server.endpoint()), config);
+  const auto local = make_env(config);
+  CHECK(remote->spec().observation.shape == std::vector<int>{16, 24, 5});
+  CHECK(remote->spec().observation.type == ObsType::Float32);
+  CHECK(remote->spec().observation.high == local->spec().observation.high);
+  CHECK(remote->reset(4).values == local->reset(4).values);
+  for (int t = 0; t < 5; ++t) REQUIRE(remote->step(Action::discrete(t)).observation.values == local->step(Action::discrete(t)).observation.values);
+}
+
 TEST_CASE("server: a client whose key is not authorised gets nothing, and the refusal is logged", "[remote][server]") {
   Scratch dir("curve_refused");
   TestKeys keys(dir);

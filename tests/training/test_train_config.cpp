@@ -158,6 +158,8 @@ TEST_CASE("keys without effect and contradicting keys are errors naming why", "[
         "td3.batch_size: expected at most buffer_size");
   check(R"({"env": {"name": "jaka_button", "multi_view": true}})", "env.multi_view: has no effect without");
   check(R"({"env": {"name": "jaka_button", "image_width": 128}})", "env.image_width: has no effect without");
+  check(R"({"env": {"name": "jaka_button", "image_channels": "rgb_depth"}})", "env.image_channels: has no effect without");
+  check(R"({"env": {"name": "jaka_button", "observation": "raw_pixels", "image_channels": "rgbd"}})", "env.image_channels");
   check(R"({"env": {"name": "cartpole", "urdf_root": "x"}})", "env.urdf_root: has no effect on cartpole");
   check(R"({"env": {"name": "cartpole"}, "network": {"log_std_init": -1}})", "network.log_std_init: has no effect with discrete");
   check(R"({"env": {"name": "cartpole"}, "network": {"cnn": {"preset": "small"}}})", "network.cnn: has no effect with ground-truth");

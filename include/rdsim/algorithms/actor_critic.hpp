@@ -19,7 +19,8 @@
 // multiplies them by network.input_scale.
 namespace rdsim {
 
-// True when observations of this space are images that need a CNN (UInt8, {height, width, channels}).
+// True when observations of this space are images that need a CNN ({height, width, channels}: UInt8
+// colour, or the Float32 channels of EnvConfig::image_channels).
 bool is_image_space(const ObservationSpace& space);
 
 // The network described by `config` (network.cnn) for images of `space`, `outputs` outputs

@@ -8,7 +8,8 @@
 // declared once, in describe() below (default = the member's initial value).
 namespace rdsim {
 
-// "network.cnn": the convolutional trunk used when the env observes pixels (UInt8 images).
+// "network.cnn": the convolutional trunk used when the env observes pixels (UInt8 images, or the
+// Float32 channels of EnvConfig::image_channels).
 // "preset": "auto" = "small" below 84x84, "nature" at 84x84 and above;
 //   "small"  = 16 8x8/4, 32 4x4/2, fc 256   (Mnih et al. 2013; 64x64 -> 6x6x32 features);
 //   "nature" = 32 8x8/4, 64 4x4/2, 64 3x3/1, fc 512 (Mnih et al. 2015).

@@ -11,6 +11,7 @@ struct BenchFpsOptions {
   std::vector<std::string> envs;        // empty: every registered env
   std::vector<std::string> modes;       // "ground_truth", "raw_pixels"; empty: all supported
   std::vector<int> image_sizes;         // raw_pixels rows: one per square size; empty: 64 and 224
+  std::vector<std::string> image_channels;  // raw_pixels rows: one per EnvConfig::image_channels; empty: rgb
   int runs = 5;                         // the median of this many runs is reported
   long long steps = 20000;              // env steps per run
   std::string json_path;                // "-" for stdout; empty: no JSON

@@ -25,7 +25,8 @@ namespace rdsim {
 enum class ObsType { Float32, UInt8 };
 
 // What an observation looks like. Ground-truth observations are Float32 vectors (shape {n});
-// pixel observations are UInt8 images stored height x width x channels, row-major.
+// pixel observations are UInt8 images (or Float32 stacks of colour, depth and segmentation:
+// EnvConfig::image_channels) stored height x width x channels, row-major.
 struct ObservationSpace {
   ObsType type = ObsType::Float32;
   std::vector<int> shape;

@@ -26,6 +26,7 @@ struct EnvConfig {
   bool multi_view = false;
   int image_width = 64;
   int image_height = 64;
+  std::string image_channels = "rgb";  // image_channel_names(): what a raw-pixel observation's pixels hold
   int render_width = 320;
   int render_height = 240;
   std::string renderer = "osmesa";
@@ -71,6 +72,14 @@ inline const config::Names<RenderMode>& render_mode_names() {
   return names;
 }
 
+// EnvConfig::image_channels: the images a raw-pixel observation stacks, in the order r, g, b, depth,
+// segmentation (envs/pixel_view.hpp). "rgb" alone is the UInt8 image; any other is Float32.
+inline const std::vector<std::string>& image_channel_names() {
+  static const std::vector<std::string> names = {"rgb", "rgb_depth", "rgb_depth_segmentation", "rgb_segmentation",
+                                                 "depth", "depth_segmentation", "segmentation"};
+  return names;
+}
+
 // The keys every env reads.
 template <class V, class C>
   requires config::Describes<C, EnvConfig>
@@ -78,7 +87,7 @@ void describe_env_basics(V& v, C& c) {
   v.field("name", c.name, "registry name (`rdsim envs`)");
   v.check(!c.name.empty(), "name", "expected an environment name (see `rdsim envs`)");
   v.choice("observation", c.observation, observation_mode_names(),
-           "what the agent sees: ground-truth vectors or UInt8 camera images");
+           "what the agent sees: ground-truth vectors or camera images (image_channels)");
   v.field("is_discrete", c.is_discrete, "Discrete(6) end-effector moves, else a continuous Box(3)");
   v.field("max_steps", c.max_steps, config::Range{1, 100'000'000}, "truncation limit (env steps)");
 }
@@ -92,6 +101,10 @@ void describe_env_drawing(V& v, C& c) {
   v.field("multi_view", c.multi_view, "raw pixels from a second camera too (6 channels)");
   v.field("image_width", c.image_width, config::Range{8, 4096}, "raw-pixel observation width");
   v.field("image_height", c.image_height, config::Range{8, 4096}, "raw-pixel observation height");
+  v.choice("image_channels", c.image_channels, image_channel_names(),
+           "what each pixel of a raw-pixel observation holds: rgb = UInt8 colour; the others Float32 channels in "
+           "this order, per camera: r, g, b in [0, 1], depth in metres along the camera's axis (the far plane where "
+           "nothing is), segmentation id (0 background, then the robot's links, then the other bodies: docs: Environments)");
   v.field("render_width", c.render_width, config::Range{8, 4096}, "width of Env::render frames (render_mode rgb_array)");
   v.field("render_height", c.render_height, config::Range{8, 4096}, "height of those frames");
   v.choice("renderer", c.renderer, {"osmesa", "egl", "auto"},

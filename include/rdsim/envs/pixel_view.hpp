@@ -11,9 +11,29 @@
 #include "rdsim/render/renderer.hpp"
 
 // Raw-pixel observations of a reaching env: its robot and static bodies drawn by ONE renderer
-// (created here, once per env, reused every step) from one camera, or two stacked as 6 channels
-// (EnvConfig::multi_view). Image size from EnvConfig::image_width/height (default 64x64).
+// (created here, once per env, reused every step) from one camera, or two stacked (EnvConfig::
+// multi_view). Image size from EnvConfig::image_width/height (default 64x64).
+//
+// EnvConfig::image_channels chooses what each pixel holds. "rgb": UInt8 r, g, b. Any other: Float32
+// channels in the order r, g, b (each in [0, 1]), depth (metres from the camera's plane along its
+// axis, the far plane where nothing is drawn), segmentation (RobotScene's id of the body or link
+// seen, 0 for the background), those named only; with two cameras the first camera's channels
+// come first. All come from one drawing of the scene per camera.
 namespace rdsim {
+
+// The images of EnvConfig::image_channels.
+struct ImageChannels {
+  bool rgb = true, depth = false, segmentation = false;
+
+  explicit ImageChannels(const std::string& name);  // one of image_channel_names()
+  int count() const { return (rgb ? 3 : 0) + (depth ? 1 : 0) + (segmentation ? 1 : 0); }
+  bool uint8() const { return rgb && !depth && !segmentation; }
+};
+
+// The raw-pixel observation space of `config` (what PixelView gives, known without drawing):
+// {image_height, image_width, channels x cameras}; Float32 bounds per channel (depth's is the far
+// plane, which every env camera has at OrbitView's default).
+ObservationSpace pixel_space(const EnvConfig& config);
 
 class PixelView {
 public:
@@ -21,21 +41,27 @@ public:
   // rdsim::Error naming env.image_width/height for sizes outside 1..4096.
   PixelView(const ReachTask& task, const EnvConfig& config, const OrbitView& main_view, const OrbitView& second_view);
 
-  // UInt8 {height, width, 3} (6 channels with multi_view).
+  // {height, width, channels x views}: UInt8 for "rgb" (3 or 6 channels), else Float32.
   const ObservationSpace& space() const { return space_; }
   int views() const { return static_cast<int>(cameras_.size()); }
 
-  // Renders the task's current state into `pixels` (resized to space().size(), HWC).
+  // Renders the task's current state into `pixels` (resized to space().size(), HWC); "rgb" only.
   void render(const ReachTask& task, std::vector<std::uint8_t>& pixels);
-  // The same into caller memory of space().size() bytes (a VecEnv batch column).
-  void render(const ReachTask& task, std::uint8_t* pixels);
+  // The same into caller memory of space().size() bytes or floats (a VecEnv batch column).
+  void render(const ReachTask& task, ObservationOut out);
 
 private:
+  void render_rgb(std::uint8_t* pixels);
+  void render_channels(float* values);
+
   RobotScene scene_;
   std::unique_ptr<Renderer> renderer_;
   std::vector<Camera> cameras_;
+  ImageChannels channels_;
   ObservationSpace space_;
-  std::vector<std::uint8_t> frame_;  // one view, RGB, for multi-view interleaving
+  std::vector<std::uint8_t> frame_;         // one view, RGB, for interleaving
+  std::vector<float> depth_;                // one view, metres
+  std::vector<std::uint8_t> segmentation_;  // one view, ids
 };
 
 }  // namespace rdsim

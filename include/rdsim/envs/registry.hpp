@@ -60,8 +60,8 @@ EnvConfig read_env_config(ConfigReader& reader);
 nlohmann::json to_json(const EnvConfig& config);
 
 // The Spec envs of `config` have, without building a renderer: a ground-truth twin of the env is
-// built once to ask it (cheap), and a raw-pixel space comes from the config ({image_height,
-// image_width, 3 per camera}). So nothing large is allocated before the memory estimate is checked.
+// built once to ask it (cheap), and a raw-pixel space comes from the config (pixel_space). So
+// nothing large is allocated before the memory estimate is checked.
 Spec env_spec(const EnvConfig& config);
 
 // Adds what `num_envs` envs of `config` will allocate to `estimate`: physics worlds and, when they

@@ -51,6 +51,7 @@
 //                    (`rdsim demos record --expert --env inmoov_tomato -n 200 --seed 3000 [--continuous]`).
 //   raw_pixels       UInt8 image_height x image_width x 3 (x 6 with multi_view) from
 //                    inmoov_main_view() / inmoov_second_view() below: tree, tomatoes, right arm.
+//                    (image_channels: Float32 colour, depth, segmentation instead)
 namespace rdsim {
 
 EnvConfig inmoov_tomato_defaults();

@@ -42,6 +42,7 @@
 //   observation      ground truth, 6 floats: target - flange (3), flange position (3); bounds in the Spec.
 //                    raw_pixels: UInt8 image_height x image_width x 3 (x 6 with multi_view) from the
 //                    paper's cameras re-aimed at this layout (reach_main_view / reach_second_view below).
+//                    (image_channels: Float32 colour, depth, segmentation instead)
 //   reward           -|flange - target| (m) every step.
 //   success          |flange - target| < success_threshold (default 0.025 m) or the flange touching
 //                    the button: terminated, info.success.

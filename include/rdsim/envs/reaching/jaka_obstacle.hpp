@@ -33,6 +33,7 @@
 //                    raw_pixels: UInt8 image_height x image_width x 3 (x 6 with multi_view), cameras
 //                    obstacle_main_view below (steeper than jaka_button's, so the column does not
 //                    hide the flange) and jaka_button's reach_second_view.
+//                    (image_channels: Float32 colour, depth, segmentation instead)
 //   reward           -|flange - button| per step; touching the column with ANY robot link: reward -200,
 //                    terminated, info.collision.
 //   truncation       max_steps, default 300 (the way round is about twice as long as jaka_button's).
