@@ -32,6 +32,9 @@ mkdir -p "$build/python-asan/bin"
 binary=$build/python-asan/bin/rdsim
 printf '#!/bin/sh\nunset LD_PRELOAD\nexec "%s" "$@"\n' "$build/rdsim" > "$binary"
 chmod +x "$binary"
+# The package's `rdsim` command (rdsim/_cli.py) runs the binary it carries: the same wrapper.
+mkdir -p "$package/bin"
+ln -s "$binary" "$package/bin/rdsim"
 
 cd "$root"
 # ASan reports and UBSan's first finding end the process with an error: the test fails.
