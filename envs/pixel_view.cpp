@@ -1,10 +1,10 @@
 #include "rdsim/envs/pixel_view.hpp"
 
-#include <algorithm>
 #include <string>
 
 #include "rdsim/core/assert.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/observation_input.hpp"
 
 namespace rdsim {
 namespace {
@@ -114,7 +114,8 @@ void PixelView::render_channels(float* values) {
     for (size_t p = 0; p < count; ++p, out += stride) {
       float* c = out;
       if (channels_.rgb) {
-        for (size_t k = 0; k < 3; ++k) *c++ = static_cast<float>(frame_[3 * p + k]) * (1.0f / 255.0f);
+        // Scaled as the networks scale UInt8 images, so both hold the same colour values.
+        for (size_t k = 0; k < 3; ++k) *c++ = static_cast<float>(frame_[3 * p + k]) * pixel_input_scale;
       }
       if (channels_.depth) *c++ = depth_[p];
       if (channels_.segmentation) *c = static_cast<float>(segmentation_[p]);
