@@ -1,10 +1,12 @@
 #include "rdsim/envs/pixel_view.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "rdsim/core/assert.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/observation_input.hpp"
+#include "rdsim/core/rng.hpp"
 
 namespace rdsim {
 namespace {
@@ -36,6 +38,45 @@ PixelView::PixelView(const ReachTask& task, const EnvConfig& config, const Orbit
   for (const Camera& c : cameras_) RDSIM_ASSERT(c.zfar == OrbitView{}.zfar, "pixel_space's depth bound is the cameras' far plane");
   renderer_ = make_renderer(config.renderer, w, h);
   space_ = pixel_space(config);
+  built_cameras_ = cameras_;
+  for (const DrawItem& item : scene_.scene.items) built_colours_.push_back(item.rgba);
+  built_light_ = scene_.scene.light_direction;
+}
+
+namespace {
+
+// `direction` turned by `yaw` about the world's z, then by `pitch` about its horizontal axis
+// (positive raises it).
+Eigen::Vector3f turned(const Eigen::Vector3f& direction, float yaw, float pitch) {
+  const Eigen::Vector3f d = Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()) * direction;
+  const Eigen::Vector3f side = d.cross(Eigen::Vector3f::UnitZ());
+  if (side.norm() < 1e-6f) return d;  // straight up or down: no horizontal axis to pitch about
+  return Eigen::AngleAxisf(pitch, side.normalized()) * d;
+}
+
+}  // namespace
+
+void PixelView::vary(const ViewVariation& v) {
+  for (size_t c = 0; c < cameras_.size(); ++c) {
+    Camera camera = built_cameras_[c];
+    if (c < v.cameras.size()) {
+      const ViewVariation::CameraChange& change = v.cameras[c];
+      const Eigen::Vector3f eye = camera.eye + change.shift;
+      camera.target = eye + turned(camera.target - camera.eye, change.yaw, change.pitch);
+      camera.eye = eye;
+      camera.fov_deg = std::clamp(camera.fov_deg + change.fov, 1.0f, 179.0f);
+    }
+    cameras_[c] = camera;
+  }
+  Rng rng(v.colour_seed);
+  std::vector<DrawItem>& items = scene_.scene.items;
+  for (size_t i = 0; i < items.size(); ++i) {
+    items[i].rgba = built_colours_[i];
+    if (v.colour_noise <= 0.0f) continue;
+    for (int k = 0; k < 3; ++k)
+      items[i].rgba[k] = std::clamp(items[i].rgba[k] + static_cast<float>(rng.uniform(-1.0, 1.0)) * v.colour_noise, 0.0f, 1.0f);
+  }
+  scene_.scene.light_direction = turned(built_light_, v.light_yaw, v.light_pitch);
 }
 
 ObservationSpace pixel_space(const EnvConfig& config) {

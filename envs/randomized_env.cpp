@@ -1,5 +1,7 @@
-// The env that applies a Randomization around a robot env (randomization.hpp): each step runs the
-// action given action_latency steps before, and every observation gets Gaussian noise.
+// The env that applies a Randomization's per-step part around a robot env (randomization.hpp): each
+// step runs the action given action_latency steps before, every observation gets Gaussian noise,
+// and with observe_latency the actions still to run join the observation.
+#include <algorithm>
 #include <deque>
 #include <sstream>
 #include <utility>
@@ -18,25 +20,28 @@ namespace {
 class RandomizedEnv final : public Env, public EnvState {
 public:
   RandomizedEnv(std::unique_ptr<Env> inner, EnvState& inner_state, const Randomization& r)
-      : inner_(std::move(inner)), inner_state_(inner_state), r_(r) {
-    const GoalLayout& goal = inner_->spec().goal;
-    noisy_ = goal.active() ? goal.desired_offset() : inner_->spec().observation.size();
+      : inner_(std::move(inner)), inner_state_(inner_state), r_(r), spec_(inner_->spec()) {
+    const GoalLayout& goal = spec_.goal;
+    noisy_ = goal.active() ? goal.desired_offset() : spec_.observation.size();
+    if (r.observe_latency) add_queue_to_spec();
   }
 
-  const Spec& spec() const override { return inner_->spec(); }
+  const Spec& spec() const override { return spec_; }
   Observation reset(std::optional<std::uint64_t> seed) override { return reset_through_into(*this, seed); }
   StepResult step(const Action& action) override { return step_through_into(*this, action); }
 
   void reset_into(ObservationOut out, std::optional<std::uint64_t> seed) override {
-    inner_->reset_into(out, seed);
+    inner_->reset_into(inner_out(out), seed);
     if (seed) rng_ = Rng::derive(*seed, rng_stream::randomization);
+    latency_ = r_.random_latency ? static_cast<int>(rng_.below(static_cast<std::uint64_t>(r_.action_latency) + 1))
+                                 : r_.action_latency;
     pending_.clear();
-    add_noise(out);
+    finish(out);
   }
 
   StepOutcome step_into(const Action& action, ObservationOut out) override {
-    const StepOutcome o = inner_->step_into(delayed(action), out);
-    add_noise(out);
+    const StepOutcome o = inner_->step_into(delayed(action), inner_out(out));
+    finish(out);
     return o;
   }
 
@@ -44,11 +49,12 @@ public:
   bool steps_on_any_thread() const override { return inner_->steps_on_any_thread(); }
   bool render(Image& frame) override { return inner_->render(frame); }
 
-  // The wrapped env's state, then the noise stream and the actions still to run.
+  // The wrapped env's state, then the noise stream, the episode's latency and the actions still to run.
   std::string save_state() const override {
     std::ostringstream out;
     write_string(out, inner_state_.save_state());
     write_string(out, rng_to_bytes(rng_));
+    write_u32(out, static_cast<std::uint32_t>(latency_));
     write_u32(out, static_cast<std::uint32_t>(pending_.size()));
     for (const Action& a : pending_) write_action(out, a);
     return out.str();
@@ -58,28 +64,33 @@ public:
     std::istringstream in(bytes);
     const std::string inner = read_string(in, source);
     Rng rng = rng_from_bytes(read_string(in, source), source);
-    const std::uint32_t count = read_u32(in, source);
-    if (count > static_cast<std::uint32_t>(r_.action_latency))
-      throw Error(source + ": randomized env state holds " + std::to_string(count) + " pending actions (latency " +
+    const std::uint32_t latency = read_u32(in, source);
+    if (latency > static_cast<std::uint32_t>(r_.action_latency) || (!r_.random_latency && latency != static_cast<std::uint32_t>(r_.action_latency)))
+      throw Error(source + ": randomized env state has a latency of " + std::to_string(latency) + " steps (config: " +
                   std::to_string(r_.action_latency) + ")");
+    const std::uint32_t count = read_u32(in, source);
+    if (count > latency)
+      throw Error(source + ": randomized env state holds " + std::to_string(count) + " pending actions (latency " +
+                  std::to_string(latency) + ")");
     std::deque<Action> pending;
     for (std::uint32_t i = 0; i < count; ++i) pending.push_back(read_action(in, source));
     if (bytes_left(in) != 0) throw Error(source + ": randomized env state has unexpected trailing bytes");
     inner_state_.load_state(inner, source);
     rng_ = rng;
+    latency_ = static_cast<int>(latency);
     pending_ = std::move(pending);
   }
 
   void drop_caches() override { inner_state_.drop_caches(); }
 
 private:
-  // The action this step runs: the one given action_latency steps before (the episode's first
-  // action until then). `action` is checked now, not when it runs.
+  // The action this step runs: the one given latency_ steps before (the episode's first action
+  // until then). `action` is checked now, not when it runs.
   Action delayed(const Action& action) {
-    if (r_.action_latency == 0) return action;
+    if (latency_ == 0) return action;
     check(action);
     if (pending_.empty())
-      for (int k = 0; k < r_.action_latency; ++k) pending_.push_back(action);
+      for (int k = 0; k < latency_; ++k) pending_.push_back(action);
     pending_.push_back(action);
     Action run = std::move(pending_.front());
     pending_.pop_front();
@@ -94,9 +105,57 @@ private:
                                   : std::to_string(space.dim()) + " values"));
   }
 
-  void add_noise(ObservationOut out) {
-    if (r_.observation_noise <= 0.0) return;
-    for (int i = 0; i < noisy_; ++i) out.values[i] += static_cast<float>(r_.observation_noise * rng_.normal());
+  // Where the wrapped env writes: `out` itself, or the scratch the queue is added to.
+  ObservationOut inner_out(ObservationOut out) {
+    if (queue_ == 0) return out;
+    return ObservationOut{.values = scratch_.data()};
+  }
+
+  // The noise, then (observe_latency) the wrapped env's values around the queue into `out`.
+  void finish(ObservationOut out) {
+    float* values = queue_ == 0 ? out.values : scratch_.data();
+    if (r_.observation_noise > 0.0)
+      for (int i = 0; i < noisy_; ++i) values[i] += static_cast<float>(r_.observation_noise * rng_.normal());
+    if (queue_ == 0) return;
+    const int inner_size = static_cast<int>(scratch_.size());
+    std::copy_n(scratch_.data(), split_, out.values);
+    float* q = out.values + split_;
+    std::fill_n(q, queue_, 0.0f);
+    const ActionSpace& space = inner_->spec().action;
+    const int per_action = queue_ / r_.action_latency;
+    for (const Action& a : pending_) {
+      if (space.discrete)
+        q[a.index] = 1.0f;
+      else
+        for (int k = 0; k < per_action; ++k) q[k] = std::clamp(a.values[k], space.low[k], space.high[k]);
+      q += per_action;
+    }
+    std::copy(scratch_.data() + split_, scratch_.data() + inner_size, out.values + split_ + queue_);
+  }
+
+  // observe_latency: action_latency actions' values (Discrete: one-hot) after the env's own values.
+  void add_queue_to_spec() {
+    const ActionSpace& action = spec_.action;
+    const int per_action = action.discrete ? action.n : action.dim();
+    queue_ = r_.action_latency * per_action;
+    ObservationSpace& obs = spec_.observation;
+    const int inner_size = obs.size();
+    split_ = spec_.goal.active() ? spec_.goal.observation : inner_size;
+    scratch_.resize(static_cast<size_t>(inner_size));
+    Eigen::VectorXf low(inner_size + queue_), high(inner_size + queue_);
+    for (int k = 0; k < r_.action_latency; ++k) {
+      const Eigen::Index at = split_ + k * per_action;
+      low.segment(at, per_action) = action.discrete ? Eigen::VectorXf::Zero(per_action) : action.low;
+      high.segment(at, per_action) = action.discrete ? Eigen::VectorXf::Ones(per_action) : action.high;
+    }
+    low.head(split_) = obs.low.head(split_);
+    high.head(split_) = obs.high.head(split_);
+    low.tail(inner_size - split_) = obs.low.tail(inner_size - split_);
+    high.tail(inner_size - split_) = obs.high.tail(inner_size - split_);
+    obs.shape = {inner_size + queue_};
+    obs.low = low;
+    obs.high = high;
+    if (spec_.goal.active()) spec_.goal.observation += queue_;
   }
 
   void write_action(std::ostream& out, const Action& a) const {
@@ -124,15 +183,20 @@ private:
   std::unique_ptr<Env> inner_;
   EnvState& inner_state_;
   Randomization r_;
-  int noisy_ = 0;  // the first values of an observation get noise (all but a desired goal)
+  Spec spec_;      // the wrapped env's, with the queue when observe_latency
+  int noisy_ = 0;  // the first values of the wrapped env's observation get noise (all but a desired goal)
+  int queue_ = 0;  // values of the queued actions in the observation (observe_latency)
+  int split_ = 0;  // where they go: after the wrapped env's own values, before its goals
+  std::vector<float> scratch_;  // the wrapped env's observation (observe_latency)
   Rng rng_ = Rng::derive(0, rng_stream::randomization);
-  std::deque<Action> pending_;  // actions given, not yet run (action_latency of them once stepping)
+  int latency_ = 0;             // this episode's (action_latency, or drawn with random_latency)
+  std::deque<Action> pending_;  // actions given, not yet run (latency_ of them once stepping)
 };
 
 }  // namespace
 
 std::unique_ptr<Env> randomized(std::unique_ptr<Env> env, const Randomization& r) {
-  if (!r.active()) return env;
+  if (!r.per_step()) return env;
   // Every env that lists the option group can save its state (read_env_config checked the rest).
   auto* state = dynamic_cast<EnvState*>(env.get());
   RDSIM_ASSERT(state != nullptr, "a randomized env can save its state");

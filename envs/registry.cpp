@@ -133,6 +133,16 @@ void check_randomization(ConfigReader& r, const Randomization& z, const EnvConfi
                                            "'s episode (max_steps " + std::to_string(c.max_steps) + ")");
   if (z.observation_noise > 0.0 && c.observation != ObservationMode::GroundTruth)
     r.fail("randomize.observation_noise", "applies to ground-truth observations only (\"observation\": \"ground_truth\")");
+  if (z.random_latency && z.action_latency == 0) r.fail("randomize.random_latency", "needs action_latency > 0");
+  if (z.observe_latency && (z.action_latency == 0 || c.observation != ObservationMode::GroundTruth))
+    r.fail("randomize.observe_latency", "needs action_latency > 0 and ground-truth observations");
+  if (z.varies_view() && c.observation != ObservationMode::RawPixels)
+    r.fail(z.camera_shift > 0.0  ? "randomize.camera_shift"
+           : z.camera_turn > 0.0 ? "randomize.camera_turn"
+           : z.camera_fov > 0.0  ? "randomize.camera_fov"
+           : z.colour_noise > 0.0 ? "randomize.colour_noise"
+                                  : "randomize.light_turn",
+           "applies to raw-pixel observations only (\"observation\": \"raw_pixels\")");
 }
 
 }  // namespace
@@ -210,6 +220,10 @@ Spec env_spec(const EnvConfig& config) {
   probe.render_width = d.render_width;
   probe.render_height = d.render_height;
   probe.renderer = d.renderer;
+  if (auto* randomize = probe.find<RandomizeOptions>()) {  // nor anything to vary in a drawing
+    Randomization& r = randomize->randomize;
+    r.camera_shift = r.camera_turn = r.camera_fov = r.colour_noise = r.light_turn = 0.0;
+  }
   Spec spec = make_env(probe)->spec();
   if (config.observation == ObservationMode::RawPixels) spec.observation = pixel_space(config);
   return spec;

@@ -128,6 +128,8 @@ ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& 
   camera_mounts_ = {world_camera("scene", arm_main_view(w))};
   robot_info_ = world_->robot_info();
   for (const CameraMount& m : camera_mounts_) robot_info_.cameras.push_back({m.name, m.link, m.fov_deg});
+  const auto* randomize = config.find<RandomizeOptions>();
+  randomizer_ = std::make_unique<TaskRandomizer>(*world_, randomize ? randomize->randomize : Randomization{}, 2);
 }
 
 ManipulationEnv::~ManipulationEnv() = default;
@@ -219,8 +221,12 @@ StepResult ManipulationEnv::step(const Action& action) { return step_through_int
 
 void ManipulationEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
+  randomizer_->reset(seed);
   world_->reset(rng_, false);
-  place(task_.draw(area_, rng_));
+  Placement placement = task_.draw(area_, rng_);
+  for (Eigen::Vector3f& cube : placement.cubes) cube += randomizer_->placement(0);
+  for (Eigen::Vector3f& goal : placement.goals) goal += randomizer_->placement(1);
+  place(placement);
   steps_ = 0;
   done_ = false;
   observe(out);
@@ -299,6 +305,7 @@ std::string ManipulationEnv::save_state() const {
   for (const Eigen::Vector3f& g : goals_)
     for (int i = 0; i < 3; ++i) write_f32(out, g[i]);
   world_->save_state(out);
+  if (randomizer_->active()) randomizer_->save(out);
   return std::move(out).str();
 }
 
@@ -314,6 +321,7 @@ void ManipulationEnv::load_state(const std::string& bytes, const std::string& so
     placement.goals.push_back(g);
   }
   world_->load_state(in, source);
+  if (randomizer_->active()) randomizer_->load(in, source);
   if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
   rng_ = header.rng;
   steps_ = header.steps;

@@ -129,6 +129,8 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
     if (!m.link.empty()) task_->robot_model().require_link(m.link);
     robot_info_.cameras.push_back({m.name, m.link, m.fov_deg});
   }
+  const auto* randomize = config.find<RandomizeOptions>();
+  randomizer_ = std::make_unique<TaskRandomizer>(*task_, randomize ? randomize->randomize : Randomization{}, 1);
 }
 
 ReachEnv::~ReachEnv() = default;
@@ -168,6 +170,7 @@ StepResult ReachEnv::step(const Action& action) { return step_through_into(*this
 
 void ReachEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
+  randomizer_->reset(seed);
   if (terms_.walking_body >= 0) {
     walk_offset_.setZero();
     place_walking_body();
@@ -178,9 +181,17 @@ void ReachEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed)
     const auto n = static_cast<std::uint64_t>(terms_.target_choices.size());
     select_target(random_target_ ? static_cast<int>(rng_.below(n)) : terms_.default_choice);
   }
+  apply_randomizer(true);
   steps_ = 0;
   done_ = false;
   observe(out);
+}
+
+void ReachEnv::apply_randomizer(bool new_episode) {
+  if (!randomizer_->active()) return;
+  const Eigen::Vector3f offset = randomizer_->placement(0);
+  if (new_episode && !offset.isZero()) task_->set_target(task_->target() + offset);
+  if (pixels_) randomizer_->apply(*pixels_);
 }
 
 void ReachEnv::select_target(int index) {
@@ -294,6 +305,7 @@ std::string ReachEnv::save_state() const {
   write_f32(out, walk_offset_.x());  // m, the walking body's offset from its place (0 without one)
   write_f32(out, walk_offset_.y());
   task_->save_state(out);
+  if (randomizer_->active()) randomizer_->save(out);
   return std::move(out).str();
 }
 
@@ -312,7 +324,9 @@ void ReachEnv::load_state(const std::string& bytes, const std::string& source) {
   if (!walk_offset.allFinite() || walk_offset.cwiseAbs().maxCoeff() > walk_range)
     throw Error(source + ": env state of " + spec_.env_name + " is damaged (walking body offset out of range)");
   task_->load_state(in, source);
+  if (randomizer_->active()) randomizer_->load(in, source);
   if (in.peek() != std::char_traits<char>::eof()) throw Error(source + ": env state of " + spec_.env_name + " is damaged (trailing bytes)");
+  apply_randomizer(false);
   rng_ = header.rng;
   steps_ = header.steps;
   done_ = header.done;

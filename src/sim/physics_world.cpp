@@ -141,6 +141,8 @@ int PhysicsWorld::add_free_body(const RobotModel& model, const Eigen::Isometry3f
   impl_->statics.push_back(std::move(object));
   impl_->static_offsets.push_back(offset);
   impl_->robots.push_back(nullptr);
+  impl_->free_masses.resize(impl_->statics.size(), Eigen::Vector4d::Zero());
+  impl_->free_masses.back() << inertial.mass, moments;
   return body;
 }
 
@@ -205,6 +207,19 @@ void PhysicsWorld::set_free_body_friction(int body, float friction) {
   free->setFriction(friction);
   free->setCollisionFlags(free->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
 }
+
+float PhysicsWorld::free_body_friction(int body) const { return free_body_of(*impl_, body)->getFriction(); }
+
+void PhysicsWorld::set_free_body_mass_scale(int body, double scale) {
+  btRigidBody* free = free_body_of(*impl_, body);
+  if (!(scale > 0.0) || !std::isfinite(scale))
+    throw Error("physics: a mass scale must be a finite number > 0, got " + std::to_string(scale));
+  const Eigen::Vector4d nominal = impl_->free_masses[static_cast<size_t>(body)] * scale;
+  free->setMassProps(static_cast<btScalar>(nominal[0]), to_bt(Eigen::Vector3d(nominal.tail<3>())));
+  free->updateInertiaTensor();
+}
+
+double PhysicsWorld::free_body_mass(int body) const { return 1.0 / free_body_of(*impl_, body)->getInvMass(); }
 
 void PhysicsWorld::set_free_body_state(int body, const FreeBodyState& state) {
   btRigidBody* free = free_body_of(*impl_, body);

@@ -65,6 +65,9 @@ struct PhysicsWorld::Impl {
   // Per body id: where a static body's single shape sits in the body (its object carries it).
   std::vector<Eigen::Isometry3f> static_offsets;
   std::vector<std::unique_ptr<Robot>> robots;  // per body id; null for a static body
+  // Per body id: a free body's mass (kg) and principal moments (kg m^2) as its model gives them
+  // (PhysicsWorld::set_free_body_mass_scale scales these); zero for other bodies.
+  std::vector<Eigen::Vector4d> free_masses;
 
   ~Impl();
   // Removes every cached pair (and contact manifold) involving this object.

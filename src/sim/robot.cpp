@@ -138,10 +138,19 @@ bool welded_to_base(const RobotModel& model, int link) {
 
 // The mass and inertia Bullet simulates each link with (in the link's frame), for rdsim's own
 // dynamics of the same robot.
-static std::vector<Inertial> simulated_inertials(const RobotModel& model, bool inertia_from_shapes) {
+// `mass_scale`: one factor per link on its mass and moments (Robot::set_mass_scales).
+static BodyFrame scaled_frame(const RobotModel& model, size_t link, bool inertia_from_shapes, double mass_scale) {
+  BodyFrame f = body_frame(model.links[link], link > 0 && model.joints[link - 1].movable(), inertia_from_shapes);
+  f.mass *= mass_scale;
+  f.moments *= mass_scale;
+  return f;
+}
+
+static std::vector<Inertial> simulated_inertials(const RobotModel& model, bool inertia_from_shapes,
+                                                 const std::vector<double>& mass_scale) {
   std::vector<Inertial> simulated(model.links.size());
   for (size_t i = 0; i < model.links.size(); ++i) {
-    const BodyFrame f = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), inertia_from_shapes);
+    const BodyFrame f = scaled_frame(model, i, inertia_from_shapes, mass_scale[i]);
     simulated[i].mass = f.mass;
     simulated[i].inertia = f.moments.asDiagonal();
     simulated[i].origin = f.in_link;
@@ -276,6 +285,7 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
   if (model.links.empty()) throw Error(model.source + ": a robot needs at least one link");
   link_friction_.assign(model.links.size(), kDefaultFriction);
   link_anchored_.assign(model.links.size(), false);
+  mass_scale_.assign(model.links.size(), 1.0);
   for (size_t i = 1; i < model.links.size(); ++i) {
     const Joint& j = model.joints[i - 1];
     if (!j.movable()) continue;
@@ -286,14 +296,14 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     d.upper = static_cast<float>(j.upper);
     d.velocity = static_cast<float>(j.velocity);
     d.effort = static_cast<float>(j.effort);
-    d.damping = static_cast<float>(j.damping);
+    d.damping = options.joint_damping ? static_cast<float>(j.damping) : 0.0f;
     dofs_.push_back(d);
   }
   if (options.drive == JointDrive::ConstraintMotor && world.settings().mass_matrix_responses)
-    responses_ = std::make_unique<MassResponses>(model, simulated_inertials(model, options.inertia_from_shapes), dof());
+    responses_ = std::make_unique<MassResponses>(model, simulated_inertials(model, options.inertia_from_shapes, mass_scale_), dof());
   build();
   if (options.drive == JointDrive::ComputedTorque) {
-    const std::vector<Inertial> simulated = simulated_inertials(model, options.inertia_from_shapes);
+    const std::vector<Inertial> simulated = simulated_inertials(model, options.inertia_from_shapes, mass_scale_);
     const auto dt = static_cast<btScalar>(world.settings().time_step);  // as Bullet's motors get it
     drive_ = std::make_unique<TorqueDrive>(model, simulated, dof());
     drive_->gravity = base_pose.linear().cast<double>().transpose() * world.settings().gravity.cast<double>();
@@ -312,7 +322,7 @@ void Robot::build() {
   std::vector<BodyFrame> frames(n);
   body_to_link_.resize(n);
   for (size_t i = 0; i < n; ++i) {
-    frames[i] = body_frame(model.links[i], i > 0 && model.joints[i - 1].movable(), options_.inertia_from_shapes);
+    frames[i] = scaled_frame(model, i, options_.inertia_from_shapes, mass_scale_[i]);
     body_to_link_[i] = frames[i].in_link.inverse().cast<float>();
   }
   std::vector<const Dof*> link_dof(n, nullptr);
@@ -376,7 +386,7 @@ void Robot::build() {
     if (!shape) continue;
     auto* collider = new btMultiBodyLinkCollider(multibody_, static_cast<int>(i) - 1);
     collider->setCollisionShape(shape);
-    collider->setFriction(link_friction_[i]);
+    collider->setFriction(link_friction_[i] * friction_scale_);
     if (link_anchored_[i]) collider->setCollisionFlags(collider->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
     collider->setUserIndex(body_);
     collider->setUserIndex2(static_cast<int>(i));
@@ -683,11 +693,8 @@ void Robot::update_transforms() {
 
 void Robot::before_step() {
   if (std::any_of(dofs_.begin(), dofs_.end(), [](const Dof& d) { return d.welded; })) free_welds_near_contacts();
-  if (options_.joint_damping) {
-    for (const Dof& d : dofs_)
-      if (d.damping > 0.0f && !d.welded)
-        multibody_->addJointTorque(d.bullet_link, -d.damping * multibody_->getJointVel(d.bullet_link));
-  }
+  for (const Dof& d : dofs_)
+    if (d.damping > 0.0f && !d.welded) multibody_->addJointTorque(d.bullet_link, -d.damping * multibody_->getJointVel(d.bullet_link));
   if (responses_) update_responses();
   if (!drive_) return;
   TorqueDrive& t = *drive_;
@@ -724,9 +731,45 @@ Robot::LinkInertia Robot::link_inertia(int link) const {
     throw Error(model_.source + ": link " + std::to_string(link) + " out of range (0.." +
                 std::to_string(model_.links.size() - 1) + ")");
   const size_t l = static_cast<size_t>(link);
-  const BodyFrame f = body_frame(model_.links[l], l > 0 && model_.joints[l - 1].movable(), options_.inertia_from_shapes);
+  const BodyFrame f = scaled_frame(model_, l, options_.inertia_from_shapes, mass_scale_[l]);
   return {f.mass, f.moments};
 }
+
+void Robot::set_mass_scales(const std::vector<double>& scales) {
+  if (scales.size() != model_.links.size())
+    throw Error(model_.source + ": expected " + std::to_string(model_.links.size()) + " mass scales, got " +
+                std::to_string(scales.size()));
+  for (double s : scales)
+    if (!(s > 0.0) || !std::isfinite(s)) throw Error(model_.source + ": a mass scale must be a finite number > 0");
+  if (scales == mass_scale_) return;
+  mass_scale_ = scales;
+  for (size_t i = 1; i < model_.links.size(); ++i) {  // the fixed base's mass never acts
+    const BodyFrame f = scaled_frame(model_, i, options_.inertia_from_shapes, mass_scale_[i]);
+    btMultibodyLink& link = multibody_->getLink(static_cast<int>(i) - 1);  // Debian's Bullet has no setters
+    link.m_mass = static_cast<btScalar>(f.mass);
+    link.m_inertiaLocal = to_bt(f.moments);
+  }
+  // rdsim's own dynamics of the robot (the drive's and the joint rows' M(q)) follow the masses.
+  const std::vector<Inertial> simulated = simulated_inertials(model_, options_.inertia_from_shapes, mass_scale_);
+  if (drive_) drive_->dynamics = JointDynamics(model_, simulated);
+  if (responses_) responses_->dynamics = JointDynamics(model_, simulated);
+}
+
+void Robot::set_friction_scale(float scale) {
+  if (!(scale >= 0.0f) || !std::isfinite(scale))
+    throw Error(model_.source + ": the friction scale must be a finite number >= 0, got " + std::to_string(scale));
+  friction_scale_ = scale;
+  for (btMultiBodyLinkCollider* c : colliders_) c->setFriction(link_friction_[static_cast<size_t>(c->getUserIndex2())] * scale);
+}
+
+void Robot::set_joint_damping(int dof, float damping) {
+  if (dof < 0 || dof >= this->dof()) throw Error(model_.source + ": no dof " + std::to_string(dof) + " to damp");
+  if (!(damping >= 0.0f) || !std::isfinite(damping))
+    throw Error(model_.source + ": joint damping must be a finite number >= 0, got " + std::to_string(damping));
+  dofs_[static_cast<size_t>(dof)].damping = damping;
+}
+
+float Robot::joint_damping(int dof) const { return dofs_[static_cast<size_t>(dof)].damping; }
 
 bool Robot::has_motor(int dof) const {
   return std::find(options_.motor_dofs.begin(), options_.motor_dofs.end(), dof) != options_.motor_dofs.end();
@@ -742,7 +785,7 @@ void Robot::set_link_friction(int link, float friction) {
   link_anchored_[static_cast<size_t>(link)] = true;
   for (btMultiBodyLinkCollider* c : colliders_)
     if (c->getUserIndex2() == link) {
-      c->setFriction(friction);
+      c->setFriction(friction * friction_scale_);
       c->setCollisionFlags(c->getCollisionFlags() | btCollisionObject::CF_HAS_FRICTION_ANCHOR);
     }
 }

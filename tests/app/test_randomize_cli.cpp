@@ -14,9 +14,11 @@ using namespace std::chrono_literals;
 
 namespace {
 
-// PPO on jaka_button with 2 steps of latency and 5 mm of noise (about a second), checkpoints every 2048 steps.
+// PPO on jaka_button with 2 steps of latency, 5 mm of noise and every per-episode draw a reaching task
+// has (about a second), checkpoints every 2048 steps.
 const char* ppo_text = R"({"algorithm": "ppo", "env": {"name": "jaka_button", "random_target": true,
-  "randomize": {"action_latency": 2, "observation_noise": 0.005}}, "seed": 6, "total_timesteps": 40960, "num_envs": 4,
+  "randomize": {"action_latency": 2, "observation_noise": 0.005, "mass_scale": [0.7, 1.3], "friction_scale": [0.5, 1.5],
+  "joint_damping": [0, 0.5], "gain_scale": [0.8, 1.2], "placement_noise": 0.01}}, "seed": 6, "total_timesteps": 40960, "num_envs": 4,
   "checkpoint_interval": 2048, "network": {"hidden_sizes": [32, 32]}, "ppo": {"n_steps": 256, "batch_size": 256}})";
 
 }  // namespace
@@ -62,6 +64,10 @@ TEST_CASE("randomize: misuse is one clear error naming the config and the key", 
       {R"({"env": {"name": "jaka_button", "max_steps": 20, "randomize": {"action_latency": 25}}})",
        "env.randomize.action_latency: 25 steps is not shorter than"},
       {R"({"env": {"name": "cartpole", "randomize": {"action_latency": 1}}})", "env.randomize"},
+      {R"({"env": {"name": "jaka_button", "randomize": {"mass_scale": [1.3, 0.7]}}})",
+       "env.randomize.mass_scale: expected [lo, hi] with lo <= hi"},
+      {R"({"env": {"name": "jaka_button", "randomize": {"camera_shift": 0.03}}})",
+       "env.randomize.camera_shift: applies to raw-pixel observations only"},
   };
   rltest::check_config_errors(dir, cases);
 }

@@ -1,6 +1,9 @@
 // Domain randomization ("randomize" in a robot env's config, envs/randomization.hpp): action latency
 // runs each action that many steps late, observation noise has the configured spread and spares the
-// desired goal, both follow the reset seed and survive save/load; bad values are one clear error.
+// desired goal; masses, friction, damping, gains, placements, cameras, colours and light are drawn per
+// episode within their ranges; all follow the reset seed and survive save/load; bad values are one
+// clear error.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -8,6 +11,8 @@
 #include "../error_of.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/rng.hpp"
+#include "rdsim/envs/manipulation/manipulation_env.hpp"
+#include "rdsim/envs/reaching/reach_env.hpp"
 #include "rdsim/envs/registry.hpp"
 
 using Catch::Matchers::Contains;
@@ -145,4 +150,258 @@ TEST_CASE("randomize: bad values are one clear error", "[randomize][config]") {
              Contains("env.randomize"));
   // Latency alone works on pixels.
   CHECK_NOTHROW(make({{"name", "jaka_button"}, {"observation", "raw_pixels"}, {"randomize", {{"action_latency", 1}}}}));
+}
+
+namespace {
+
+// The per-episode draws a ReachTask-based env applies (what envs/task_randomizer.hpp varies).
+struct Physics {
+  std::vector<double> link_mass, object_mass;
+  std::vector<float> object_friction, joint_damping;
+  float position_gain = 0.0f, velocity_gain = 0.0f;
+  bool operator==(const Physics&) const = default;
+};
+
+Physics physics_of(const rdsim::ReachTask& task) {
+  Physics p;
+  const rdsim::Robot& robot = task.robot();
+  for (int l = 0; l < static_cast<int>(robot.model().links.size()); ++l) p.link_mass.push_back(robot.link_inertia(l).mass);
+  for (int d = 0; d < robot.dof(); ++d) p.joint_damping.push_back(robot.joint_damping(d));
+  for (size_t i = 0; i < task.spec().statics.size(); ++i) {
+    const int body = task.static_body(static_cast<int>(i));
+    if (!task.world().is_free_body(body)) continue;
+    p.object_mass.push_back(task.world().free_body_mass(body));
+    p.object_friction.push_back(task.world().free_body_friction(body));
+  }
+  p.position_gain = robot.position_gain();
+  p.velocity_gain = robot.velocity_gain();
+  return p;
+}
+
+const rdsim::ReachTask& task_of(const rdsim::Env& env) {
+  if (const auto* m = dynamic_cast<const rdsim::ManipulationEnv*>(&env)) return m->world();
+  return dynamic_cast<const rdsim::ReachEnv&>(env).task();
+}
+
+const nlohmann::json physical = {{"mass_scale", {0.7, 1.3}},   {"friction_scale", {0.5, 1.5}},
+                                 {"joint_damping", {0.1, 0.5}}, {"gain_scale", {0.8, 1.2}},
+                                 {"placement_noise", 0.02}};
+
+}  // namespace
+
+TEST_CASE("randomize: masses, friction, damping and gains are drawn per episode within their ranges, from the seed",
+          "[randomize]") {
+  auto plain = make({{"name", "push"}});
+  auto varied = make({{"name", "push"}, {"randomize", physical}});
+  plain->reset(4);
+  const Physics nominal = physics_of(task_of(*plain));
+  REQUIRE(nominal.object_mass.size() == 1);
+  varied->reset(4);
+  const Physics first = physics_of(task_of(*varied));
+  for (size_t l = 0; l < nominal.link_mass.size(); ++l) {
+    CHECK(first.link_mass[l] >= 0.7 * nominal.link_mass[l] - 1e-12);
+    CHECK(first.link_mass[l] <= 1.3 * nominal.link_mass[l] + 1e-12);
+  }
+  CHECK(first.object_mass[0] >= 0.7 * nominal.object_mass[0] - 1e-6);
+  CHECK(first.object_mass[0] <= 1.3 * nominal.object_mass[0] + 1e-6);
+  CHECK(first.object_friction[0] >= 0.5f * nominal.object_friction[0] - 1e-6f);
+  CHECK(first.object_friction[0] <= 1.5f * nominal.object_friction[0] + 1e-6f);
+  for (size_t d = 0; d < nominal.joint_damping.size(); ++d) {
+    CHECK(first.joint_damping[d] >= nominal.joint_damping[d] + 0.1f - 1e-6f);
+    CHECK(first.joint_damping[d] <= nominal.joint_damping[d] + 0.5f + 1e-6f);
+  }
+  CHECK(first.position_gain >= 0.8f * nominal.position_gain - 1e-6f);
+  CHECK(first.position_gain <= 1.2f * nominal.position_gain + 1e-6f);
+  CHECK(first.link_mass != nominal.link_mass);
+  // The next episode draws again; the same seed draws the same; another seed other values.
+  varied->reset();
+  CHECK_FALSE(physics_of(task_of(*varied)) == first);
+  varied->reset(4);
+  CHECK(physics_of(task_of(*varied)) == first);
+  varied->reset(5);
+  CHECK_FALSE(physics_of(task_of(*varied)) == first);
+  // The plain env's physics never changes.
+  plain->reset(5);
+  CHECK(physics_of(task_of(*plain)) == nominal);
+}
+
+TEST_CASE("randomize: the physical draws change what the same actions do, and placements move by up to the noise",
+          "[randomize]") {
+  for (const char* name : {"jaka_button", "push"}) {
+    INFO(name);
+    auto plain = make({{"name", name}});
+    auto varied = make({{"name", name}, {"randomize", physical}});
+    const auto p0 = plain->reset(8), v0 = varied->reset(8);
+    if (std::string(name) == "jaka_button") {
+      // The observation starts with target - effector: the target moved in x and y only.
+      const Eigen::Vector3f moved = (v0.values.head<3>() - p0.values.head<3>()).eval();
+      CHECK(std::abs(moved.z()) < 1e-6f);
+      CHECK(moved.head<2>().cwiseAbs().maxCoeff() <= 0.02f + 1e-6f);
+      CHECK(moved.head<2>().norm() > 0.0f);
+    } else {
+      // push: the cube (observation 7..9) and the goal (the last 3 values) moved in x and y only.
+      const auto& pm = dynamic_cast<const rdsim::ManipulationEnv&>(*plain);
+      const auto& vm = dynamic_cast<const rdsim::ManipulationEnv&>(*varied);
+      const Eigen::Vector3f cube = vm.cube_position(0) - pm.cube_position(0), goal = vm.goals()[0] - pm.goals()[0];
+      for (const Eigen::Vector3f& moved : {cube, goal}) {
+        CHECK(std::abs(moved.z()) < 1e-6f);
+        CHECK(moved.head<2>().cwiseAbs().maxCoeff() <= 0.02f + 1e-6f);
+      }
+      CHECK(cube != goal);
+    }
+    const auto actions = random_actions(plain->spec(), 20, 3);
+    rdsim::Observation po = p0, vo = v0;
+    for (const auto& a : actions) {
+      po = plain->step(a).observation;
+      vo = varied->step(a).observation;
+    }
+    CHECK(po.values != vo.values);
+  }
+}
+
+TEST_CASE("randomize: a saved state keeps the episode's draws: a loaded env continues bit for bit", "[randomize]") {
+  for (const char* name : {"jaka_button", "push"}) {
+    INFO(name);
+    nlohmann::json randomize = physical;
+    randomize["observation_noise"] = 0.002;
+    const nlohmann::json config = {{"name", name}, {"randomize", randomize}};
+    auto a = make(config), b = make(config);
+    const auto actions = random_actions(a->spec(), 40, 2);
+    a->reset(7);
+    for (int t = 0; t < 10; ++t) a->step(actions[static_cast<std::size_t>(t)]);
+    const std::string saved = dynamic_cast<rdsim::EnvState&>(*a).save_state();
+    dynamic_cast<rdsim::EnvState&>(*a).drop_caches();  // what training does at every update (env_state.hpp)
+    b->reset(70);  // other draws, replaced by the loaded ones
+    dynamic_cast<rdsim::EnvState&>(*b).load_state(saved, "checkpoint.bin");
+    for (int t = 10; t < 40; ++t) {
+      const auto sa = a->step(actions[static_cast<std::size_t>(t)]), sb = b->step(actions[static_cast<std::size_t>(t)]);
+      REQUIRE(sa.observation.values == sb.observation.values);
+      if (sa.terminated || sa.truncated) {
+        CHECK(a->reset().values == b->reset().values);  // and the next episode's draws follow on
+      }
+    }
+  }
+}
+
+TEST_CASE("randomize: camera, colour and light draws change the pixels, per episode and per seed", "[randomize][pixels]") {
+  const nlohmann::json pixels = {{"name", "jaka_button"}, {"observation", "raw_pixels"}};
+  nlohmann::json config = pixels;
+  config["randomize"] = {{"camera_shift", 0.03}, {"camera_turn", 3.0}, {"camera_fov", 2.0}};
+  auto plain = make(pixels), moved = make(config);
+  const auto image = plain->reset(2).pixels;
+  const auto first = moved->reset(2).pixels;
+  CHECK(first != image);
+  CHECK(moved->reset().pixels != first);
+  CHECK(moved->reset(2).pixels == first);
+  const auto& view = *dynamic_cast<const rdsim::ReachEnv&>(*moved).pixel_view();
+  const auto& built = *dynamic_cast<const rdsim::ReachEnv&>(*plain).pixel_view();
+  const Eigen::Vector3f shift = view.camera(0).eye - built.camera(0).eye;
+  CHECK(shift.cwiseAbs().maxCoeff() <= 0.03f + 1e-6f);
+  CHECK(std::abs(view.camera(0).fov_deg - built.camera(0).fov_deg) <= 2.0f + 1e-5f);
+  const Eigen::Vector3f d0 = (built.camera(0).target - built.camera(0).eye).normalized();
+  const Eigen::Vector3f d1 = (view.camera(0).target - view.camera(0).eye).normalized();
+  // Yaw and pitch of at most 3 degrees each turn the view by at most about 4.3 degrees.
+  CHECK(std::acos(std::clamp(d0.dot(d1), -1.0f, 1.0f)) <= 4.3f * static_cast<float>(M_PI) / 180.0f);
+
+  {  // The spec known without drawing (what training asks first) is the pixel env's.
+    rdsim::ConfigReader r(config, "x.json", "env");
+    CHECK(rdsim::env_spec(rdsim::read_env_config(r)).observation.shape == moved->spec().observation.shape);
+  }
+
+  config["randomize"] = {{"colour_noise", 0.1}, {"light_turn", 10.0}};
+  auto painted = make(config);
+  CHECK(painted->reset(2).pixels != image);
+  const auto& items = dynamic_cast<const rdsim::ReachEnv&>(*painted).pixel_view()->scene().items;
+  const auto& built_items = built.scene().items;
+  REQUIRE(items.size() == built_items.size());
+  for (size_t i = 0; i < items.size(); ++i) CHECK((items[i].rgba - built_items[i].rgba).cwiseAbs().maxCoeff() <= 0.1f + 1e-6f);
+}
+
+TEST_CASE("randomize: bad ranges and view draws without pixels are one clear error", "[randomize][config]") {
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"mass_scale", {1.3, 0.7}}}}}); }),
+             Contains("env.randomize.mass_scale: expected [lo, hi] with lo <= hi"));
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"friction_scale", {0.5}}}}}); }),
+             Contains("env.randomize.friction_scale: expected [lo, hi]"));
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"joint_damping", {-1, 1}}}}}); }),
+             Contains("env.randomize.joint_damping"));
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"gain_scale", 1.1}}}}); }),
+             Contains("env.randomize.gain_scale"));
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"placement_noise", -0.01}}}}); }),
+             Contains("env.randomize.placement_noise"));
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"colour_noise", 0.1}}}}); }),
+             Contains("env.randomize.colour_noise: applies to raw-pixel observations only"));
+  CHECK_THAT(error_of([] { make({{"name", "jaka_button"}, {"observation", "raw_pixels"}, {"randomize", {{"camera_turn", 45}}}}); }),
+             Contains("env.randomize.camera_turn"));
+}
+
+TEST_CASE("randomize: observe_latency puts the actions still to run into the observation", "[randomize]") {
+  SECTION("Discrete: one-hot, oldest first, zeros before the first action") {
+    auto plain = make({{"name", "jaka_button"}});
+    auto env = make({{"name", "jaka_button"}, {"randomize", {{"action_latency", 2}, {"observe_latency", true}}}});
+    const int inner = plain->spec().observation.size();
+    REQUIRE(env->spec().observation.size() == inner + 12);
+    CHECK(env->spec().observation.low.tail(12).isZero());
+    CHECK(env->spec().observation.high.tail(12).isOnes());
+    const auto first = env->reset(3);
+    CHECK(first.values.head(inner) == plain->reset(3).values);
+    CHECK(first.values.tail(12).isZero());
+    Eigen::VectorXf expected = Eigen::VectorXf::Zero(12);
+    expected[3] = expected[6 + 3] = 1.0f;  // the first action fills the queue
+    CHECK(env->step(rdsim::Action::discrete(3)).observation.values.tail(12) == expected);
+    expected.setZero();
+    expected[3] = expected[6 + 1] = 1.0f;
+    CHECK(env->step(rdsim::Action::discrete(1)).observation.values.tail(12) == expected);
+  }
+  SECTION("Box, in a goal env: the clipped values, between the env's own values and its goals") {
+    auto plain = make({{"name", "push"}});
+    auto env = make({{"name", "push"}, {"randomize", {{"action_latency", 1}, {"observe_latency", true}}}});
+    const rdsim::GoalLayout& g = plain->spec().goal;
+    const rdsim::GoalLayout& h = env->spec().goal;
+    REQUIRE(h.observation == g.observation + 3);
+    CHECK(h.points == g.points);
+    plain->reset(5);
+    env->reset(5);
+    const auto a = rdsim::Action::continuous(Eigen::Vector3f(0.5f, -3.0f, 0.25f));
+    const auto p = plain->step(a).observation.values, o = env->step(a).observation.values;
+    CHECK(o.head(g.observation) == p.head(g.observation));
+    CHECK(o.segment(g.observation, 3) == Eigen::Vector3f(0.5f, -1.0f, 0.25f));
+    CHECK(o.tail(2 * g.goal_size()) == p.tail(2 * g.goal_size()));
+  }
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"observe_latency", true}}}}); }),
+             Contains("env.randomize.observe_latency: needs action_latency > 0"));
+}
+
+TEST_CASE("randomize: random_latency runs each episode with a latency of 0..action_latency steps, from the seed",
+          "[randomize]") {
+  std::vector<std::unique_ptr<rdsim::Env>> fixed;
+  for (int latency = 0; latency <= 2; ++latency)
+    fixed.push_back(latency == 0 ? make({{"name", "push"}})
+                                 : make({{"name", "push"}, {"randomize", {{"action_latency", latency}}}}));
+  auto random = make({{"name", "push"}, {"randomize", {{"action_latency", 2}, {"random_latency", true}}}});
+  const auto actions = random_actions(random->spec(), 4, 1);
+  std::vector<int> seen(3, 0);
+  for (std::uint64_t seed = 1; seed <= 15; ++seed) {
+    random->reset(seed);
+    for (auto& f : fixed) f->reset(seed);
+    Eigen::VectorXf last;
+    std::vector<Eigen::VectorXf> ends(3);
+    for (const auto& a : actions) {
+      last = random->step(a).observation.values;
+      for (int l = 0; l < 3; ++l) ends[static_cast<size_t>(l)] = fixed[static_cast<size_t>(l)]->step(a).observation.values;
+    }
+    if (ends[0] == ends[1] || ends[1] == ends[2]) continue;  // an episode that ended at once tells nothing
+    int matches = 0;
+    for (int l = 0; l < 3; ++l)
+      if (ends[static_cast<size_t>(l)] == last) {
+        ++matches;
+        ++seen[static_cast<size_t>(l)];
+      }
+    INFO("seed " << seed);
+    CHECK(matches == 1);  // exactly one latency explains the episode
+  }
+  CHECK(seen[0] > 0);
+  CHECK(seen[1] > 0);
+  CHECK(seen[2] > 0);
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"random_latency", true}}}}); }),
+             Contains("env.randomize.random_latency: needs action_latency > 0"));
 }

@@ -20,6 +20,7 @@
 #include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/robot_control.hpp"
+#include "rdsim/envs/randomization.hpp"
 #include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/protocol.hpp"
@@ -207,6 +208,33 @@ TEST_CASE("server: Float32 depth and segmentation images travel bit for bit", "[
   CHECK(remote->spec().observation.high == local->spec().observation.high);
   CHECK(remote->reset(4).values == local->reset(4).values);
   for (int t = 0; t < 5; ++t) REQUIRE(remote->step(Action::discrete(t)).observation.values == local->step(Action::discrete(t)).observation.values);
+}
+
+TEST_CASE("server: a randomized goal env (per-episode draws, latency, queued actions) matches the local one",
+          "[remote][server][randomize]") {
+  Scratch dir("curve_randomized");
+  TestKeys keys(dir);
+  ServerThread server(curve_options(keys));
+  EnvConfig config = default_env_config("push");
+  Randomization& r = config.get<RandomizeOptions>().randomize;
+  r.mass_scale = {0.7, 1.3};
+  r.friction_scale = {0.5, 1.5};
+  r.placement_noise = 0.01;
+  r.observation_noise = 0.005;
+  r.action_latency = 2;
+  r.observe_latency = true;
+  const auto remote = connect_remote_env(keys.link(server.endpoint()), config);
+  const auto local = make_env(config);
+  CHECK(remote->spec().observation.high == local->spec().observation.high);
+  CHECK(remote->spec().goal.observation == local->spec().goal.observation);
+  CHECK(remote->reset(6).values == local->reset(6).values);
+  for (int t = 0; t < 60; ++t) {
+    const Action a = Action::continuous(Eigen::Vector3f(0.3f * static_cast<float>(t % 3 - 1), 0.2f, -0.1f));
+    const StepResult rr = remote->step(a), l = local->step(a);
+    REQUIRE(rr.observation.values == l.observation.values);
+    REQUIRE(rr.reward == l.reward);
+    if (l.terminated || l.truncated) REQUIRE(remote->reset().values == local->reset().values);
+  }
 }
 
 TEST_CASE("server: a client whose key is not authorised gets nothing, and the refusal is logged", "[remote][server]") {

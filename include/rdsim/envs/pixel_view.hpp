@@ -35,6 +35,24 @@ struct ImageChannels {
 // plane, which every env camera has at OrbitView's default).
 ObservationSpace pixel_space(const EnvConfig& config);
 
+// One episode's changes to a PixelView's drawing (domain randomization, envs/task_randomizer.hpp),
+// all relative to the view as built: per camera a shift of its position and target (m, world
+// axes), turns of its view direction (rad: yaw about the world's z, then pitch about the camera's
+// horizontal axis) and a field-of-view change (deg); every drawn part's r, g, b moved by up to
+// colour_noise (uniform, from an Rng seeded with colour_seed, in the scene's part order; clamped
+// to [0, 1]); the light direction turned like a camera's view.
+struct ViewVariation {
+  struct CameraChange {
+    Eigen::Vector3f shift = Eigen::Vector3f::Zero();
+    float yaw = 0.0f, pitch = 0.0f;  // rad
+    float fov = 0.0f;                // deg
+  };
+  std::vector<CameraChange> cameras;  // one per view (missing ones: no change)
+  float colour_noise = 0.0f;
+  std::uint64_t colour_seed = 0;
+  float light_yaw = 0.0f, light_pitch = 0.0f;  // rad
+};
+
 class PixelView {
 public:
   // `views`: the env's main and second camera; only the first is used without multi_view.
@@ -50,6 +68,11 @@ public:
   // The same into caller memory of space().size() bytes or floats (a VecEnv batch column).
   void render(const ReachTask& task, ObservationOut out);
 
+  // Draws from now on with `v` applied to the view as built (replacing any earlier variation).
+  void vary(const ViewVariation& v);
+  const Camera& camera(int view) const { return cameras_[static_cast<size_t>(view)]; }
+  const Scene& scene() const { return scene_.scene; }
+
 private:
   void render_rgb(std::uint8_t* pixels);
   void render_channels(float* values);
@@ -57,6 +80,9 @@ private:
   RobotScene scene_;
   std::unique_ptr<Renderer> renderer_;
   std::vector<Camera> cameras_;
+  std::vector<Camera> built_cameras_;          // as built (vary() changes copies)
+  std::vector<Eigen::Vector4f> built_colours_;  // per scene item, as built
+  Eigen::Vector3f built_light_ = Eigen::Vector3f::Zero();
   ImageChannels channels_;
   ObservationSpace space_;
   std::vector<std::uint8_t> frame_;         // one view, RGB, for interleaving

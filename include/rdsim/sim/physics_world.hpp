@@ -117,6 +117,12 @@ public:
   // its two sides'), with friction anchors (Robot::set_link_friction says why). rdsim::Error for a
   // body that is not free or a negative or non-finite value.
   void set_free_body_friction(int body, float friction);
+  float free_body_friction(int body) const;
+  // A free body's mass and moments as its model gives them times `scale` (> 0; domain
+  // randomization: envs/task_randomizer.hpp); each call replaces the last. rdsim::Error for a body
+  // that is not free or a scale out of range.
+  void set_free_body_mass_scale(int body, double scale);
+  double free_body_mass(int body) const;  // kg
   // Puts a free body back in a state free_body_state gave (bit for bit) and forgets its contacts.
   void set_free_body_state(int body, const FreeBodyState& state);
 

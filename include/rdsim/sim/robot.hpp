@@ -155,6 +155,22 @@ public:
   void set_link_friction(int link, float friction);
   float link_friction(int link) const { return link_friction_[static_cast<size_t>(link)]; }
 
+  // Domain randomization (envs/task_randomizer.hpp) varies the simulated robot with these:
+  //  - set_mass_scales: one factor per model link (> 0) on its mass and principal moments, in
+  //    Bullet and in rdsim's own dynamics of the robot (the ComputedTorque drive's model);
+  //  - set_friction_scale: one factor (>= 0) on every link's friction coefficient;
+  //  - set_joint_damping: a dof's viscous damping (N m s/rad, N s/m for prismatic joints; >= 0), a
+  //    torque of -damping x joint velocity before every physics step. Starts at the URDF's with
+  //    RobotOptions::joint_damping, else 0.
+  // Each setting replaces the last (never compounds) and survives the multibody's rebuilds.
+  // rdsim::Error for a wrong count, a dof out of range or a value out of range.
+  void set_mass_scales(const std::vector<double>& scales);
+  void set_friction_scale(float scale);
+  void set_joint_damping(int dof, float damping);
+  float joint_damping(int dof) const;
+  float position_gain() const { return position_gain_; }
+  float velocity_gain() const { return velocity_gain_; }
+
   // Called by PhysicsWorld::step before Bullet's step: applies the ComputedTorque drive.
   void before_step();
 
@@ -165,7 +181,7 @@ private:
     float lower = 0, upper = 0;
     float target = 0;
     float velocity = 0, effort = 0;  // URDF limits
-    float damping = 0;               // URDF <dynamics damping>
+    float damping = 0;               // N m s/rad: URDF <dynamics damping> (joint_damping), set_joint_damping
     bool held = false;               // named by hold()
     bool welded = false;             // a Bullet fixed joint at `target` (RobotOptions::weld_held_joints)
     btMultiBodyJointMotor* motor = nullptr;
@@ -181,6 +197,8 @@ private:
   std::vector<btMultiBodyLinkCollider*> colliders_;
   std::vector<float> link_friction_;  // per model link (set_link_friction)
   std::vector<bool> link_anchored_;   // per model link: friction anchors on (set_link_friction)
+  std::vector<double> mass_scale_;    // per model link (set_mass_scales)
+  float friction_scale_ = 1.0f;       // on every link's friction (set_friction_scale)
   std::vector<btMultiBodyConstraint*> limits_;  // joint limits and couplings (coupled_dofs)
   // Per model link: its URDF frame in the frame Bullet simulates (principal axes at the centre of mass).
   std::vector<Eigen::Isometry3f> body_to_link_;

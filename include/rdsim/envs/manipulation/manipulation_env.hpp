@@ -13,6 +13,7 @@
 #include "rdsim/envs/manipulation/manipulation_task.hpp"
 #include "rdsim/envs/pixel_view.hpp"
 #include "rdsim/envs/robot_cameras.hpp"
+#include "rdsim/envs/task_randomizer.hpp"
 #include "rdsim/envs/reaching/reach_task.hpp"
 
 // A goal-conditioned manipulation env (Gymnasium-Robotics' GoalEnv, panda-gym's conventions): an
@@ -104,6 +105,9 @@ private:
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
   std::vector<CameraMount> camera_mounts_;  // RobotControl's cameras: the scene camera
   std::unique_ptr<RobotCameras> cameras_;   // made on the first camera_image
+  // The config's per-episode randomization; two placements: all cubes by one offset (they keep
+  // apart), all goals by another (a stack's goals stay stacked).
+  std::unique_ptr<TaskRandomizer> randomizer_;
   std::string renderer_backend_;
   RobotInfo robot_info_;
   TaskArea area_;

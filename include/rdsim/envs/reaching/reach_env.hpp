@@ -11,6 +11,7 @@
 #include "rdsim/core/robot_control.hpp"
 #include "rdsim/envs/reaching/obstacle_options.hpp"
 #include "rdsim/envs/pixel_view.hpp"
+#include "rdsim/envs/task_randomizer.hpp"
 #include "rdsim/envs/reaching/reach_task.hpp"
 #include "rdsim/envs/robot_cameras.hpp"
 #include "rdsim/render/camera.hpp"
@@ -105,6 +106,7 @@ public:
   const ReachTask& task() const { return *task_; }
   ReachTask& task() { return *task_; }
   const ReachTerms& terms() const { return terms_; }
+  const PixelView* pixel_view() const { return pixels_.get(); }  // raw-pixel observations only
   int steps() const { return steps_; }
   // Index into terms().target_choices of the current target (-1 without choices).
   int target_index() const { return target_index_; }
@@ -121,6 +123,9 @@ private:
   void judge(StepOutcome& r) const;
   void walk();               // one random-walk step of the walking body
   void place_walking_body();  // puts it at its place + walk_offset_
+  // The randomizer's draws of this episode: the target's placement offset (new_episode: a loaded
+  // state has it in place already) and the pixel view's camera, colours and light.
+  void apply_randomizer(bool new_episode);
 
   Spec spec_;
   ReachTerms terms_;
@@ -128,6 +133,7 @@ private:
   std::unique_ptr<PixelView> pixels_;  // raw_pixels only
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
   std::unique_ptr<RobotCameras> cameras_;  // made on the first camera_image
+  std::unique_ptr<TaskRandomizer> randomizer_;  // the config's per-episode randomization (one placement: the target)
   std::string renderer_backend_;
   RobotInfo robot_info_;
   std::vector<Eigen::Vector3f> landmark_points_;
