@@ -122,7 +122,7 @@ private:
     float* q = out.values + split_;
     std::fill_n(q, queue_, 0.0f);
     const ActionSpace& space = inner_->spec().action;
-    const int per_action = queue_ / r_.action_latency;
+    const int per_action = queue_ / r_.queue_slots();
     for (const Action& a : pending_) {
       if (space.discrete)
         q[a.index] = 1.0f;
@@ -133,17 +133,17 @@ private:
     std::copy(scratch_.data() + split_, scratch_.data() + inner_size, out.values + split_ + queue_);
   }
 
-  // observe_latency: action_latency actions' values (Discrete: one-hot) after the env's own values.
+  // observe_latency: queue_slots() actions' values (Discrete: one-hot) after the env's own values.
   void add_queue_to_spec() {
     const ActionSpace& action = spec_.action;
     const int per_action = action.discrete ? action.n : action.dim();
-    queue_ = r_.action_latency * per_action;
+    queue_ = r_.queue_slots() * per_action;
     ObservationSpace& obs = spec_.observation;
     const int inner_size = obs.size();
     split_ = spec_.goal.active() ? spec_.goal.observation : inner_size;
     scratch_.resize(static_cast<size_t>(inner_size));
     Eigen::VectorXf low(inner_size + queue_), high(inner_size + queue_);
-    for (int k = 0; k < r_.action_latency; ++k) {
+    for (int k = 0; k < r_.queue_slots(); ++k) {
       const Eigen::Index at = split_ + k * per_action;
       low.segment(at, per_action) = action.discrete ? Eigen::VectorXf::Zero(per_action) : action.low;
       high.segment(at, per_action) = action.discrete ? Eigen::VectorXf::Ones(per_action) : action.high;

@@ -134,8 +134,12 @@ void check_randomization(ConfigReader& r, const Randomization& z, const EnvConfi
   if (z.observation_noise > 0.0 && c.observation != ObservationMode::GroundTruth)
     r.fail("randomize.observation_noise", "applies to ground-truth observations only (\"observation\": \"ground_truth\")");
   if (z.random_latency && z.action_latency == 0) r.fail("randomize.random_latency", "needs action_latency > 0");
-  if (z.observe_latency && (z.action_latency == 0 || c.observation != ObservationMode::GroundTruth))
-    r.fail("randomize.observe_latency", "needs action_latency > 0 and ground-truth observations");
+  if (z.observe_latency && (z.queue_slots() == 0 || c.observation != ObservationMode::GroundTruth))
+    r.fail("randomize.observe_latency", "needs action_latency > 0 (or latency_slots) and ground-truth observations");
+  if (z.latency_slots > 0 && !z.observe_latency) r.fail("randomize.latency_slots", "has no effect without observe_latency");
+  if (z.latency_slots > 0 && z.latency_slots < z.action_latency)
+    r.fail("randomize.latency_slots", std::to_string(z.latency_slots) + " slots cannot hold an action_latency of " +
+                                          std::to_string(z.action_latency));
   if (z.varies_view() && c.observation != ObservationMode::RawPixels)
     r.fail(z.camera_shift > 0.0  ? "randomize.camera_shift"
            : z.camera_turn > 0.0 ? "randomize.camera_turn"

@@ -367,8 +367,30 @@ TEST_CASE("randomize: observe_latency puts the actions still to run into the obs
     CHECK(o.segment(g.observation, 3) == Eigen::Vector3f(0.5f, -1.0f, 0.25f));
     CHECK(o.tail(2 * g.goal_size()) == p.tail(2 * g.goal_size()));
   }
+  SECTION("latency_slots: room for more actions than the latency, zeros where none wait") {
+    auto none = make({{"name", "push"}, {"randomize", {{"observe_latency", true}, {"latency_slots", 2}}}});
+    auto some = make({{"name", "push"}, {"randomize", {{"action_latency", 2}, {"random_latency", true},
+                                                        {"observe_latency", true}, {"latency_slots", 3}}}});
+    auto plain = make({{"name", "push"}});
+    const int inner = plain->spec().observation.size();
+    CHECK(none->spec().observation.size() == inner + 6);
+    CHECK(some->spec().observation.size() == inner + 9);
+    plain->reset(4);
+    none->reset(4);
+    const auto a = rdsim::Action::continuous(Eigen::Vector3f(0.5f, 0.5f, 0.0f));
+    const auto o = none->step(a).observation.values, p = plain->step(a).observation.values;
+    const int split = plain->spec().goal.observation;
+    CHECK(o.segment(split, 6).isZero());  // no latency: the action ran at once
+    CHECK(o.head(split) == p.head(split));
+  }
   CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"observe_latency", true}}}}); }),
              Contains("env.randomize.observe_latency: needs action_latency > 0"));
+  CHECK_THAT(error_of([] {
+               make({{"name", "push"}, {"randomize", {{"action_latency", 3}, {"observe_latency", true}, {"latency_slots", 2}}}});
+             }),
+             Contains("env.randomize.latency_slots: 2 slots cannot hold an action_latency of 3"));
+  CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"latency_slots", 2}}}}); }),
+             Contains("env.randomize.latency_slots: has no effect without observe_latency"));
 }
 
 TEST_CASE("randomize: random_latency runs each episode with a latency of 0..action_latency steps, from the seed",

@@ -5,11 +5,13 @@ perturbed episodes. Tasks: PPO on jaka_button (configs/jaka_button.json), SAC + 
 The perturbation: link and object masses x0.7-1.3, friction x0.5-1.5, 2 steps of action latency,
 and 5 mm observation noise (ground truth) or the camera moved 3 cm and turned 3 degrees (pixels).
 The training randomization is the same, except that each episode's latency is drawn from 0-2 steps
-(random_latency). Writes one CSV row per task, seed and
+(random_latency) and, unless --memoryless, the randomized policy observes the actions still to run
+(observe_latency with 2 slots; its unperturbed episodes then show empty slots). Writes one CSV row per task, seed and
 policy and prints each policy's perturbed / unperturbed success ("kept").
 
     .venv/bin/python tools/bench/robustness.py [--tasks jaka_button push jaka_button_pixels]
-        [--seeds 1 2 3] [--out runs/robustness] [--jobs 2]
+        [--seeds 1 2 3] [--out runs/robustness] [--jobs 2] [--policies plain randomized] [--memoryless]
+        [--timesteps N]
         [--mass 0.3 --friction 0.5 --latency 2 --noise 0.005 --camera-shift 0.03 --camera-turn 3]
 
 Trainings run as `rdsim train` processes, --jobs at a time, one thread each; the evaluation uses the
@@ -70,6 +72,11 @@ def train(rdsim_bin: str, config: dict, run: pathlib.Path) -> float:
     return time.monotonic() - start
 
 
+def observed(args) -> dict:
+    """The randomize keys that put the pending actions into the observation (none with --memoryless)."""
+    return {} if args.memoryless else {"observe_latency": True, "latency_slots": args.latency}
+
+
 def cpu_model() -> str:
     try:
         for line in open("/proc/cpuinfo"):
@@ -93,6 +100,9 @@ def main() -> None:
     p.add_argument("--noise", type=float, default=0.005, help="observation noise, m (ground truth)")
     p.add_argument("--camera-shift", type=float, default=0.03, help="camera moves, m per axis (pixels)")
     p.add_argument("--camera-turn", type=float, default=3.0, help="camera turns, degrees of yaw and pitch (pixels)")
+    p.add_argument("--policies", nargs="+", choices=["plain", "randomized"], default=["plain", "randomized"])
+    p.add_argument("--timesteps", type=int, help="training steps of every run (default: each config's)")
+    p.add_argument("--memoryless", action="store_true", help="the randomized policy does not observe the pending actions")
     p.add_argument("--rdsim", default=os.environ.get("RDSIM_BIN", str(ROOT / "build/rdsim")), help="the rdsim binary")
     args = p.parse_args()
     physical = {"mass_scale": [1 - args.mass, 1 + args.mass], "friction_scale": [1 - args.friction, 1 + args.friction],
@@ -108,11 +118,14 @@ def main() -> None:
         base.pop("eval", None)
         perturbation = perturbations[base["env"].get("observation", "ground_truth")]
         for seed in args.seeds:
-            for policy in ("plain", "randomized"):
+            for policy in args.policies:
                 config = json.loads(json.dumps(base))
                 config["seed"] = seed
+                if args.timesteps:
+                    config["total_timesteps"] = args.timesteps
                 if policy == "randomized":  # the perturbation, each episode's latency drawn from 0..its latency
-                    config["env"]["randomize"] = dict(perturbation, random_latency=True)
+                    pixels = base["env"].get("observation") == "raw_pixels"  # observe_latency: ground truth only
+                    config["env"]["randomize"] = dict(perturbation, random_latency=True, **({} if pixels else observed(args)))
                 runs.append((task, seed, policy, config, out / f"{task}_{policy}_{seed}"))
     print(f"training {len(runs)} policies, {args.jobs} at a time", flush=True)
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
@@ -123,8 +136,10 @@ def main() -> None:
         model = rdsim.load_model(run / "model.bin")
         env = {k: v for k, v in config["env"].items() if k != "randomize"}
         perturbation = perturbations[env.get("observation", "ground_truth")]
-        clean = success_rate(model, env, args.episodes, 10_000)
-        worse = success_rate(model, dict(env, randomize=perturbation), args.episodes, 10_000)
+        # The policy's own observation layout: with the pending actions, the unperturbed env keeps empty slots.
+        layout = observed(args) if policy == "randomized" and env.get("observation") != "raw_pixels" else {}
+        clean = success_rate(model, dict(env, randomize=layout) if layout else env, args.episodes, 10_000)
+        worse = success_rate(model, dict(env, randomize=dict(perturbation, **layout)), args.episodes, 10_000)
         rows.append({"task": task, "seed": seed, "policy": policy, "train_seconds": round(took),
                      "success": clean, "perturbed_success": worse,
                      "kept": round(worse / clean, 3) if clean else float("nan")})
@@ -135,7 +150,7 @@ def main() -> None:
         writer.writerows(rows)
     print(f"\n{cpu_model()}, {os.cpu_count()} cores; perturbations {perturbations}; {args.episodes} episodes each")
     for task in args.tasks:
-        for policy in ("plain", "randomized"):
+        for policy in args.policies:
             mine = [r for r in rows if r["task"] == task and r["policy"] == policy]
             print(f"{task:>12} {policy:>10}: success {np.mean([r['success'] for r in mine]):.2f} unperturbed, "
                   f"{np.mean([r['perturbed_success'] for r in mine]):.2f} perturbed; kept "

@@ -34,9 +34,11 @@ struct Randomization {
   int action_latency = 0;          // env steps
   bool random_latency = false;     // each episode's latency drawn from 0..action_latency
   bool observe_latency = false;    // the actions still to run appended to the observation
+  int latency_slots = 0;           // observe_latency's action slots; 0 = action_latency
 
   // The per-step part (the randomized() wrapper) and the per-episode part (TaskRandomizer).
   bool per_step() const { return observation_noise > 0.0 || action_latency > 0 || random_latency || observe_latency; }
+  int queue_slots() const { return observe_latency ? (latency_slots > 0 ? latency_slots : action_latency) : 0; }
   bool per_episode() const { return varies_physics() || varies_view(); }
   bool varies_physics() const {
     return !is_one(mass_scale) || !is_one(friction_scale) || !is_zero(joint_damping) || !is_one(gain_scale) ||
@@ -102,9 +104,13 @@ void describe(V& v, C& c) {
           "policy that cannot know the delay learns to live with any of them)");
   v.field("observe_latency", c.observe_latency,
           "with action_latency: the observation also holds the actions still to run, oldest first (each Box action's "
-          "values clipped to its bounds, a Discrete one one-hot), in action_latency slots (zeros in those not used: "
-          "before the episode's first action, or with a shorter random_latency), after the env's own values and "
+          "values clipped to its bounds, a Discrete one one-hot), in latency_slots slots (zeros in those not used: "
+          "before the episode's first action, or with a shorter latency), after the env's own values and "
           "before a goal env's goals");
+  v.field("latency_slots", c.latency_slots, config::Range{0, 100000},
+          "observe_latency's slots (at least action_latency); 0 = action_latency. More slots than the latency let "
+          "one policy run with any latency up to them, 0 included (an env without latency that keeps the "
+          "observation's size)");
   v.check(config::is_range(c.mass_scale), "mass_scale", "expected [lo, hi] with lo <= hi");
   v.check(config::is_range(c.friction_scale), "friction_scale", "expected [lo, hi] with lo <= hi");
   v.check(config::is_range(c.joint_damping), "joint_damping", "expected [lo, hi] with lo <= hi");
