@@ -2,6 +2,7 @@
 // step runs the action given action_latency steps before, every observation gets Gaussian noise,
 // and with observe_latency the actions still to run join the observation.
 #include <algorithm>
+#include <cmath>
 #include <deque>
 #include <sstream>
 #include <utility>
@@ -127,7 +128,8 @@ private:
       if (space.discrete)
         q[a.index] = 1.0f;
       else
-        for (int k = 0; k < per_action; ++k) q[k] = std::clamp(a.values[k], space.low[k], space.high[k]);
+        for (int k = 0; k < per_action; ++k)  // as the envs read them: clipped, non-finite values as 0
+          q[k] = std::isfinite(a.values[k]) ? std::clamp(a.values[k], space.low[k], space.high[k]) : 0.0f;
       q += per_action;
     }
     std::copy(scratch_.data() + split_, scratch_.data() + inner_size, out.values + split_ + queue_);

@@ -366,6 +366,9 @@ TEST_CASE("randomize: observe_latency puts the actions still to run into the obs
     CHECK(o.head(g.observation) == p.head(g.observation));
     CHECK(o.segment(g.observation, 3) == Eigen::Vector3f(0.5f, -1.0f, 0.25f));
     CHECK(o.tail(2 * g.goal_size()) == p.tail(2 * g.goal_size()));
+    // A value that is not a number waits as 0, as the env runs it.
+    const auto nan = rdsim::Action::continuous(Eigen::Vector3f(std::nanf(""), 0.5f, 0.0f));
+    CHECK(env->step(nan).observation.values.segment(g.observation, 3) == Eigen::Vector3f(0.0f, 0.5f, 0.0f));
   }
   SECTION("latency_slots: room for more actions than the latency, zeros where none wait") {
     auto none = make({{"name", "push"}, {"randomize", {{"observe_latency", true}, {"latency_slots", 2}}}});
