@@ -6,6 +6,7 @@
 #include <deque>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include "rdsim/core/assert.hpp"
 #include "rdsim/core/binary_io.hpp"
@@ -13,17 +14,41 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/core/suggest.hpp"
 #include "rdsim/envs/randomization.hpp"
 
 namespace rdsim {
 namespace {
 
+// The noise's standard deviation for each value of `spec`'s observation: observation_noise, but
+// the values of the parts observation_noise_parts names get theirs, and a goal env's desired goal none.
+std::vector<double> noise_levels(const Spec& spec, const Randomization& r) {
+  const ObservationSpace& obs = spec.observation;
+  std::vector<double> noise(static_cast<size_t>(obs.size()), r.observation_noise);
+  if (spec.goal.active())
+    std::fill(noise.begin() + spec.goal.desired_offset(), noise.end(), 0.0);
+  const std::string key = spec.env_name + ": env.randomize.observation_noise_parts: ";
+  for (const auto& [name, level] : r.observation_noise_parts) {
+    if (obs.parts.empty()) throw Error(key + spec.env_name + "'s observation has no named parts");
+    const auto [at, size] = obs.part(name);
+    if (at < 0) {
+      std::vector<std::string> names;
+      for (const ObservationPart& p : obs.parts) names.push_back(p.name);
+      throw Error(key + "\"" + name + "\" is not a part of " + spec.env_name + "'s observation" +
+                  did_you_mean(name, names) + " (its parts: " + obs.part_names() + ")");
+    }
+    if (spec.goal.active() && at == spec.goal.desired_offset())
+      throw Error(key + "desired_goal is the task's goal, not a reading: it stays exact");
+    std::fill_n(noise.begin() + at, size, level);
+  }
+  return noise;
+}
+
 class RandomizedEnv final : public Env, public EnvState {
 public:
   RandomizedEnv(std::unique_ptr<Env> inner, EnvState& inner_state, const Randomization& r)
       : inner_(std::move(inner)), inner_state_(inner_state), r_(r), spec_(inner_->spec()) {
-    const GoalLayout& goal = spec_.goal;
-    noisy_ = goal.active() ? goal.desired_offset() : spec_.observation.size();
+    if (r.noisy()) noise_ = noise_levels(spec_, r);
     if (r.observe_latency) add_queue_to_spec();
   }
 
@@ -115,8 +140,8 @@ private:
   // The noise, then (observe_latency) the wrapped env's values around the queue into `out`.
   void finish(ObservationOut out) {
     float* values = queue_ == 0 ? out.values : scratch_.data();
-    if (r_.observation_noise > 0.0)
-      for (int i = 0; i < noisy_; ++i) values[i] += static_cast<float>(r_.observation_noise * rng_.normal());
+    for (size_t i = 0; i < noise_.size(); ++i)
+      if (noise_[i] > 0.0) values[i] += static_cast<float>(noise_[i] * rng_.normal());
     if (queue_ == 0) return;
     const int inner_size = static_cast<int>(scratch_.size());
     std::copy_n(scratch_.data(), split_, out.values);
@@ -154,6 +179,11 @@ private:
     high.head(split_) = obs.high.head(split_);
     low.tail(inner_size - split_) = obs.low.tail(inner_size - split_);
     high.tail(inner_size - split_) = obs.high.tail(inner_size - split_);
+    if (!obs.parts.empty()) {  // the queue's part goes where its values go: before a goal env's goals
+      auto at = obs.parts.end();
+      if (spec_.goal.active()) at -= 2;
+      obs.parts.insert(at, ObservationPart{"pending_actions", queue_});
+    }
     obs.shape = {inner_size + queue_};
     obs.low = low;
     obs.high = high;
@@ -186,7 +216,7 @@ private:
   EnvState& inner_state_;
   Randomization r_;
   Spec spec_;      // the wrapped env's, with the queue when observe_latency
-  int noisy_ = 0;  // the first values of the wrapped env's observation get noise (all but a desired goal)
+  std::vector<double> noise_;  // standard deviation per value of the wrapped env's observation (empty: none)
   int queue_ = 0;  // values of the queued actions in the observation (observe_latency)
   int split_ = 0;  // where they go: after the wrapped env's own values, before its goals
   std::vector<float> scratch_;  // the wrapped env's observation (observe_latency)
@@ -202,7 +232,7 @@ std::unique_ptr<Env> randomized(std::unique_ptr<Env> env, const Randomization& r
   // Every env that lists the option group can save its state (read_env_config checked the rest).
   auto* state = dynamic_cast<EnvState*>(env.get());
   RDSIM_ASSERT(state != nullptr, "a randomized env can save its state");
-  RDSIM_ASSERT(r.observation_noise == 0.0 || env->spec().observation.type == ObsType::Float32,
+  RDSIM_ASSERT(!r.noisy() || env->spec().observation.type == ObsType::Float32,
                "observation noise on ground-truth observations");
   return std::make_unique<RandomizedEnv>(std::move(env), *state, r);
 }

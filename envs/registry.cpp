@@ -131,8 +131,9 @@ void check_randomization(ConfigReader& r, const Randomization& z, const EnvConfi
   if (z.action_latency >= c.max_steps)
     r.fail("randomize.action_latency", std::to_string(z.action_latency) + " steps is not shorter than " + name +
                                            "'s episode (max_steps " + std::to_string(c.max_steps) + ")");
-  if (z.observation_noise > 0.0 && c.observation != ObservationMode::GroundTruth)
-    r.fail("randomize.observation_noise", "applies to ground-truth observations only (\"observation\": \"ground_truth\")");
+  if (z.noisy() && c.observation != ObservationMode::GroundTruth)
+    r.fail(z.observation_noise > 0.0 ? "randomize.observation_noise" : "randomize.observation_noise_parts",
+           "applies to ground-truth observations only (\"observation\": \"ground_truth\")");
   if (z.random_latency && z.action_latency == 0) r.fail("randomize.random_latency", "needs action_latency > 0");
   if (z.observe_latency && (z.queue_slots() == 0 || c.observation != ObservationMode::GroundTruth))
     r.fail("randomize.observe_latency", "needs action_latency > 0 (or latency_slots) and ground-truth observations");

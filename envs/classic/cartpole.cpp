@@ -39,6 +39,7 @@ CartPole::CartPole(const EnvConfig& config) {
   spec_.observation.high.resize(4);
   spec_.observation.high << static_cast<float>(2 * x_threshold), big, static_cast<float>(2 * theta_threshold), big;
   spec_.observation.low = -spec_.observation.high;
+  spec_.observation.parts = {{"cart_position", 1}, {"cart_velocity", 1}, {"pole_angle", 1}, {"pole_angular_velocity", 1}};
   spec_.action.discrete = true;
   spec_.action.n = 2;
   spec_.max_episode_steps = config.max_steps;

@@ -38,6 +38,7 @@ Pendulum::Pendulum(const EnvConfig& config) {
   spec_.observation.shape = {3};
   spec_.observation.high = (Eigen::VectorXf(3) << 1.0f, 1.0f, static_cast<float>(max_speed)).finished();
   spec_.observation.low = -spec_.observation.high;
+  spec_.observation.parts = {{"cos_angle", 1}, {"sin_angle", 1}, {"angular_velocity", 1}};
   spec_.action.discrete = false;
   spec_.action.low = Eigen::VectorXf::Constant(1, static_cast<float>(-max_torque));
   spec_.action.high = Eigen::VectorXf::Constant(1, static_cast<float>(max_torque));

@@ -56,6 +56,17 @@ ObservationSpace observation_space(const Eigen::AlignedBox3f& workspace, bool bl
     set3(s, at + 13, -span, span);
   }
   for (int p = 0; p < 2 * points; ++p, at += 3) set3(s, at, lo, hi);
+  s.parts = {{"effector_position", 3}, {"effector_velocity", 3}};
+  if (!blocked) s.parts.push_back({"finger_opening", 1});
+  for (int k = 1; k <= cubes; ++k) {
+    const std::string cube = "cube" + std::to_string(k) + "_";
+    s.parts.insert(s.parts.end(), {{cube + "position", 3},
+                                   {cube + "orientation", 4},
+                                   {cube + "velocity", 3},
+                                   {cube + "angular_velocity", 3},
+                                   {cube + "from_effector", 3}});
+  }
+  s.parts.insert(s.parts.end(), {{"achieved_goal", 3 * points}, {"desired_goal", 3 * points}});
   return s;
 }
 

@@ -44,7 +44,7 @@ ReachTerms jaka_obstacle_terms(const EnvConfig& config) {
   t.press_body = JakaObstacle::button_index;
   t.forbidden_body = JakaObstacle::column_index;
   t.collision_reward = JakaObstacle::collision_reward;
-  t.landmarks = {JakaObstacle::column_index};
+  t.landmarks = {{JakaObstacle::column_index, "column"}};
   t.observed_links = {"wrist_2_link", "wrist_3_link"};
   // The scripted expert: round the column's near side (flange between column and base, as the header
   // says), then down onto the button from 6 cm above it (arriving sideways at button height the wrist

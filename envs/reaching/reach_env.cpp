@@ -75,6 +75,18 @@ ObservationSpace ground_truth_space(const ReachTaskSpec& s, const Eigen::Aligned
   return space;
 }
 
+// The names of ground_truth_space's values (reach_env.hpp).
+std::vector<ObservationPart> ground_truth_parts(const ReachTerms& terms, ObservationLayout layout) {
+  const bool full = layout == ObservationLayout::Full;
+  std::vector<ObservationPart> parts{{full ? "target_from_effector" : "effector_from_target", 3}};
+  for (const ReachTerms::Landmark& l : terms.landmarks) parts.push_back({"effector_from_" + l.name, 3});
+  if (!full) return parts;
+  parts.push_back({"effector_position", 3});
+  for (const std::string& link : terms.observed_links)
+    for (const ReachTerms::Landmark& l : terms.landmarks) parts.push_back({link + "_from_" + l.name, 3});
+  return parts;
+}
+
 void check_static_index(const ReachTaskSpec& s, int index, const char* what) {
   if (index < -1 || index >= static_cast<int>(s.statics.size()))
     throw Error(s.name + ": " + what + " " + std::to_string(index) + " is not one of its " +
@@ -88,10 +100,10 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   check_static_index(task, terms_.forbidden_body, "forbidden body");
   check_static_index(task, terms_.walking_body, "walking body");
   std::vector<Eigen::Vector3f> slack;  // how far each landmark can move from its point
-  for (int landmark : terms_.landmarks) {
-    check_static_index(task, landmark, "landmark");
-    landmark_points_.push_back(task.statics[static_cast<size_t>(landmark)].pose.translation());
-    const float walk = landmark == terms_.walking_body ? terms_.walk_range : 0.0f;
+  for (const ReachTerms::Landmark& landmark : terms_.landmarks) {
+    check_static_index(task, landmark.body, "landmark");
+    landmark_points_.push_back(task.statics[static_cast<size_t>(landmark.body)].pose.translation());
+    const float walk = landmark.body == terms_.walking_body ? terms_.walk_range : 0.0f;
     slack.emplace_back(walk, walk, 0.0f);
   }
   task_ = std::make_unique<ReachTask>(std::move(task));
@@ -109,6 +121,7 @@ ReachEnv::ReachEnv(ReachTaskSpec task, ReachTerms terms, const EnvConfig& config
   spec_.control_dt = s.world.time_step * s.action_repeat;
   spec_.observation = ground_truth_space(s, ee_box(s, task_->robot_model(), task_->ee_link()), landmark_points_,
                                          slack, task_->robot_model(), observed_links_, layout_);
+  spec_.observation.parts = ground_truth_parts(terms_, layout_);
   if (config.observation == ObservationMode::RawPixels) {
     pixels_ = std::make_unique<PixelView>(*task_, config, terms_.main_view, terms_.second_view);
     spec_.observation = pixels_->space();
@@ -236,7 +249,7 @@ void ReachEnv::place_walking_body() {
   pose.translation().head<2>() += walk_offset_;
   task_->world().set_static_pose(task_->static_body(index), pose);
   for (size_t k = 0; k < terms_.landmarks.size(); ++k)
-    if (terms_.landmarks[k] == index) landmark_points_[k] = pose.translation();
+    if (terms_.landmarks[k].body == index) landmark_points_[k] = pose.translation();
 }
 
 StepOutcome ReachEnv::step_into(const Action& action, ObservationOut out) {

@@ -11,7 +11,7 @@ import numpy as np
 from . import _rdsim
 from ._ids import env_id as _env_id
 from ._ids import env_name
-from .spaces import action_space, goal_dict, observation_space, render_fps
+from .spaces import action_space, goal_dict, observation_parts, observation_space, render_fps
 
 
 class RdsimEnv(gymnasium.Env):
@@ -50,6 +50,9 @@ class RdsimEnv(gymnasium.Env):
         self._env = _rdsim.Env(name, options, self._where)
         spec = self._env.spec
         self.observation_space = observation_space(spec)
+        #: What each value of a vector observation is: part name -> slice of the flat vector
+        #: (``{}`` for images); randomize's ``observation_noise_parts`` takes these names.
+        self.observation_parts: dict[str, slice] = observation_parts(spec)
         #: A goal env's layout and reward (``None`` for other envs).
         self.goal: Optional[dict] = spec["goal"]
         if self.goal is not None:

@@ -15,7 +15,7 @@ import zmq
 from . import _rdsim
 from ._ids import env_name
 from ._rdsim import Error
-from .spaces import goal_dict, observation_space
+from .spaces import goal_dict, observation_parts, observation_space
 
 PROTOCOL_VERSION = 1
 _DTYPES = {"float32": np.dtype("<f4"), "uint8": np.dtype("u1")}
@@ -35,7 +35,8 @@ def _key_field(path: str, label: str) -> bytes:
 def _local_spec(remote_spec: dict, arrays: dict) -> dict:
     """The observation part of a hello reply's spec in the C++ module's layout (rdsim.spaces reads it)."""
     obs = remote_spec["observation"]
-    spec = {"observation_shape": obs["shape"], "observation_dtype": obs["dtype"], "goal": remote_spec.get("goal")}
+    spec = {"observation_shape": obs["shape"], "observation_dtype": obs["dtype"], "goal": remote_spec.get("goal"),
+            "observation_parts": obs.get("parts", [])}
     if obs["dtype"] != "uint8":
         spec["observation_low"], spec["observation_high"] = arrays["observation_low"], arrays["observation_high"]
     return spec
@@ -85,7 +86,10 @@ class RemoteEnv(gymnasium.Env):
         self.config: dict[str, Any] = header["env"]
         self.remote_spec = header["spec"]
         self.robot = header["robot"]  # None for envs without a robot (cartpole)
-        self.observation_space = observation_space(_local_spec(self.remote_spec, arrays))
+        local = _local_spec(self.remote_spec, arrays)
+        self.observation_space = observation_space(local)
+        #: What each value of the observation is, as :attr:`rdsim.RdsimEnv.observation_parts`.
+        self.observation_parts: dict[str, slice] = observation_parts(local)
         #: A goal env's layout and reward (``None`` for other envs), as :attr:`rdsim.RdsimEnv.goal`.
         self.goal: Optional[dict] = self.remote_spec.get("goal")
         if self.goal is not None:

@@ -32,6 +32,18 @@ def goal_slices(goal: dict) -> dict[str, slice]:
     }
 
 
+def observation_parts(spec: dict) -> dict[str, slice]:
+    """What each value of a vector observation is: part name -> its slice of the flat vector, in order
+    (``{}`` when the env does not name them: images, classic control). A goal env's parts end with
+    ``achieved_goal`` and ``desired_goal``; the others lie within its dict's ``observation`` at the
+    same slices."""
+    parts, at = {}, 0
+    for name, size in spec.get("observation_parts") or []:
+        parts[str(name)] = slice(at, at + int(size))
+        at += int(size)
+    return parts
+
+
 def goal_dict(goal: dict, flat: np.ndarray, copy: bool = True) -> dict[str, np.ndarray]:
     """A goal env's flat observation(s) (last axis) as the Dict observation; views of ``flat`` unless ``copy``."""
     return {key: (flat[..., part].copy() if copy else flat[..., part]) for key, part in goal_slices(goal).items()}

@@ -14,7 +14,7 @@ from . import _rdsim
 from ._ids import env_id as _env_id
 from ._ids import env_name
 from .env import _check_reset_options, _rdsim_seed_check
-from .spaces import action_space, goal_dict, observation_space
+from .spaces import action_space, goal_dict, observation_parts, observation_space
 
 _INFO_KEYS = ("success", "collision", "out_of_bounds", "distance")
 
@@ -79,6 +79,8 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         spec = self._vec.spec
         self.num_envs = int(num_envs)
         self.single_observation_space = observation_space(spec)
+        #: What each value of one env's observation is, as :attr:`rdsim.RdsimEnv.observation_parts`.
+        self.observation_parts: dict[str, slice] = observation_parts(spec)
         #: A goal env's layout and reward (``None`` for other envs): observations are dicts of
         #: ``observation``, ``achieved_goal`` and ``desired_goal`` arrays, one row per env.
         self.goal: Optional[dict] = spec["goal"]

@@ -27,6 +27,9 @@ py::dict spec_dict(const Spec& spec) {
   d["observation_shape"] = shape_tuple(o.shape);
   d["observation_low"] = float_array(o.low);
   d["observation_high"] = float_array(o.high);
+  py::list parts;  // [(name, size), ...] (ObservationSpace::parts)
+  for (const ObservationPart& p : o.parts) parts.append(py::make_tuple(p.name, p.size));
+  d["observation_parts"] = parts;
   d["discrete"] = spec.action.discrete;
   d["n"] = spec.action.n;
   d["action_low"] = float_array(spec.action.low);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "rdsim/core/error.hpp"
@@ -215,6 +216,22 @@ void ConfigReader::read(const std::string& key, std::vector<double>& out, double
     if (!e.is_number() || !(e.get<double>() >= lo && e.get<double>() <= hi))
       fail(key, expected + ", got " + describe(e) + " in " + describe(*v));
     result.push_back(e.get<double>());
+  }
+  out = std::move(result);
+}
+
+void ConfigReader::read(const std::string& key, std::map<std::string, double>& out, double lo, double hi) {
+  const auto* v = find(key);
+  if (!v) return;
+  const std::string expected = "expected an object of at most " + std::to_string(max_list_items) +
+                               " names, each with a number " + range_text(lo, hi);
+  if (!v->is_object() || v->size() > max_list_items) fail(key, expected + ", got " + describe(*v));
+  std::map<std::string, double> result;
+  for (const auto& [name, e] : v->items()) {
+    if (name.empty() || name.size() > max_string_bytes) fail(key, expected + ", got the name " + describe(nlohmann::json(name)));
+    if (!e.is_number() || !(e.get<double>() >= lo && e.get<double>() <= hi))
+      fail(key + "." + name, "expected a number " + range_text(lo, hi) + ", got " + describe(e));
+    result[name] = e.get<double>();
   }
   out = std::move(result);
 }

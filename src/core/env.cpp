@@ -7,6 +7,21 @@
 
 namespace rdsim {
 
+std::pair<int, int> ObservationSpace::part(const std::string& name) const {
+  int at = 0;
+  for (const ObservationPart& p : parts) {
+    if (p.name == name) return {at, p.size};
+    at += p.size;
+  }
+  return {-1, 0};
+}
+
+std::string ObservationSpace::part_names() const {
+  std::string list;
+  for (const ObservationPart& p : parts) list += (list.empty() ? "" : ", ") + p.name;
+  return list;
+}
+
 void copy_observation(const Observation& obs, const ObservationSpace& space, ObservationOut out) {
   const auto n = static_cast<std::size_t>(space.size());
   if (space.type == ObsType::Float32) {

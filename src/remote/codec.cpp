@@ -3,6 +3,9 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "rdsim/core/error.hpp"
 
@@ -65,6 +68,25 @@ void put_floats(Message& m, const std::string& name, const Eigen::VectorXf& v) {
   m.arrays.push_back(ArrayFrame::float32(name, v.data(), {static_cast<int>(v.size())}));
 }
 
+// spec.observation.parts: [[name, size], ...], unique names whose sizes add up to `count` values.
+std::vector<ObservationPart> get_parts(const json& parts, long long count) {
+  const char* expected = "spec.observation.parts: expected [[name, size], ...] covering the observation's values once";
+  if (!parts.is_array() || static_cast<long long>(parts.size()) > count) bad(expected);
+  std::vector<ObservationPart> out;
+  std::set<std::string> names;
+  long long total = 0;
+  for (const json& p : parts) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_string() || !p[1].is_number_integer()) bad(expected);
+    const auto name = p[0].get<std::string>();
+    const auto size = p[1].get<long long>();
+    if (name.empty() || name.size() > 256 || size < 1 || size > count || !names.insert(name).second) bad(expected);
+    total += size;
+    out.push_back({name, static_cast<int>(size)});
+  }
+  if (total != count) bad(expected);
+  return out;
+}
+
 }  // namespace
 
 void put_spec(Message& m, const Spec& spec) {
@@ -77,6 +99,11 @@ void put_spec(Message& m, const Spec& spec) {
                       {"action", action},
                       {"max_episode_steps", spec.max_episode_steps},
                       {"control_dt", spec.control_dt}};
+  if (!o.parts.empty()) {  // what each value is: [[name, size], ...] (ObservationSpace::parts)
+    json parts = json::array();
+    for (const ObservationPart& p : o.parts) parts.push_back(json::array({p.name, p.size}));
+    m.header["spec"]["observation"]["parts"] = std::move(parts);
+  }
   if (spec.goal.active())  // a goal env: the observation's slices and its reward (core/goal_layout.hpp)
     m.header["spec"]["goal"] = {{"observation", spec.goal.observation},
                                 {"points", spec.goal.points},
@@ -114,6 +141,7 @@ Spec get_spec(const Message& m) {
     spec.observation.low = floats(m, "observation_low", static_cast<std::size_t>(count));
     spec.observation.high = floats(m, "observation_high", static_cast<std::size_t>(count));
   }
+  if (o.contains("parts")) spec.observation.parts = get_parts(member(o, "parts"), count);
   const json& a = member(s, "action");
   spec.action.discrete = get_bool(a, "discrete");
   if (spec.action.discrete) {

@@ -71,6 +71,7 @@ void check_spaces(const Spec& spec, const EnvConfig& config) {
     REQUIRE(o.low.size() == o.size());
     REQUIRE(o.high.size() == o.size());
     CHECK((o.low.array() <= o.high.array()).all());
+    CHECK(o.parts.empty());
   } else if (o.type == ObsType::Float32) {
     REQUIRE(o.shape.size() == 1);
     CHECK(o.shape[0] > 0);
@@ -78,11 +79,27 @@ void check_spaces(const Spec& spec, const EnvConfig& config) {
     REQUIRE(o.high.size() == o.shape[0]);
     CHECK((o.low.array() <= o.high.array()).all());
     CHECK(config.observation == ObservationMode::GroundTruth);
+    // Its parts name every value once, a goal env's goals last.
+    int named = 0;
+    std::vector<std::string> names;
+    for (const ObservationPart& p : o.parts) {
+      CHECK(p.size > 0);
+      CHECK(std::find(names.begin(), names.end(), p.name) == names.end());
+      names.push_back(p.name);
+      named += p.size;
+    }
+    CHECK(named == o.size());
+    if (spec.goal.active()) {
+      REQUIRE(names.size() >= 3);
+      CHECK(o.part("achieved_goal") == std::pair{spec.goal.achieved_offset(), spec.goal.goal_size()});
+      CHECK(o.part("desired_goal") == std::pair{spec.goal.desired_offset(), spec.goal.goal_size()});
+    }
   } else {
     const int channels = config.multi_view ? 6 : 3;
     CHECK(o.shape == std::vector<int>{config.image_height, config.image_width, channels});
     CHECK(o.low.size() == 0);  // UInt8: 0..255
     CHECK(o.high.size() == 0);
+    CHECK(o.parts.empty());
     CHECK(config.observation == ObservationMode::RawPixels);
   }
   const ActionSpace& a = spec.action;

@@ -430,3 +430,87 @@ TEST_CASE("randomize: random_latency runs each episode with a latency of 0..acti
   CHECK_THAT(error_of([] { make({{"name", "push"}, {"randomize", {{"random_latency", true}}}}); }),
              Contains("env.randomize.random_latency: needs action_latency > 0"));
 }
+
+TEST_CASE("observation parts: every value of a robot task's vector named, in order", "[randomize][contract]") {
+  using Parts = std::vector<std::pair<std::string, int>>;
+  const auto parts_of = [](const nlohmann::json& config) {
+    Parts out;
+    const auto env = make(config);
+    for (const rdsim::ObservationPart& p : env->spec().observation.parts) out.emplace_back(p.name, p.size);
+    return out;
+  };
+  CHECK(parts_of({{"name", "push"}}) == Parts{{"effector_position", 3}, {"effector_velocity", 3}, {"cube1_position", 3},
+                                             {"cube1_orientation", 4}, {"cube1_velocity", 3}, {"cube1_angular_velocity", 3},
+                                             {"cube1_from_effector", 3}, {"achieved_goal", 3}, {"desired_goal", 3}});
+  const Parts stack = parts_of({{"name", "stack"}});
+  CHECK(stack[2] == std::pair<std::string, int>{"finger_opening", 1});
+  CHECK(stack[8] == std::pair<std::string, int>{"cube2_position", 3});
+  CHECK(stack.back() == std::pair<std::string, int>{"desired_goal", 6});
+  CHECK(parts_of({{"name", "jaka_obstacle"}}) ==
+        Parts{{"target_from_effector", 3}, {"effector_from_column", 3}, {"effector_position", 3},
+              {"wrist_2_link_from_column", 3}, {"wrist_3_link_from_column", 3}});
+  CHECK(parts_of({{"name", "jaka_button"}, {"observation_layout", "relative"}}) == Parts{{"effector_from_target", 3}});
+  // observe_latency's queue is a part too, where its values go: before a goal env's goals.
+  const Parts queued = parts_of({{"name", "push"}, {"randomize", {{"action_latency", 2}, {"observe_latency", true}}}});
+  CHECK(queued[queued.size() - 3] == std::pair<std::string, int>{"pending_actions", 6});
+  CHECK(parts_of({{"name", "jaka_button"}, {"randomize", {{"action_latency", 1}, {"observe_latency", true}}}}).back() ==
+        std::pair<std::string, int>{"pending_actions", 6});
+}
+
+TEST_CASE("randomize: observation_noise_parts gives each named part its own spread, the rest observation_noise",
+          "[randomize]") {
+  const nlohmann::json parts = {{"cube1_position", 0.02}, {"effector_velocity", 0.0}};
+  auto noisy = make({{"name", "push"}, {"randomize", {{"observation_noise", 0.001}, {"observation_noise_parts", parts}}}});
+  auto plain = make({{"name", "push"}});
+  const rdsim::ObservationSpace& space = noisy->spec().observation;
+  const auto [cube, cube_size] = space.part("cube1_position");
+  const auto [velocity, velocity_size] = space.part("effector_velocity");
+  const auto [desired, desired_size] = space.part("desired_goal");
+  const auto actions = random_actions(plain->spec(), 100, 3);
+  std::vector<double> cube_noise, other_noise;
+  rdsim::Observation a = noisy->reset(21), b = plain->reset(21);
+  for (const rdsim::Action& action : actions) {
+    for (int i = 0; i < a.values.size(); ++i) {
+      const double d = a.values[i] - b.values[i];
+      if ((i >= velocity && i < velocity + velocity_size) || i >= desired) CHECK(d == 0.0);
+      else if (i >= cube && i < cube + cube_size) cube_noise.push_back(d);
+      else other_noise.push_back(d);
+    }
+    const rdsim::StepResult s = noisy->step(action), p = plain->step(action);
+    if (s.terminated || s.truncated) {
+      a = noisy->reset();
+      b = plain->reset();
+    } else {
+      a = s.observation;
+      b = p.observation;
+    }
+  }
+  const auto sd = [](const std::vector<double>& v) {
+    double squares = 0.0;
+    for (double x : v) squares += x * x;
+    return std::sqrt(squares / static_cast<double>(v.size()));
+  };
+  CHECK(sd(cube_noise) == Approx(0.02).epsilon(0.15));
+  CHECK(sd(other_noise) == Approx(0.001).epsilon(0.15));
+  (void)cube_size;
+  (void)desired_size;
+}
+
+TEST_CASE("randomize: observation_noise_parts names parts the env has", "[randomize][config]") {
+  const auto with_parts = [](const char* env, const nlohmann::json& parts) {
+    return error_of([&] { make({{"name", env}, {"randomize", {{"observation_noise_parts", parts}}}}); });
+  };
+  CHECK_THAT(with_parts("push", {{"cube_position", 0.01}}),
+             Contains("env.randomize.observation_noise_parts: \"cube_position\" is not a part of push's observation") &&
+                 Contains("did you mean \"cube1_position\"") && Contains("its parts: effector_position, "));
+  CHECK_THAT(with_parts("push", {{"desired_goal", 0.01}}), Contains("desired_goal") && Contains("stays exact"));
+  CHECK_THAT(with_parts("push", {{"cube1_position", -0.01}}), Contains("env.randomize.observation_noise_parts.cube1_position: expected a number in [0, 1000]"));
+  CHECK_THAT(with_parts("push", {0.01, 0.02}), Contains("env.randomize.observation_noise_parts: expected an object"));
+  CHECK_THAT(error_of([] {
+               make({{"name", "jaka_button"},
+                     {"observation", "raw_pixels"},
+                     {"randomize", {{"observation_noise_parts", {{"effector_position", 0.01}}}}}});
+             }),
+             Contains("env.randomize.observation_noise_parts") && Contains("ground_truth"));
+  CHECK_NOTHROW(make({{"name", "jaka_obstacle"}, {"randomize", {{"observation_noise_parts", {{"effector_from_column", 0.01}}}}}}));
+}

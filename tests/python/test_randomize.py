@@ -65,3 +65,27 @@ def test_view_draws_need_raw_pixels():
     assert not np.array_equal(env.reset(seed=1)[0], plain.reset(seed=1)[0])
     env.close()
     plain.close()
+
+
+def test_observation_parts_name_the_values_and_take_their_own_noise():
+    env = rdsim.make("rdsim/JakaPush-v0", randomize={"observation_noise_parts": {"cube1_position": 0.01}})
+    plain = rdsim.make("rdsim/JakaPush-v0")
+    parts = env.unwrapped.observation_parts
+    assert list(parts)[:3] == ["effector_position", "effector_velocity", "cube1_position"]
+    assert list(parts)[-2:] == ["achieved_goal", "desired_goal"]
+    assert parts["desired_goal"] == slice(25, 28)
+    obs, _ = env.reset(seed=5)
+    clean, _ = plain.reset(seed=5)
+    cube = parts["cube1_position"]
+    moved = obs["observation"] - clean["observation"]
+    assert np.abs(moved[cube]).max() > 0
+    moved[cube] = 0
+    np.testing.assert_array_equal(moved, 0)  # only the named part is noisy
+    np.testing.assert_array_equal(obs["desired_goal"], clean["desired_goal"])
+    venv = rdsim.make_vec("rdsim/JakaButton-v0", 2)
+    assert venv.observation_parts == {"target_from_effector": slice(0, 3), "effector_position": slice(3, 6)}
+    assert rdsim.make("rdsim/JakaButton-v0", observation="raw_pixels").unwrapped.observation_parts == {}
+    with pytest.raises(rdsim.Error, match=r'observation_noise_parts: "cube_position" is not a part .*did you mean "cube1_position"'):
+        rdsim.make("rdsim/JakaPush-v0", randomize={"observation_noise_parts": {"cube_position": 0.01}})
+    for e in (env, plain, venv):
+        e.close()

@@ -15,6 +15,8 @@ def test_remote_env_matches_local(server):
     local = rdsim.make("rdsim/JakaButton-v0", max_steps=30, random_target=True)
     assert remote.observation_space == local.observation_space and remote.action_space == local.action_space
     assert remote.config == local.config
+    assert remote.observation_parts == local.unwrapped.observation_parts == {
+        "target_from_effector": slice(0, 3), "effector_position": slice(3, 6)}
     a, _ = remote.reset(seed=4)
     b, _ = local.reset(seed=4)
     np.testing.assert_array_equal(a, b)

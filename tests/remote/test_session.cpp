@@ -181,6 +181,11 @@ TEST_CASE("session: a goal env's layout and reward cross the link, its steps bit
   CHECK(spec.goal.points == want.points);
   CHECK(spec.goal.distance_threshold == want.distance_threshold);
   CHECK(spec.goal.reward == want.reward);
+  REQUIRE(spec.observation.parts.size() == local->spec().observation.parts.size());
+  for (size_t p = 0; p < spec.observation.parts.size(); ++p) {
+    CHECK(spec.observation.parts[p].name == local->spec().observation.parts[p].name);
+    CHECK(spec.observation.parts[p].size == local->spec().observation.parts[p].size);
+  }
   const auto robot = get_robot_info(m);  // driven by hand too: the fingers are joints
   REQUIRE(robot);
   CHECK(robot->joints.size() == 8);
@@ -204,4 +209,11 @@ TEST_CASE("session: a goal env's layout and reward cross the link, its steps bit
   Message bad = m;
   bad.header["spec"]["goal"]["points"] = 5;
   CHECK_THROWS_WITH(get_spec(bad), Contains("spec.goal"));
+  // So are parts that do not cover the values once.
+  for (const nlohmann::json& parts : {nlohmann::json::array({{"a", 5}}), nlohmann::json::array({{"a", 20}, {"a", 9}}),
+                                      nlohmann::json::array({{"a", 29}, {"b", 0}}), nlohmann::json("a")}) {
+    bad = m;
+    bad.header["spec"]["observation"]["parts"] = parts;
+    CHECK_THROWS_WITH(get_spec(bad), Contains("spec.observation.parts"));
+  }
 }

@@ -1,6 +1,7 @@
 #pragma once
 #include <concepts>
 #include <cstdint>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -58,6 +59,7 @@ public:
   void field(const char* key, std::vector<int>& v, Range<int> r, const char*) { r_.read(key, v, r.lo, r.hi); }
   void field(const char* key, std::vector<double>& v, Range<double> r, const char*) { r_.read(key, v, r.lo, r.hi); }
   void field(const char* key, std::vector<std::string>& v, const char*) { r_.read(key, v); }
+  void field(const char* key, std::map<std::string, double>& v, Range<double> r, const char*) { r_.read(key, v, r.lo, r.hi); }
   void choice(const char* key, std::string& v, const std::vector<std::string>& choices, const char*) {
     r_.read_choice(key, v, choices);
   }
@@ -173,6 +175,9 @@ public:
   }
   void field(const char* key, const std::vector<std::string>& v, const char* doc) {
     add(key, "list of strings", v, "", doc);
+  }
+  void field(const char* key, const std::map<std::string, double>& v, Range<double> r, const char* doc) {
+    add(key, "object of numbers", v, "each " + range(r), doc);
   }
   void choice(const char* key, const std::string& v, const std::vector<std::string>& choices, const char* doc) {
     add(key, "string", v, alternatives(choices), doc);

@@ -2,6 +2,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -38,6 +39,8 @@ public:
   void read(const std::string& key, std::vector<double>& out, double lo, double hi);
   // A list of strings (names, paths), each checked as read(key, std::string&) checks one.
   void read(const std::string& key, std::vector<std::string>& out);
+  // An object of names with a number each ({"effector_position": 0.005}), at most max_list_items.
+  void read(const std::string& key, std::map<std::string, double>& out, double lo, double hi);
   void read_choice(const std::string& key, std::string& out, const std::vector<std::string>& choices);
 
   // A nested object; its own finish() checks its keys.

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rdsim/core/goal_layout.hpp"
@@ -24,6 +25,12 @@ namespace rdsim {
 
 enum class ObsType { Float32, UInt8 };
 
+// A named run of a Float32 vector observation's values: "effector_position", 3 values.
+struct ObservationPart {
+  std::string name;
+  int size = 0;
+};
+
 // What an observation looks like. Ground-truth observations are Float32 vectors (shape {n});
 // pixel observations are UInt8 images (or Float32 stacks of colour, depth and segmentation:
 // EnvConfig::image_channels) stored height x width x channels, row-major.
@@ -31,12 +38,20 @@ struct ObservationSpace {
   ObsType type = ObsType::Float32;
   std::vector<int> shape;
   Eigen::VectorXf low, high;  // per element; empty for UInt8 (bounds 0..255)
+  // What each value of a vector observation is, in order, covering every value once (names
+  // unique; a goal env's last two are "achieved_goal" and "desired_goal"). The robot tasks name
+  // theirs (randomize.observation_noise_parts reads them); empty = not named (images, classic control).
+  std::vector<ObservationPart> parts;
 
   int size() const {
     int n = 1;
     for (int d : shape) n *= d;
     return n;
   }
+  // Where part `name` starts and how many values it has; {-1, 0} when there is none.
+  std::pair<int, int> part(const std::string& name) const;
+  // The part names, comma separated (for messages).
+  std::string part_names() const;
 };
 
 // Either Discrete(n) (discrete == true, n choices) or a continuous Box of `low.size()` dims.

@@ -1,5 +1,7 @@
 #pragma once
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "rdsim/core/config_fields.hpp"
@@ -31,13 +33,16 @@ struct Randomization {
   double light_turn = 0.0;    // deg: uniform +- on the light direction's yaw and pitch
   // Per step.
   double observation_noise = 0.0;  // standard deviation, in the observed values' own units
+  // Per part of the observation (ObservationSpace::parts): its standard deviation instead.
+  std::map<std::string, double> observation_noise_parts;
   int action_latency = 0;          // env steps
   bool random_latency = false;     // each episode's latency drawn from 0..action_latency
   bool observe_latency = false;    // the actions still to run appended to the observation
   int latency_slots = 0;           // observe_latency's action slots; 0 = action_latency
 
   // The per-step part (the randomized() wrapper) and the per-episode part (TaskRandomizer).
-  bool per_step() const { return observation_noise > 0.0 || action_latency > 0 || random_latency || observe_latency; }
+  bool per_step() const { return noisy() || action_latency > 0 || random_latency || observe_latency; }
+  bool noisy() const { return observation_noise > 0.0 || !observation_noise_parts.empty(); }
   int queue_slots() const { return observe_latency ? (latency_slots > 0 ? latency_slots : action_latency) : 0; }
   bool per_episode() const { return varies_physics() || varies_view(); }
   bool varies_physics() const {
@@ -96,6 +101,10 @@ void describe(V& v, C& c) {
           "standard deviation of Gaussian noise added to each observed value at every reset and step, in the "
           "values' own units (metres for positions, so 0.005 is 5 mm); a goal env's desired goal stays exact; "
           "ground-truth observations only; 0 = none");
+  v.field("observation_noise_parts", c.observation_noise_parts, config::Range{0.0, 1000.0},
+          "{part: standard deviation}: the noise of these parts of the observation instead of observation_noise "
+          "(each value of the part gets its own draw), e.g. {\"effector_velocity\": 0.02, \"cube1_position\": 0.005}; "
+          "the part names are the env's (Environments: observation parts); 0 = that part exact");
   v.field("action_latency", c.action_latency, config::Range{0, 100000},
           "env steps between an action and the step that executes it (each step runs the action given that "
           "many steps before; the first steps of an episode run its first action); shorter than max_steps; 0 = none");

@@ -38,6 +38,9 @@
 //                with w >= 0), linear velocity (3), angular velocity (3), position - effector (3);
 //   achieved_goal: each cube's position (3 each; reach_goal: the effector's);
 //   desired_goal: the goal points (as many).
+// Its parts (ObservationSpace::parts), in that order: effector_position, effector_velocity,
+// finger_opening, then cube1_position, cube1_orientation, cube1_velocity, cube1_angular_velocity,
+// cube1_from_effector (cube2_... for a second cube), achieved_goal, desired_goal.
 // Every value is clipped into the space's bounds (a cube fallen to the floor still fits).
 // Reward and success: Spec::goal (core/goal_layout.hpp) with reward_type and distance_threshold;
 // info.success = every goal point within distance_threshold; info.distance = |achieved - desired|.

@@ -25,7 +25,9 @@
 //                 landmark (3 per landmark), end-effector position (3), then observed link - landmark
 //                 (3 per observed link per landmark; none unless a task asks); relative: end effector
 //                 - target (3), end effector - landmark (3 per landmark). raw_pixels: the task's
-//                 cameras (PixelView).
+//                 cameras (PixelView). The parts (ObservationSpace::parts): full: target_from_effector,
+//                 effector_from_<landmark>..., effector_position, <link>_from_<landmark>...;
+//                 relative: effector_from_target, effector_from_<landmark>....
 //   reward        negative_distance: -|end effector - target| every step; inverse_distance: see
 //                 ReachTerms::reward.
 //   collision     any robot link touching the forbidden body: info.collision; negative_distance:
@@ -48,7 +50,13 @@ struct ReachTerms {
   int press_body = -1;      // index into ReachTaskSpec::statics (-1: none), e.g. the button
   int forbidden_body = -1;  // index into ReachTaskSpec::statics (-1: none), e.g. the column
   float collision_reward = 0.0f;
-  std::vector<int> landmarks{};  // statics whose base position the observation measures the end effector from
+  // Statics whose base position the observation measures the end effector from (`body`: an index
+  // into ReachTaskSpec::statics), and their names in the observation's parts ("effector_from_column").
+  struct Landmark {
+    int body = -1;
+    std::string name;
+  };
+  std::vector<Landmark> landmarks{};
   // Robot links whose frame origin the observation also measures from each landmark: where the
   // end effector alone does not tell where the rest of the arm is (a wrist offset to one side), and
   // the forbidden body is touched by any link.
