@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
@@ -26,13 +29,19 @@ void set3(ObservationSpace& s, int at, const Eigen::Vector3f& lo, const Eigen::V
   s.high.segment<3>(at) = hi;
 }
 
-// The Float32 bounds of the layout in the header.
-ObservationSpace observation_space(const Eigen::AlignedBox3f& workspace, bool blocked, int cubes, int points, float stroke) {
+// Bounds of the observed joint positions (control: joints): their limits, or +-4 pi for a joint
+// without (continuous).
+constexpr float kTurns = 4.0f * 3.14159265f;
+
+// The Float32 bounds of the layout in the header; `joints` the observed arm joints' limits (none
+// with effector control).
+ObservationSpace observation_space(const Eigen::AlignedBox3f& workspace, bool blocked, int cubes, int points, float stroke,
+                                   const std::vector<std::pair<float, float>>& joints) {
   const Eigen::Vector3f lo = workspace.min() - Eigen::Vector3f::Constant(kReach);
   const Eigen::Vector3f hi = workspace.max() + Eigen::Vector3f::Constant(kReach);
   const Eigen::Vector3f span = hi - lo;
   const Eigen::Vector3f speed = Eigen::Vector3f::Constant(kMaxSpeed), spin = Eigen::Vector3f::Constant(kMaxSpin);
-  const int observed = 6 + (blocked ? 0 : 1) + kPerCube * cubes;
+  const int observed = 6 + (blocked ? 0 : 1) + static_cast<int>(joints.size()) + kPerCube * cubes;
   ObservationSpace s;
   s.type = ObsType::Float32;
   s.shape = {observed + 6 * points};
@@ -47,6 +56,11 @@ ObservationSpace observation_space(const Eigen::AlignedBox3f& workspace, bool bl
     s.high[at] = stroke;
     ++at;
   }
+  for (const auto& [lower, upper] : joints) {
+    s.low[at] = std::isfinite(lower) ? lower : -kTurns;
+    s.high[at] = std::isfinite(upper) ? upper : kTurns;
+    ++at;
+  }
   for (int k = 0; k < cubes; ++k, at += kPerCube) {
     set3(s, at, lo, hi);
     s.low.segment<4>(at + 3).setConstant(-1.0f);
@@ -58,6 +72,7 @@ ObservationSpace observation_space(const Eigen::AlignedBox3f& workspace, bool bl
   for (int p = 0; p < 2 * points; ++p, at += 3) set3(s, at, lo, hi);
   s.parts = {{"effector_position", 3}, {"effector_velocity", 3}};
   if (!blocked) s.parts.push_back({"finger_opening", 1});
+  if (!joints.empty()) s.parts.push_back({"joint_positions", static_cast<int>(joints.size())});
   for (int k = 1; k <= cubes; ++k) {
     const std::string cube = "cube" + std::to_string(k) + "_";
     s.parts.insert(s.parts.end(), {{cube + "position", 3},
@@ -102,7 +117,17 @@ ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& 
   for (size_t f = 0; f < finger_dofs_.size(); ++f) finger_share_.push_back((scene.finger_upper[f] - scene.finger_lower[f]) / stroke_);
   blocked_ = o.block_gripper;
   effector_step_ = static_cast<float>(o.effector_step);
+  control_ = o.control;
+  joint_step_ = static_cast<float>(o.joint_step);
   world_ = std::make_unique<ReachTask>(std::move(scene.spec));
+  std::vector<std::pair<float, float>> joint_limits;  // the observed arm joints (control: joints)
+  if (control_ == ArmControl::Joints)
+    for (int dof : world_->chain_dofs()) {
+      const Joint& j = world_->robot_model().joints[static_cast<size_t>(world_->robot().dof_joint(dof))];
+      const float none = std::numeric_limits<float>::infinity();
+      joint_limits.emplace_back(j.type == JointType::Continuous ? -none : static_cast<float>(j.lower),
+                                j.type == JointType::Continuous ? none : static_cast<float>(j.upper));
+    }
   for (int k = 0; k < task_.cubes; ++k)
     world_->world().set_free_body_friction(world_->static_body(first_cube_index + k), static_cast<float>(o.object_friction));
   for (int link = 0; link < static_cast<int>(world_->robot_model().links.size()); ++link) {
@@ -115,11 +140,12 @@ ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& 
   const int points = std::max(task_.cubes, 1);
   spec_.env_name = config.name;
   spec_.action.discrete = false;
-  spec_.action.low = Eigen::VectorXf::Constant(blocked_ ? 3 : 4, -1.0f);
-  spec_.action.high = Eigen::VectorXf::Constant(blocked_ ? 3 : 4, 1.0f);
+  const int arm_values = control_ == ArmControl::Joints ? static_cast<int>(world_->chain_dofs().size()) : 3;
+  spec_.action.low = Eigen::VectorXf::Constant(arm_values + (blocked_ ? 0 : 1), -1.0f);
+  spec_.action.high = Eigen::VectorXf::Constant(arm_values + (blocked_ ? 0 : 1), 1.0f);
   spec_.max_episode_steps = config.max_steps;
   spec_.control_dt = o.physics_step * o.substeps;
-  spec_.observation = observation_space(world_->spec().workspace, blocked_, task_.cubes, points, stroke_);
+  spec_.observation = observation_space(world_->spec().workspace, blocked_, task_.cubes, points, stroke_, joint_limits);
   spec_.goal.observation = spec_.observation.size() - 6 * points;
   spec_.goal.points = points;
   spec_.goal.distance_threshold = static_cast<float>(o.distance_threshold);
@@ -175,6 +201,8 @@ void ManipulationEnv::observe(ObservationOut out) const {
   put3(o + 3, world_->ee_velocity());
   int at = 6;
   if (!blocked_) o[at++] = finger_opening();
+  if (control_ == ArmControl::Joints)
+    for (int dof : world_->chain_dofs()) o[at++] = world_->robot().joint_position(dof);
   const PhysicsWorld& physics = world_->world();
   for (int k = 0; k < task_.cubes; ++k, at += kPerCube) {
     const int body = world_->static_body(first_cube_index + k);
@@ -245,13 +273,23 @@ void ManipulationEnv::reset_into(ObservationOut out, std::optional<std::uint64_t
 
 StepOutcome ManipulationEnv::step_into(const Action& action, ObservationOut out) {
   const int n = spec_.action.dim();
+  const int arm = blocked_ ? n : n - 1;  // values for the arm; then the fingers'
   if (action.values.size() != n)  // an error even after the episode's end
-    throw Error(spec_.env_name + ": expected an action of " + std::to_string(n) + " values (dx, dy, dz" +
+    throw Error(spec_.env_name + ": expected an action of " + std::to_string(n) + " values (" +
+                (control_ == ArmControl::Joints ? std::to_string(arm) + " joint moves" : std::string("dx, dy, dz")) +
                 (blocked_ ? "" : ", fingers") + "), got " + std::to_string(action.values.size()));
   return control_step(out, [&] {
-    const Eigen::Vector3f move(clipped(action.values[0]), clipped(action.values[1]), clipped(action.values[2]));
-    world_->apply_move(move * effector_step_, rng_);
-    if (!blocked_) set_opening((clipped(action.values[3]) + 1.0f) / 2.0f * stroke_);
+    if (control_ == ArmControl::Joints) {
+      Robot& robot = world_->robot();
+      for (int i = 0; i < arm; ++i) {
+        const int dof = world_->chain_dofs()[static_cast<size_t>(i)];
+        robot.set_position_target(dof, robot.joint_position(dof) + clipped(action.values[i]) * joint_step_);
+      }
+    } else {
+      const Eigen::Vector3f move(clipped(action.values[0]), clipped(action.values[1]), clipped(action.values[2]));
+      world_->apply_move(move * effector_step_, rng_);
+    }
+    if (!blocked_) set_opening((clipped(action.values[arm]) + 1.0f) / 2.0f * stroke_);
   });
 }
 

@@ -48,9 +48,21 @@ Action ManipulationExpert::action(const Eigen::Vector3f& aim, float opening, flo
   const float longest = move.cwiseAbs().maxCoeff();
   if (longest > largest) move *= largest / longest;  // the direction kept
   Eigen::VectorXf a(env_.spec().action.dim());
-  a.head<3>() = move;
+  const int arm = env_.gripper_blocked() ? static_cast<int>(a.size()) : static_cast<int>(a.size()) - 1;
+  if (env_.control() == ArmControl::Joints) {
+    // The same effector move as the joint moves the env's IK would make for it, all scaled down
+    // together when one exceeds joint_step (the effector's path kept).
+    const Eigen::VectorXf targets = env_.world().move_targets(move * env_.effector_step());
+    for (int i = 0; i < arm; ++i)
+      a[i] = (targets[i] - env_.world().robot().joint_position(env_.world().chain_dofs()[static_cast<size_t>(i)])) /
+             env_.joint_step();
+    const float over = a.head(arm).cwiseAbs().maxCoeff();
+    if (over > 1.0f) a.head(arm) /= over;
+  } else {
+    a.head<3>() = move;
+  }
   if (!env_.gripper_blocked())
-    a[3] = opening < 0.0f ? kSqueeze : std::clamp(2.0f * opening / env_.finger_stroke() - 1.0f, -1.0f, 1.0f);
+    a[arm] = opening < 0.0f ? kSqueeze : std::clamp(2.0f * opening / env_.finger_stroke() - 1.0f, -1.0f, 1.0f);
   return Action::continuous(a);
 }
 

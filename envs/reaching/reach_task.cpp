@@ -213,6 +213,16 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
     const double sigma = static_cast<double>(spec_.move_noise * spec_.step);
     for (int i = 0; i < 3; ++i) goal[i] += static_cast<float>(rng.normal(0.0, sigma));
   }
+  const JointVector targets = move_solution(goal);
+  for (int i = 0; i < chain_->dof(); ++i)
+    robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(targets[i]));
+}
+
+Eigen::VectorXf ReachTask::move_targets(const Eigen::Vector3f& delta) const {
+  return move_solution(ee_ + delta).cast<float>();
+}
+
+JointVector ReachTask::move_solution(Eigen::Vector3f goal) const {
   if (spec_.workspace_bounds) goal = goal.cwiseMax(spec_.workspace.min()).cwiseMin(spec_.workspace.max());
   const Eigen::Vector3d goal_root = (base_inverse_ * goal).cast<double>();
   JointVector q(chain_->dof());
@@ -243,8 +253,7 @@ void ReachTask::apply_move(const Eigen::Vector3f& delta, Rng& rng) {
     for (int i = 0; i < dq.size(); ++i) over = std::max(over, std::abs(dq[i]) / max_joint_move_[i]);
     dq /= over;
   }
-  for (int i = 0; i < chain_->dof(); ++i)
-    robot_->set_position_target(chain_dofs_[static_cast<size_t>(i)], static_cast<float>(q[i] + dq[i]));
+  return q + dq;
 }
 
 JointVector ReachTask::pose_steps(const Eigen::Vector3d& goal_root, JointVector q) const {

@@ -38,6 +38,11 @@ std::vector<Case> contract_cases() {
     // Goal tasks end on success: a goal no random walk reaches keeps every episode its full length.
     if (auto* goal = c.find<ManipulationOptions>()) goal->distance_threshold = 1e-3;
     cases.push_back({entry.name + ", ground_truth", c});
+    if (c.find<ManipulationOptions>()) {
+      EnvConfig joints = c;
+      joints.get<ManipulationOptions>().control = ArmControl::Joints;
+      cases.push_back({entry.name + ", ground_truth, control joints", joints});
+    }
     if (!entry.supports_pixels || !entry.pixel_observations) continue;
     c.observation = ObservationMode::RawPixels;
     c.image_width = 24;

@@ -17,6 +17,15 @@ def action_kinds(env_id):
     return kinds
 
 
+def has_joint_control(env_id):
+    """Whether the env takes "control": "joints" (the manipulation tasks)."""
+    probe = rdsim.make(env_id)
+    try:
+        return "control" in probe.unwrapped.config
+    finally:
+        probe.close()
+
+
 def env_cases():
     """(id, options) for every env x observation mode x action kind it has."""
     cases = []
@@ -25,12 +34,15 @@ def env_cases():
             cases.append((env["id"], {"is_discrete": discrete}))
             if env["pixel_observations"]:
                 cases.append((env["id"], {"is_discrete": discrete, **PIXELS}))
+            if has_joint_control(env["id"]):
+                cases.append((env["id"], {"is_discrete": discrete, "control": "joints"}))
     return cases
 
 
 def case_name(case):
     env_id, options = case
     return f"{env_id.split('/')[1]}-{'pixels' if 'observation' in options else 'state'}-" + (
+        "joints-" if options.get("control") == "joints" else "") + (
         "discrete" if options["is_discrete"] else "box")
 
 

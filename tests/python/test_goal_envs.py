@@ -82,3 +82,19 @@ def test_sb3_sac_with_her_trains_on_jaka_push_through_make_vec():
     model.learn(total_timesteps=300)
     assert model.replay_buffer.size() > 0 and model.num_timesteps >= 300
     venv.close()
+
+
+def test_joint_control_moves_the_arms_joints_and_observes_them():
+    env = rdsim.make("rdsim/JakaPickAndPlace-v0", control="joints")
+    assert env.action_space.shape == (7,)  # six arm joints, then the fingers
+    parts = env.unwrapped.observation_parts
+    assert parts["joint_positions"] == slice(7, 13)
+    obs, _ = env.reset(seed=2)
+    before = obs["observation"][parts["joint_positions"]].copy()
+    action = np.zeros(7, np.float32)
+    action[0] = 0.5  # the base joint's target 0.1 rad further
+    for _ in range(3):
+        obs, *_ = env.step(action)
+    moved = obs["observation"][parts["joint_positions"]] - before
+    assert moved[0] > 0.1 and np.abs(moved[1:]).max() < 0.02
+    env.close()

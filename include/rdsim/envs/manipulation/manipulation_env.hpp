@@ -30,16 +30,18 @@
 // clipped into the workspace box) and the fingers' opening (-1 closed, 1 fully open: each finger's
 // target is the matching share of its stroke; the fingers close with at most their URDF effort, so
 // the grip force is the effort). block_gripper: Box(3), the fingers held closed. Non-finite values
-// count as 0, others are clipped to [-1, 1].
+// count as 0, others are clipped to [-1, 1]. control "joints": one value per arm joint (the IK
+// chain's, ReachTask::chain_dofs) instead of dx, dy, dz: that joint's target is its position plus
+// the value times joint_step (rad), clamped to its limits; the fingers' value follows as before.
 //
 // Observation (Float32, ground truth), in this order:
 //   observation: effector position (3), effector velocity (3, m/s), finger opening (1, m; without
-//                block_gripper), then per cube: position (3), orientation (4: quaternion x, y, z, w
+//                block_gripper), joint positions (control "joints": one per arm joint, rad), then per cube: position (3), orientation (4: quaternion x, y, z, w
 //                with w >= 0), linear velocity (3), angular velocity (3), position - effector (3);
 //   achieved_goal: each cube's position (3 each; reach_goal: the effector's);
 //   desired_goal: the goal points (as many).
 // Its parts (ObservationSpace::parts), in that order: effector_position, effector_velocity,
-// finger_opening, then cube1_position, cube1_orientation, cube1_velocity, cube1_angular_velocity,
+// finger_opening, joint_positions (control "joints"), then cube1_position, cube1_orientation, cube1_velocity, cube1_angular_velocity,
 // cube1_from_effector (cube2_... for a second cube), achieved_goal, desired_goal.
 // Every value is clipped into the space's bounds (a cube fallen to the floor still fits).
 // Reward and success: Spec::goal (core/goal_layout.hpp) with reward_type and distance_threshold;
@@ -86,6 +88,8 @@ public:
   float finger_stroke() const { return stroke_; }  // m: the widest opening
   bool gripper_blocked() const { return blocked_; }
   float effector_step() const { return effector_step_; }
+  ArmControl control() const { return control_; }
+  float joint_step() const { return joint_step_; }  // rad per unit action (control: joints)
   int steps() const { return steps_; }
 
   // Where the statics of the scene sit in ReachTaskSpec::statics.
@@ -119,6 +123,8 @@ private:
   float stroke_ = 0.0f;
   bool blocked_ = false;
   float effector_step_ = 0.05f;
+  ArmControl control_ = ArmControl::Effector;
+  float joint_step_ = 0.05f;
   std::vector<Eigen::Vector3f> goals_;
   std::vector<float> scratch_;  // one observation, for judging a step written elsewhere
   Rng rng_;

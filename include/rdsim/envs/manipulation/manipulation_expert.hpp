@@ -16,7 +16,9 @@
 //                   then up and to the goal, squeezing;
 //   stack           pick_and_place with the first cube to the first goal, open and rise, then the
 //                   second cube to the second goal (on top of the first).
-// A move is the remaining vector over effector_step, scaled down so that no axis exceeds 1.
+// A move is the remaining vector over effector_step, scaled down so that no axis exceeds 1. With
+// control "joints" the expert gives the joint moves the env's IK would make for that move (all scaled
+// down together when one exceeds joint_step).
 namespace rdsim {
 
 class ManipulationExpert : public ScriptedExpert {

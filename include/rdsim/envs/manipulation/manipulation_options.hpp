@@ -18,8 +18,18 @@ inline const config::Names<GoalReward>& goal_reward_names() {
   return names;
 }
 
+// What the first action values command: effector moves (IK) or the arm's joints directly.
+enum class ArmControl { Effector, Joints };
+
+inline const config::Names<ArmControl>& arm_control_names() {
+  static const config::Names<ArmControl> names = {{"effector", ArmControl::Effector}, {"joints", ArmControl::Joints}};
+  return names;
+}
+
 // The initial values are the generic ones; each task publishes its own (push_defaults, ...).
 struct ManipulationOptions {
+  ArmControl control = ArmControl::Effector;
+  double joint_step = 0.2;           // rad per step for a full action (control: joints)
   GoalReward reward_type = GoalReward::Sparse;
   double distance_threshold = 0.05;  // m
   bool block_gripper = false;
@@ -43,6 +53,14 @@ void describe(V& v, C& c) {
            "distance between the achieved and desired goal vectors (m). Success ends the episode (panda-gym's rule)");
   v.field("distance_threshold", c.distance_threshold, config::Range{1e-3, 1.0},
           "m; a goal point closer than this to its goal counts as reached (info.success)");
+  v.choice("control", c.control, arm_control_names(),
+           "effector: the first three action values move the effector (dx, dy, dz, effector_step each, by IK "
+           "holding the gripper's orientation); joints: one value per arm joint (the IK chain's, in URDF order) "
+           "moves that joint's target from where the joint is by up to joint_step, and the observation adds the "
+           "joint positions (panda-gym's control_type \"joints\")");
+  v.field("joint_step", c.joint_step, config::Range{1e-3, 1.0},
+          "rad (m for a prismatic joint); control joints: an action value of 1 moves the joint's target this far "
+          "from the joint's position");
   v.field("block_gripper", c.block_gripper,
           "the fingers stay closed and the action is Box(3) (effector moves only); false: Box(4), the 4th value "
           "the fingers' opening (-1 closed, 1 fully open)");

@@ -134,6 +134,9 @@ public:
   // over one control period (so the move is slowed, never bent); position motors get the IK
   // solution as it is. Does not step physics.
   void apply_move(const Eigen::Vector3f& delta, Rng& rng);
+  // The joint targets apply_move would set for `delta` without move noise, one per IK chain joint
+  // (chain_dofs() order). For a controller that commands joints (the manipulation expert).
+  Eigen::VectorXf move_targets(const Eigen::Vector3f& delta) const;
   // Joint targets that put the end effector at the absolute point `goal` (world frame, clipped
   // into the workspace): damped least squares IK (sim/ik.hpp, up to 100 iterations, 0.1 mm) on the
   // IK chain from the current joint angles, clamped to the limits. No move noise and no speed
@@ -184,6 +187,7 @@ public:
   int static_body(int index) const { return static_ids_[static_cast<size_t>(index)]; }  // PhysicsWorld body id
   const RobotModel& static_model(int index) const { return static_models_[static_cast<size_t>(index)]; }
   const KinematicChain& chain() const { return *chain_; }
+  const std::vector<int>& chain_dofs() const { return chain_dofs_; }  // robot dof of each IK chain joint
   // The joint angles episodes start from (before reset noise): spec().home or spec().rest.
   const Eigen::VectorXf& reset_pose() const { return spec_.reset_to_rest ? spec_.rest : spec_.home; }
 
@@ -191,6 +195,8 @@ private:
   // ik_iterations damped-least-squares steps on position and orientation (effector_orientation)
   // from `q` towards `goal_root` (root frame).
   JointVector pose_steps(const Eigen::Vector3d& goal_root, JointVector q) const;
+  // apply_move's chain joint targets for the effector at `goal` (world frame, before workspace clipping).
+  JointVector move_solution(Eigen::Vector3f goal) const;
   Eigen::Matrix3d root_orientation() const;  // effector_orientation in the root frame
 
   ReachTaskSpec spec_;
