@@ -1,6 +1,7 @@
 #include "rdsim/envs/manipulation/gripper_arm.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "rdsim/core/data_dir.hpp"
@@ -22,10 +23,12 @@ constexpr float kFloorHeight = -0.75f;
 // Damped-least-squares steps (position and orientation) per move: a move of a few centimetres from
 // the current joints is well inside the linear regime.
 constexpr int kIkIterations = 4;
-// The joints' drive closes this share of their error per physics step (97 % of a move within the 10
-// physics steps of an env step). With 1, which closes it all in one physics step, the joints ran
-// into their effort limits and overshot: a 2 cm move straight down ended 1.5 cm to the side.
-constexpr float kPositionGain = 0.3f;
+// The share of their error the joints' drive closes per physics step: 0.3 with the default 10
+// physics steps of an env step, 97 % of a move within it; with other substeps the gain that closes
+// as much per env step (1 - 0.7^(10 / substeps)). With 1, which closes it all in one physics step,
+// the joints ran into their effort limits and overshot: a 2 cm move straight down ended 1.5 cm to
+// the side.
+float position_gain(int substeps) { return static_cast<float>(1.0 - std::pow(0.7, 10.0 / substeps)); }
 // Sequential-impulse iterations per physics step: the contacts of the pads, cubes and table.
 constexpr int kSolverIterations = 10;
 
@@ -160,7 +163,7 @@ GripperArmScene gripper_arm_scene(const EnvConfig& config, const ManipulationTas
   s.reset_noise = 0.0f;  // every episode starts from the home pose (panda-gym's)
   s.world.time_step = o.physics_step;
   s.world.solver_iterations = kSolverIterations;
-  s.robot.position_gain = kPositionGain;
+  s.robot.position_gain = position_gain(o.substeps);
   s.robot.motor_dofs = scene.finger_dofs;  // the fingers squeeze with their effort
   for (size_t f = 1; f < scene.finger_dofs.size(); ++f)  // and move as one (a gripper's linkage)
     s.robot.coupled_dofs.emplace_back(scene.finger_dofs[0], scene.finger_dofs[f]);
