@@ -34,6 +34,10 @@ Command bench_fps_command_entry() {
             cmd.add_flag("--paper", o->paper,
                          "Like-for-like Table 3: each robot env's paper preset (configs/paper/, the original's per-step "
                          "work) next to its defaults, ground truth and 224x224 pixels");
+            cmd.add_option("--set", o->settings,
+                           "KEY=VALUE: an env key for every measured env (repeatable), as in a config's env object, e.g. "
+                           "--env push --set substeps=5 --set physics_step=0.008")
+                ->type_name("KEY=VALUE");
             add_json_option(cmd, o->json_path);
             return [o, &cmd] {
               resolve_json_option(cmd, o->json_path);

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "rdsim/bench/bench_run.hpp"
+#include "rdsim/core/config_reader.hpp"
 #include "rdsim/core/data_dir.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
@@ -35,6 +36,7 @@ struct BenchRow {
   std::optional<double> physics_per_s;     // bare physics steps/s of the same world
   std::optional<double> paper_steps_per_s; // RobotDrlSim Table 3, where the paper has the row
   long long episodes = 0;
+  nlohmann::json env_config;               // every env key with the value measured
 };
 
 // RobotDrlSim (MSOTA 2020) Table 3, measured on the authors' machine with PyBullet; its pixel
@@ -69,7 +71,7 @@ std::optional<BenchRow> bench_row(const EnvConfig& config, const std::string& pr
   std::fprintf(stderr, "%s ...\n", preset == "default" ? "" : (" / " + preset + " preset").c_str());
   std::unique_ptr<Env> env;
   try {
-    env = entry.make(config);
+    env = make_env(config);
   } catch (const Error& e) {
     std::fprintf(stderr, "bench-fps: skipping %s / %s: %s\n", entry.name.c_str(), mode.c_str(), e.what());
     return std::nullopt;
@@ -81,6 +83,7 @@ std::optional<BenchRow> bench_row(const EnvConfig& config, const std::string& pr
   row.image_size = image_size;
   row.image_channels = config.image_channels;
   row.paper_steps_per_s = paper_rate(entry.name, mode, image_size);
+  row.env_config = to_json(config);
   if (const auto* reach = config.find<ReachOptions>()) {  // the reaching envs: what one env step simulates
     row.action_repeat = reach->action_repeat;
     row.solver_iterations = reach->solver_iterations;
@@ -115,8 +118,14 @@ std::string fmt(double v, const char* spec = "%.0f") {
 
 void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchFpsOptions& o) {
   std::fprintf(out, "\nrdsim bench-fps: env steps/s on one thread, random actions, resets included\n");
-  std::fprintf(out, "median of %d runs x %lld steps; physics = the same world stepped with no env work\n\n",
+  std::fprintf(out, "median of %d runs x %lld steps; physics = the same world stepped with no env work\n",
               o.runs, o.steps);
+  if (!o.settings.empty()) {
+    std::string set;
+    for (const std::string& s : o.settings) set += " " + s;
+    std::fprintf(out, "env keys set on every row:%s\n", set.c_str());
+  }
+  std::fprintf(out, "\n");
   int image_width = 9;  // the image column: "224x224", or wider with named channels
   for (const auto& r : rows)
     image_width = std::max(image_width, static_cast<int>(bench::image_label(r.image_size, r.image_channels).size()));
@@ -152,13 +161,14 @@ void print_table(std::FILE* out, const std::vector<BenchRow>& rows, const BenchF
 }
 
 nlohmann::json to_json(const std::vector<BenchRow>& rows, const BenchFpsOptions& o) {
-  nlohmann::json j = {{"runs", o.runs}, {"steps_per_run", o.steps}, {"threads", 1}, {"rows", nlohmann::json::array()}};
+  nlohmann::json j = {{"runs", o.runs}, {"steps_per_run", o.steps}, {"threads", 1}, {"settings", o.settings},
+                      {"rows", nlohmann::json::array()}};
   for (const auto& r : rows) {
     nlohmann::json row = {{"env", r.env}, {"observation", r.mode}, {"preset", r.preset},
                           {"image_size", r.image_size > 0 ? nlohmann::json(r.image_size) : nlohmann::json(nullptr)},
                           {"image_channels", r.image_size > 0 ? nlohmann::json(r.image_channels) : nlohmann::json(nullptr)},
                           {"steps_per_s", r.steps_per_s},
-                          {"runs_steps_per_s", r.runs}, {"episodes", r.episodes}};
+                          {"runs_steps_per_s", r.runs}, {"episodes", r.episodes}, {"env_config", r.env_config}};
     row["physics_steps_per_s"] = r.physics_per_s ? nlohmann::json(*r.physics_per_s) : nlohmann::json(nullptr);
     row["paper_steps_per_s"] = r.paper_steps_per_s ? nlohmann::json(*r.paper_steps_per_s) : nlohmann::json(nullptr);
     if (r.action_repeat > 0) {
@@ -182,11 +192,11 @@ std::vector<int> pixel_sizes(const BenchFpsOptions& o) {
 // The rows of one env and mode: ground truth has no image (one row of size 0); raw pixels one row
 // per image size and channel choice.
 std::vector<bench::Case> cases_of(const EnvEntry& entry, const std::string& mode, const BenchFpsOptions& o) {
-  if (mode != "raw_pixels") return {{&entry, mode, 0}};
+  if (mode != "raw_pixels") return {{&entry, mode, 0, "rgb", o.settings}};
   const std::vector<std::string> channels = o.image_channels.empty() ? std::vector<std::string>{"rgb"} : o.image_channels;
   std::vector<bench::Case> cases;
   for (int size : pixel_sizes(o))
-    for (const std::string& c : channels) cases.push_back({&entry, mode, size, c});
+    for (const std::string& c : channels) cases.push_back({&entry, mode, size, c, o.settings});
   return cases;
 }
 
@@ -213,7 +223,9 @@ std::vector<BenchRow> measure(const BenchFpsOptions& o) {
       }
       // Ground truth has no image: one row with size 0.
       for (const bench::Case& c : cases_of(entry, mode, o))
-        if (auto row = bench_row(bench::row_config(entry.name, mode, c.image_size, c.image_channels), "default", o))
+        if (auto row = bench_row(bench::with_settings(bench::row_config(entry.name, mode, c.image_size, c.image_channels),
+                                                      o.settings),
+                                 "default", o))
           rows.push_back(std::move(*row));
     }
   }
@@ -247,6 +259,23 @@ EnvConfig row_config(const std::string& env, const std::string& mode, int image_
   return config;
 }
 
+EnvConfig with_settings(const EnvConfig& config, const std::vector<std::string>& settings) {
+  if (settings.empty()) return config;
+  nlohmann::json env = to_json(config);
+  for (const std::string& setting : settings) {
+    const auto eq = setting.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw Error("bench-fps: --set: expected KEY=VALUE (an env key, e.g. substeps=5), got \"" + setting + "\"");
+    const std::string key = setting.substr(0, eq), text = setting.substr(eq + 1);
+    // JSON where the text is JSON (5, true, [0.7, 1.3], {"action_latency": 2}), else the text itself.
+    nlohmann::json value = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+    if (value.is_discarded() || value.is_string()) value = json_from_option(text);
+    env[key] = std::move(value);
+  }
+  ConfigReader reader(env, "bench-fps --set", "env");
+  return read_env_config(reader);
+}
+
 void announce(const Case& c) {
   std::fprintf(stderr, "bench-fps: %s / %s", c.entry->name.c_str(), c.mode.c_str());
   if (c.image_size > 0) std::fprintf(stderr, " %s", image_label(c.image_size, c.image_channels).c_str());
@@ -257,6 +286,7 @@ void announce(const Case& c) {
 
 int bench_fps_command(const BenchFpsOptions& o) {
   for (const auto& name : o.envs) (void)env_entry(name);  // the "unknown environment" error with the known names
+  if (o.paper && !o.settings.empty()) throw Error("bench-fps: --set does not combine with --paper (its presets are fixed)");
   if (o.threads > 0 || o.scaling) return threads_command(o);
   const std::vector<BenchRow> rows = measure(o);
   if (rows.empty()) throw Error("bench-fps: nothing to measure for the given --env/--mode");

@@ -40,8 +40,8 @@ std::vector<int> thread_counts(const BenchFpsOptions& o) {
 
 std::vector<std::unique_ptr<Env>> make_envs(const Case& c, int n) {
   std::vector<std::unique_ptr<Env>> envs;
-  const EnvConfig config = row_config(c.entry->name, c.mode, c.image_size, c.image_channels);
-  for (int i = 0; i < n; ++i) envs.push_back(c.entry->make(config));
+  const EnvConfig config = case_config(c);
+  for (int i = 0; i < n; ++i) envs.push_back(make_env(config));
   return envs;
 }
 
@@ -215,7 +215,7 @@ CaseResult measure(const Case& c, const std::vector<int>& counts, int envs, cons
   std::vector<std::unique_ptr<VecEnv>> vecs;
   // Where training's env_workers "auto" picks processes, the same counts on threads too: the
   // comparison in one run.
-  const bool processes = auto_env_workers(row_config(c.entry->name, c.mode, c.image_size, c.image_channels)) == EnvWorkers::processes;
+  const bool processes = auto_env_workers(case_config(c)) == EnvWorkers::processes;
   // On threads, also in two pipelined groups (the config's env_groups: 2), for envs whose groups
   // overlap (any worker may step them; others would step one group at a time).
   const bool overlapping = make_envs(c, 1).front()->steps_on_any_thread();

@@ -41,6 +41,7 @@ struct Case {
   std::string mode;    // "ground_truth" or "raw_pixels"
   int image_size = 0;  // raw_pixels: square image side; 0 for ground truth
   std::string image_channels = "rgb";  // raw_pixels: EnvConfig::image_channels
+  std::vector<std::string> settings;    // BenchFpsOptions::settings
 };
 
 // "bench-fps: env / mode WxH ..." on stderr.
@@ -53,6 +54,13 @@ int threads_command(const std::vector<Case>& cases, const BenchFpsOptions& o);
 // image channels.
 EnvConfig row_config(const std::string& env, const std::string& mode, int image_size,
                      const std::string& image_channels = "rgb");
+// `config` with BenchFpsOptions::settings applied (rdsim::Error naming --set and the key for a
+// malformed one, or a key or value the env does not take).
+EnvConfig with_settings(const EnvConfig& config, const std::vector<std::string>& settings);
+// The env config a case measures: row_config with its settings.
+inline EnvConfig case_config(const Case& c) {
+  return with_settings(row_config(c.entry->name, c.mode, c.image_size, c.image_channels), c.settings);
+}
 
 // "64x64", "64x64 rgb_depth" (channels other than rgb), or "-" for ground truth.
 inline std::string image_label(int image_size, const std::string& image_channels = "rgb") {

@@ -108,3 +108,26 @@ TEST_CASE("bench-fps --threads: pixel envs on threads and on worker processes wi
   CHECK(rows[1].at("threads")[0].at("speedup") == 1.0);
   CHECK(rows[1].at("envs") == 4);
 }
+
+TEST_CASE("bench-fps --set: env keys on every row, in its env_config; a bad one is one error", "[bench]") {
+  BenchFpsOptions o;
+  o.envs = {"push"};
+  o.settings = {"substeps=5", "physics_step=0.008", "randomize={\"action_latency\": 1}"};
+  const nlohmann::json j = run_bench(o);
+  CHECK(j.at("settings").size() == 3);
+  const nlohmann::json& rows = j.at("rows");
+  REQUIRE(rows.size() == 1);
+  CHECK(rows[0].at("env_config").at("substeps") == 5);
+  CHECK(rows[0].at("env_config").at("physics_step") == 0.008);
+  CHECK(rows[0].at("env_config").at("randomize").at("action_latency") == 1);
+  CHECK(rows[0].at("steps_per_s").get<double>() > 0.0);
+  o.settings = {"substeps"};
+  CHECK_THROWS_WITH(bench_fps_command(o), Catch::Contains("bench-fps: --set: expected KEY=VALUE"));
+  o.settings = {"substeps=0"};
+  CHECK_THROWS_WITH(bench_fps_command(o), Catch::Contains("bench-fps --set: env.substeps: expected an integer"));
+  o.settings = {"substepz=5"};
+  CHECK_THROWS_WITH(bench_fps_command(o), Catch::Contains("env.substepz") && Catch::Contains("did you mean"));
+  o.envs = {"jaka_button"};
+  o.settings = {"substeps=5"};
+  CHECK_THROWS_WITH(bench_fps_command(o), Catch::Contains("env.substeps: has no effect on jaka_button"));
+}

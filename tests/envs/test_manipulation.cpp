@@ -256,14 +256,14 @@ TEST_CASE("control joints: one action value per arm joint moves that joint's tar
 
 // Measured on seeds 1000-1199 (Intel Xeon, 2026-11-29), joint_step 0.2: reach_goal 200, push 196,
 // pick_and_place 200, stack 197 of 200 (0.05 rad, panda-gym's step: push 179 and stack 30, too slow
-// for two cubes in 50 steps; 0.1 rad: stack 190).
+// for two cubes in 50 steps; 0.1 rad: stack 190). The test runs the first 100 seeds (CI's time).
 TEST_CASE("The scripted expert solves every manipulation task in joint control too", "[envs][manipulation][expert][joints]") {
   for (const char* name : kTasks) {
     EnvConfig c = default_env_config(name);
     c.get<ManipulationOptions>().control = ArmControl::Joints;
-    const ExpertRun run = run_expert(c, 200);
+    const ExpertRun run = run_expert(c, 100);
     INFO(name << ": " << run.successes << " of " << run.episodes);
-    CHECK(run.successes >= 190);  // >= 95 %
+    CHECK(run.successes >= 95);  // >= 95 %
   }
 }
 

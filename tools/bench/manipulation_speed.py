@@ -7,7 +7,11 @@ time per env step (40 ms: panda-gym's 20 substeps of 2 ms, rdsim's 10 of 4 ms).
   panda-gym  3.0.7 on pybullet 3.2.7: PandaPush-v3, PandaPickAndPlace-v3 through gymnasium.make
              (time.process_time around the loop)
 
-Usage: .venv/bin/python tools/bench/manipulation_speed.py [--steps 3000] [--rounds 3] [--rdsim build/rdsim]
+  --substeps N ...  rdsim rows with N physics steps of 40/N ms per env step (`bench-fps --set substeps=N
+             --set physics_step=...`; the drive's gain follows), one row per N; default 10 (the defaults)
+
+Usage: .venv/bin/python tools/bench/manipulation_speed.py [--steps 3000] [--rounds 3] [--substeps 10 6 5]
+       [--rdsim build/rdsim]
 """
 import argparse
 import re
@@ -35,8 +39,10 @@ def panda_gym_rate(env_id, steps):
     return rate
 
 
-def rdsim_rates(binary, steps):
+def rdsim_rates(binary, steps, substeps):
     cmd = [binary, "bench-fps", "--mode", "ground_truth", "--runs", "3", "--steps", str(steps)]
+    if substeps != 10:
+        cmd += ["--set", "substeps=%d" % substeps, "--set", "physics_step=%r" % (0.04 / substeps)]
     for name, _ in PAIRS:
         cmd += ["--env", name]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
@@ -51,19 +57,25 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--steps", type=int, default=3000, help="env steps per measurement")
     parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds (the median is reported)")
+    parser.add_argument("--substeps", type=int, nargs="+", default=[10],
+                        help="rdsim's physics steps per 40 ms env step, one row each")
     parser.add_argument("--rdsim", default="build/rdsim")
     a = parser.parse_args()
-    rows = {name: {"rdsim": [], "panda-gym": []} for name, _ in PAIRS}
+    rows = {name: {"panda-gym": [], **{n: [] for n in a.substeps}} for name, _ in PAIRS}
     for _ in range(a.rounds):  # interleaved, so both see the same machine
-        rates = rdsim_rates(a.rdsim, a.steps)
+        for n in a.substeps:
+            rates = rdsim_rates(a.rdsim, a.steps, n)
+            for name, _ in PAIRS:
+                rows[name][n].append(rates[name])
         for name, gym_id in PAIRS:
-            rows[name]["rdsim"].append(rates[name])
             rows[name]["panda-gym"].append(panda_gym_rate(gym_id, a.steps))
     print("env steps per CPU-second, one thread, random actions, resets included; median of %d rounds" % a.rounds)
-    print("%-16s %12s %12s %8s" % ("task", "rdsim", "panda-gym", "ratio"))
+    print("%-16s %9s %12s %12s %8s" % ("task", "substeps", "rdsim", "panda-gym", "ratio"))
     for name, gym_id in PAIRS:
-        ours, theirs = statistics.median(rows[name]["rdsim"]), statistics.median(rows[name]["panda-gym"])
-        print("%-16s %12.0f %12.0f %7.1fx   (%s)" % (name, ours, theirs, ours / theirs, gym_id))
+        theirs = statistics.median(rows[name]["panda-gym"])
+        for n in a.substeps:
+            ours = statistics.median(rows[name][n])
+            print("%-16s %9d %12.0f %12.0f %7.1fx   (%s)" % (name, n, ours, theirs, ours / theirs, gym_id))
 
 
 if __name__ == "__main__":

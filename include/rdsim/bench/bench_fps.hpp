@@ -15,6 +15,9 @@ struct BenchFpsOptions {
   int runs = 5;                         // the median of this many runs is reported
   long long steps = 20000;              // env steps per run
   std::string json_path;                // "-" for stdout; empty: no JSON
+  // "KEY=VALUE" env keys set on every measured env (--set substeps=5): VALUE a number, true/false,
+  // a JSON list or object, or else text; checked as a config file's env keys are.
+  std::vector<std::string> settings;
   // Threaded mode (`--threads N` or `--scaling`): a VecEnv of num_envs envs stepped by 1 and N
   // threads (or 1, 2, 4, ... up to every core), total env steps/s and the speed-up over one
   // thread, measured in the same run, and the pool's overhead per env step against a plain loop.
