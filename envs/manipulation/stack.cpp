@@ -3,7 +3,8 @@
 // and y, at least 6 cm apart); the first goal lies at the centre + U(-1, 1) x goal_range on the
 // table, the second one cube edge (4 cm) above it. Actions Box(4). Success needs both cubes within
 // distance_threshold of their goals; the dense reward is minus the distance between the two 6-value
-// vectors (panda-gym's).
+// vectors (panda-gym's). Episodes last 100 steps (panda-gym's PandaStack-v3: two cubes to carry, where
+// push and pick_and_place have one in 50).
 #include "rdsim/envs/manipulation/manipulation_env.hpp"
 
 namespace rdsim {
@@ -24,7 +25,11 @@ const ManipulationTask& stack_task() {
   return task;
 }
 
-EnvConfig stack_defaults() { return manipulation_env_config("stack", ManipulationOptions{}); }
+EnvConfig stack_defaults() {
+  EnvConfig c = manipulation_env_config("stack", ManipulationOptions{});
+  c.max_steps = 100;
+  return c;
+}
 
 std::unique_ptr<Env> make_stack(const EnvConfig& config) { return std::make_unique<ManipulationEnv>(stack_task(), config); }
 

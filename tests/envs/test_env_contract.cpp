@@ -291,7 +291,7 @@ TEST_CASE("env contract: each env publishes the spec its header documents", "[en
       {"reach_goal", 6 + 3 + 3, 3, 50, 0.04, false},
       {"push", 6 + 16 + 3 + 3, 3, 50, 0.04, false},
       {"pick_and_place", 7 + 16 + 3 + 3, 4, 50, 0.04, false},
-      {"stack", 7 + 2 * 16 + 6 + 6, 4, 50, 0.04, false},
+      {"stack", 7 + 2 * 16 + 6 + 6, 4, 100, 0.04, false},
   };
   CHECK(std::size(table) == env_registry().size());  // a new env adds its row
   for (const Published& p : table) {

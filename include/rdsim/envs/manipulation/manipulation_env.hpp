@@ -46,7 +46,7 @@
 // Every value is clipped into the space's bounds (a cube fallen to the floor still fits).
 // Reward and success: Spec::goal (core/goal_layout.hpp) with reward_type and distance_threshold;
 // info.success = every goal point within distance_threshold; info.distance = |achieved - desired|.
-// Episodes: max_steps (50) steps; success ends one (terminated, panda-gym's rule).
+// Episodes: max_steps steps (50; stack 100, as panda-gym's); success ends one (terminated, panda-gym's rule).
 // RobotControl (core/robot_control.hpp), as the reaching envs: move_effector (IK holding the gripper's
 // orientation; the fingers keep their targets), set_joint_targets (every joint, the fingers too: the
 // gripper by hand), the "scene" camera; robot_state's target is the first goal.
