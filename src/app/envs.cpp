@@ -21,6 +21,15 @@ int config_env(const std::string& path) {
   std::printf("%s: env %s\n", path.c_str(), config.env.name.c_str());
   std::printf("observation: %s\naction: %s\nsteps per episode: %d\n", describe_observation_space(spec.observation).c_str(),
               describe_action_space(spec.action).c_str(), spec.max_episode_steps);
+  if (!spec.observation.parts.empty()) {  // what each value is: name [first, end)
+    std::string parts;
+    int at = 0;
+    for (const ObservationPart& p : spec.observation.parts) {
+      parts += (parts.empty() ? "" : ", ") + p.name + " [" + std::to_string(at) + ", " + std::to_string(at + p.size) + ")";
+      at += p.size;
+    }
+    std::printf("observation parts: %s\n", parts.c_str());
+  }
   if (spec.goal.active())
     std::printf("goal-conditioned: %d observation values, achieved and desired goals of %d each, %s reward\n",
                 spec.goal.observation, spec.goal.goal_size(), to_string(spec.goal.reward));

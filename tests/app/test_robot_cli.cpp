@@ -155,6 +155,7 @@ TEST_CASE("rdsim envs --config shows a config's env, every option resolved, and 
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, StartsWith("configs/reach_jaka.json: env reach\n"));
   CHECK_THAT(r.out, Contains("action: Discrete(6)") || Contains("action: Box(3)"));
+  CHECK_THAT(r.out, Contains("observation parts: target_from_effector [0, 3), effector_position [3, 6)\n"));
   // The URDF's path resolved from the config's folder, absolute.
   const nlohmann::json env = nlohmann::json::parse(r.out.substr(r.out.find("\n{") + 1));
   CHECK(env["urdf"] == std::filesystem::absolute("assets/jaka/jaka_zu7.urdf").lexically_normal().string());
