@@ -109,7 +109,7 @@ TEST_CASE("bench-fps --threads: pixel envs on threads and on worker processes wi
   CHECK(rows[1].at("envs") == 4);
 }
 
-TEST_CASE("bench-fps --set: env keys on every row, in its env_config; a bad one is one error", "[bench]") {
+TEST_CASE("bench-fps --set: env keys on every row, in its env_config, and a bad one is one error", "[bench]") {
   BenchFpsOptions o;
   o.envs = {"push"};
   o.settings = {"substeps=5", "physics_step=0.008", "randomize={\"action_latency\": 1}"};
