@@ -108,7 +108,7 @@ def main(argv=None) -> dict:
     venv.close()
     if args.csv:
         with open(args.csv, "w", newline="") as f:
-            writer = csv.writer(f)
+            writer = csv.writer(f, lineterminator="\n")  # as rdsim's episodes.csv (tools/bench/her.sh reads both)
             writer.writerow(["episode", "timesteps", "return", "length", "success", "wall_time"])
             writer.writerows(log.rows)
     success = evaluate(lambda obs: model.predict(obs, deterministic=True)[0], args.env, args.eval_episodes,
