@@ -40,6 +40,21 @@ std::vector<rdsim::Action> random_actions(const rdsim::Spec& spec, int n, std::u
   return actions;
 }
 
+// One step of a noisy env and its plain twin with the same action: `a` and `b` become their next
+// observations (after a reset where the episode ended). Returns whether the two rewards agree.
+bool step_twins(rdsim::Env& noisy, rdsim::Env& plain, const rdsim::Action& action, rdsim::Observation& a,
+                rdsim::Observation& b) {
+  const rdsim::StepResult s = noisy.step(action), p = plain.step(action);
+  if (s.terminated || s.truncated) {
+    a = noisy.reset();
+    b = plain.reset();
+  } else {
+    a = s.observation;
+    b = p.observation;
+  }
+  return s.reward == p.reward;
+}
+
 }  // namespace
 
 TEST_CASE("randomize: action latency runs each action that many steps late, the first ones the episode's first",
@@ -91,15 +106,7 @@ TEST_CASE("randomize: observation noise has the configured spread, spares the de
         if (run == 0) first_run.push_back(a.values[i]);
         else CHECK(a.values[i] == first_run[static_cast<std::size_t>(t * static_cast<std::size_t>(a.values.size()) + static_cast<std::size_t>(i))]);
       }
-      const rdsim::StepResult s = noisy->step(actions[t]), p = plain->step(actions[t]);
-      CHECK(s.reward == p.reward);  // the noise is in what is observed, not in the state
-      if (s.terminated || s.truncated) {
-        a = noisy->reset();
-        b = plain->reset();
-      } else {
-        a = s.observation;
-        b = p.observation;
-      }
+      CHECK(step_twins(*noisy, *plain, actions[t], a, b));  // the noise is in what is observed, not in the state
     }
   }
   const double mean = sum / n, sd = std::sqrt(squares / n - mean * mean);
@@ -476,14 +483,7 @@ TEST_CASE("randomize: observation_noise_parts gives each named part its own spre
       else if (i >= cube && i < cube + cube_size) cube_noise.push_back(d);
       else other_noise.push_back(d);
     }
-    const rdsim::StepResult s = noisy->step(action), p = plain->step(action);
-    if (s.terminated || s.truncated) {
-      a = noisy->reset();
-      b = plain->reset();
-    } else {
-      a = s.observation;
-      b = p.observation;
-    }
+    step_twins(*noisy, *plain, action, a, b);
   }
   const auto sd = [](const std::vector<double>& v) {
     double squares = 0.0;
