@@ -223,9 +223,7 @@ std::vector<BenchRow> measure(const BenchFpsOptions& o) {
       }
       // Ground truth has no image: one row with size 0.
       for (const bench::Case& c : cases_of(entry, mode, o))
-        if (auto row = bench_row(bench::with_settings(bench::row_config(entry.name, mode, c.image_size, c.image_channels),
-                                                      o.settings),
-                                 "default", o))
+        if (auto row = bench_row(bench::case_config(c), "default", o))
           rows.push_back(std::move(*row));
     }
   }
