@@ -130,7 +130,15 @@ void write_algorithm_config(const AlgorithmConfig& c, nlohmann::json& out) {
   if (c.normalize_observations) out["normalize_observations"] = true;
 }
 
+void check_trainable(const AlgorithmConfig& c, const Spec& spec) {
+  if (spec.observation.vector_size > 0)
+    throw Error(c.source + ": env.observation: \"raw_pixels\" on goal env \"" + spec.env_name +
+                "\" gives camera images with the goals beside them, which rdsim's algorithms do not train on yet: "
+                "expected \"ground_truth\" (or train from Python: Stable-Baselines3's MultiInputPolicy takes the Dict observation)");
+}
+
 std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_t seed, const Spec& spec) {
+  check_trainable(c, spec);
   struct Make {
     const AlgorithmConfig& c;
     std::uint64_t seed;

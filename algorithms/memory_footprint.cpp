@@ -130,6 +130,7 @@ void policy_search(const NetworkConfig& n, const Spec& spec, int num_envs, doubl
 namespace rdsim {
 
 void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int num_envs, MemoryEstimate& e) {
+  check_trainable(c, spec);  // before a size that the algorithm could never reach
   std::visit([&](const auto& params) { estimate_memory(params, c, spec, num_envs, e); }, c.params);
   // Hindsight replay: an episode start (8 bytes) and length (4 bytes) per buffer slot, and twice that
   // while a checkpoint is written (as the replay buffer above).

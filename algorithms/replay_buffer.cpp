@@ -34,7 +34,7 @@ void check_pixels(const Observation& obs, int size) {
 }  // namespace
 
 ReplayBuffer::ReplayBuffer(long long capacity, int observation_size, int action_dim)
-    : ReplayBuffer(capacity, ObservationSpace{ObsType::Float32, {observation_size}, {}, {}, {}}, action_dim) {}
+    : ReplayBuffer(capacity, ObservationSpace::vector(observation_size), action_dim) {}
 
 ReplayBuffer::ReplayBuffer(long long capacity, const ObservationSpace& space, int action_dim)
     : capacity_(capacity), observation_size_(space.size()), action_dim_(action_dim), pixels_(space.type == ObsType::UInt8) {

@@ -104,6 +104,26 @@ ObservationSpace pixel_space(const EnvConfig& config) {
   return space;
 }
 
+ObservationSpace pixel_goal_space(const ObservationSpace& image, const ObservationSpace& ground_truth, GoalLayout& goal) {
+  RDSIM_ASSERT(goal.active() && image.vector_size == 0 && ground_truth.type == ObsType::Float32 &&
+                   ground_truth.size() == goal.size(), "a goal env's vector space and its image's");
+  const int goals = 2 * goal.goal_size();
+  ObservationSpace space = image;
+  space.vector_size = goals;
+  const int image_values = image.value_count();
+  space.low.resize(image_values + goals);
+  space.high.resize(image_values + goals);
+  space.low.tail(goals) = ground_truth.low.tail(goals);
+  space.high.tail(goals) = ground_truth.high.tail(goals);
+  if (image_values > 0) {
+    space.low.head(image_values) = image.low;
+    space.high.head(image_values) = image.high;
+  }
+  space.parts = {{"achieved_goal", goal.goal_size()}, {"desired_goal", goal.goal_size()}};
+  goal.observation = image_values;
+  return space;
+}
+
 void PixelView::render(const ReachTask& task, std::vector<std::uint8_t>& pixels) {
   RDSIM_ASSERT(space_.type == ObsType::UInt8, "UInt8 frames come from an rgb view");
   pixels.resize(static_cast<size_t>(space_.size()));

@@ -67,13 +67,13 @@ const std::vector<EnvEntry>& env_registry() {
       {"reach", "Any arm (env.urdf; the repo's Jaka by default) moves its effector link to a target point by IK moves",
        true, reach_arm_defaults, make_reach_arm},
       {"reach_goal", "An arm with a gripper (the JAKA's by default) moves its effector to a goal point; goal-conditioned, Box(3)",
-       true, reach_goal_defaults, make_reach_goal, false},
+       true, reach_goal_defaults, make_reach_goal},
       {"push", "An arm with a closed gripper pushes a 4 cm cube to a goal on the table; goal-conditioned, Box(3)", true,
-       push_defaults, make_push, false},
+       push_defaults, make_push},
       {"pick_and_place", "An arm with a gripper picks a 4 cm cube and places it at a goal, in the air half of the time; Box(4)",
-       true, pick_and_place_defaults, make_pick_and_place, false},
+       true, pick_and_place_defaults, make_pick_and_place},
       {"stack", "An arm with a gripper stacks two 4 cm cubes at a goal on the table; goal-conditioned, Box(4)", true,
-       stack_defaults, make_stack, false},
+       stack_defaults, make_stack},
   };
   return entries;
 }
@@ -181,9 +181,6 @@ EnvConfig read_env_config(ConfigReader& r) {
   r.finish();
   if (c.observation == ObservationMode::RawPixels && !entry->supports_pixels)
     r.fail("observation", name + " has no camera: expected \"ground_truth\"");
-  if (c.observation == ObservationMode::RawPixels && !entry->observes_pixels())
-    r.fail("observation", name + " observes vectors only (its goals are points; camera images with goals are not "
-                                 "available yet): expected \"ground_truth\"");
   // Image options only matter when something is drawn.
   const bool pixels = c.observation == ObservationMode::RawPixels, frames = c.render_mode == RenderMode::RgbArray;
   if (!pixels && c.image_width != defaults.image_width)
@@ -230,7 +227,8 @@ Spec env_spec(const EnvConfig& config) {
     r.camera_shift = r.camera_turn = r.camera_fov = r.colour_noise = r.light_turn = 0.0;
   }
   Spec spec = make_env(probe)->spec();
-  if (config.observation == ObservationMode::RawPixels) spec.observation = pixel_space(config);
+  if (config.observation == ObservationMode::RawPixels)
+    spec.observation = spec.goal.active() ? pixel_goal_space(pixel_space(config), spec.observation, spec.goal) : pixel_space(config);
   return spec;
 }
 

@@ -150,9 +150,12 @@ ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& 
   spec_.goal.points = points;
   spec_.goal.distance_threshold = static_cast<float>(o.distance_threshold);
   spec_.goal.reward = o.reward_type;
-  scratch_.resize(static_cast<size_t>(spec_.observation.size()));
   goals_.assign(static_cast<size_t>(points), Eigen::Vector3f::Zero());
   const Eigen::AlignedBox3f& w = world_->spec().workspace;
+  if (config.observation == ObservationMode::RawPixels) {
+    pixels_ = std::make_unique<PixelView>(*world_, config, arm_main_view(w), arm_second_view(w));
+    spec_.observation = pixel_goal_space(pixels_->space(), spec_.observation, spec_.goal);
+  }
   if (config.render_mode == RenderMode::RgbArray) {
     EnvConfig view = config;
     view.image_width = config.render_width;
@@ -195,6 +198,11 @@ void ManipulationEnv::achieved_goal(float* out) const {
 }
 
 void ManipulationEnv::observe(ObservationOut out) const {
+  if (pixels_) {
+    pixels_->render(*world_, out);
+    observe_goals(out.values);
+    return;
+  }
   float* o = out.values;
   const Eigen::Vector3f& ee = world_->ee_position();
   put3(o, ee);
@@ -216,15 +224,20 @@ void ManipulationEnv::observe(ObservationOut out) const {
     put3(o + at + 10, motion.angular);
     put3(o + at + 13, pose.translation() - ee);
   }
-  achieved_goal(o + at);
-  at += spec_.goal.goal_size();
-  for (const Eigen::Vector3f& g : goals_) {
-    put3(o + at, g);
-    at += 3;
-  }
   const ObservationSpace& s = spec_.observation;
-  Eigen::Map<Eigen::VectorXf> all(o, s.size());
-  all = all.cwiseMax(s.low).cwiseMin(s.high);
+  Eigen::Map<Eigen::VectorXf> head(o, at);
+  head = head.cwiseMax(s.low.head(at)).cwiseMin(s.high.head(at));
+  observe_goals(o);
+}
+
+void ManipulationEnv::observe_goals(float* values) const {
+  const GoalLayout& g = spec_.goal;
+  achieved_goal(values + g.achieved_offset());
+  for (size_t p = 0; p < goals_.size(); ++p) put3(values + g.desired_offset() + 3 * static_cast<int>(p), goals_[p]);
+  const ObservationSpace& s = spec_.observation;
+  const int at = g.achieved_offset(), n = 2 * g.goal_size();
+  Eigen::Map<Eigen::VectorXf> goals(values + at, n);
+  goals = goals.cwiseMax(s.low.segment(at, n)).cwiseMin(s.high.segment(at, n));
 }
 
 void ManipulationEnv::judge(const float* observation, StepOutcome& r) const {
@@ -261,6 +274,7 @@ StepResult ManipulationEnv::step(const Action& action) { return step_through_int
 void ManipulationEnv::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {
   if (seed) rng_.reseed(*seed);
   randomizer_->reset(seed);
+  if (pixels_) randomizer_->apply(*pixels_);
   world_->reset(rng_, false);
   Placement placement = task_.draw(area_, rng_);
   for (Eigen::Vector3f& cube : placement.cubes) cube += randomizer_->placement(0);

@@ -53,17 +53,17 @@ __all__ = [
 
 
 def envs() -> list[dict]:
-    """Every registered env: id, name, description, whether it has cameras (``supports_pixels``: it can
-    draw, ``render_mode="rgb_array"``), whether the agent may observe them (``pixel_observations``), and
-    its default options."""
+    """Every registered env: id, name, description, whether it has cameras (``supports_pixels``: its
+    agent may observe camera images, ``observation="raw_pixels"``, and it draws frames,
+    ``render_mode="rgb_array"``), and its default options."""
     import json
 
     from ._ids import env_id
 
     return [
         {"id": env_id(name), "name": name, "description": description, "supports_pixels": pixels,
-         "pixel_observations": pixel_observations, "defaults": json.loads(defaults)}
-        for name, description, pixels, pixel_observations, defaults in _rdsim.registry()
+         "defaults": json.loads(defaults)}
+        for name, description, pixels, defaults in _rdsim.registry()
     ]
 
 

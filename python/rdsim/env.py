@@ -55,6 +55,7 @@ class RdsimEnv(gymnasium.Env):
         self.observation_parts: dict[str, slice] = observation_parts(spec)
         #: A goal env's layout and reward (``None`` for other envs).
         self.goal: Optional[dict] = spec["goal"]
+        self._image_shape = tuple(spec["observation_shape"])
         if self.goal is not None:
             # Only goal envs have compute_reward (checkers such as SB3's take it to mean a GoalEnv).
             self.compute_reward = self._compute_reward
@@ -95,7 +96,7 @@ class RdsimEnv(gymnasium.Env):
         return float(reward) if reward.ndim == 0 else reward
 
     def _observation(self, flat):
-        return flat if self.goal is None else goal_dict(self.goal, flat, copy=False)
+        return flat if self.goal is None else goal_dict(self.goal, flat, copy=False, shape=self._image_shape)
 
     def render(self) -> Optional[np.ndarray]:
         """An RGB frame (``render_mode="rgb_array"``), else ``None``."""

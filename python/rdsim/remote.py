@@ -36,8 +36,8 @@ def _local_spec(remote_spec: dict, arrays: dict) -> dict:
     """The observation part of a hello reply's spec in the C++ module's layout (rdsim.spaces reads it)."""
     obs = remote_spec["observation"]
     spec = {"observation_shape": obs["shape"], "observation_dtype": obs["dtype"], "goal": remote_spec.get("goal"),
-            "observation_parts": obs.get("parts", [])}
-    if obs["dtype"] != "uint8":
+            "observation_parts": obs.get("parts", []), "observation_vector_size": obs.get("vector_size", 0)}
+    if obs["dtype"] != "uint8" or spec["observation_vector_size"]:
         spec["observation_low"], spec["observation_high"] = arrays["observation_low"], arrays["observation_high"]
     return spec
 
@@ -92,6 +92,7 @@ class RemoteEnv(gymnasium.Env):
         self.observation_parts: dict[str, slice] = observation_parts(local)
         #: A goal env's layout and reward (``None`` for other envs), as :attr:`rdsim.RdsimEnv.goal`.
         self.goal: Optional[dict] = self.remote_spec.get("goal")
+        self._image_shape = tuple(self.remote_spec["observation"]["shape"])
         if self.goal is not None:
             # Only goal envs have compute_reward (checkers such as SB3's take it to mean a GoalEnv).
             self.compute_reward = self._compute_reward
@@ -132,14 +133,20 @@ class RemoteEnv(gymnasium.Env):
     def _step_reply(self, header: dict):
         reply, arrays = self.request(header)
         info = dict(reply["info"])
-        info.update({k: v for k, v in arrays.items() if k != "observation"})
+        info.update({k: v for k, v in arrays.items() if k not in ("observation", "observation_vector")})
         if self.goal is not None:
             info["is_success"] = info["success"]
-        return (self._observation(arrays["observation"]), float(reply["reward"]), bool(reply["terminated"]),
+        return (self._observation(arrays), float(reply["reward"]), bool(reply["terminated"]),
                 bool(reply["truncated"]), info)
 
-    def _observation(self, flat: np.ndarray):
-        return flat if self.goal is None else goal_dict(self.goal, flat, copy=False)
+    def _observation(self, arrays: dict):
+        """A reply's observation: ``observation`` (the vector or image) and, for an image with the goal
+        vector beside it, ``observation_vector`` (docs/protocol.md)."""
+        flat = arrays["observation"]
+        if "observation_vector" in arrays:
+            vector = arrays["observation_vector"]
+            flat = (flat, vector) if flat.dtype == np.uint8 else (None, np.concatenate([flat.ravel(), vector]))
+        return flat if self.goal is None else goal_dict(self.goal, flat, copy=False, shape=self._image_shape)
 
     def _compute_reward(self, achieved_goal, desired_goal, info=None):
         """A goal env's reward for ``achieved_goal`` / ``desired_goal`` (last axis: the goal's points,
@@ -157,7 +164,7 @@ class RemoteEnv(gymnasium.Env):
         if seed is not None:
             header["seed"] = int(seed)
         _, arrays = self.request(header)
-        return self._observation(arrays["observation"]), {}
+        return self._observation(arrays), {}
 
     def step(self, action):
         if isinstance(self.action_space, gymnasium.spaces.Discrete):

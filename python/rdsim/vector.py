@@ -84,6 +84,7 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         #: A goal env's layout and reward (``None`` for other envs): observations are dicts of
         #: ``observation``, ``achieved_goal`` and ``desired_goal`` arrays, one row per env.
         self.goal: Optional[dict] = spec["goal"]
+        self._image_shape = tuple(spec["observation_shape"])
         if self.goal is not None:
             self.compute_reward = self._compute_reward  # goal envs only (as rdsim.make's)
         self.single_action_space = action_space(spec)
@@ -166,10 +167,10 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
     def _out(self, array: np.ndarray) -> np.ndarray:
         return array.copy() if self.copy else array
 
-    def _observation_out(self, flat: np.ndarray):
+    def _observation_out(self, flat):
         if self.goal is None:
             return self._out(flat)
-        return goal_dict(self.goal, flat, copy=self.copy)
+        return goal_dict(self.goal, flat, copy=self.copy, shape=self._image_shape)
 
     def _results(self):
         """The last step's tuple, built by the binding; goal envs' observations become dicts."""
@@ -181,8 +182,8 @@ class RdsimVectorEnv(gymnasium.vector.VectorEnv):
         if "final_obs" in infos:
             final_obs = infos["final_obs"]
             for i in infos["_final_obs"].nonzero()[0]:
-                final_obs[i] = goal_dict(self.goal, final_obs[i], copy=False)
-        return goal_dict(self.goal, obs, copy=False), rewards, terminations, truncations, infos
+                final_obs[i] = goal_dict(self.goal, final_obs[i], copy=False, shape=self._image_shape)
+        return goal_dict(self.goal, obs, copy=False, shape=self._image_shape), rewards, terminations, truncations, infos
 
 
 def make_vec(env_id: str, num_envs: int = 1, num_threads: Optional[int] = None, **options: Any) -> RdsimVectorEnv:

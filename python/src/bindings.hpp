@@ -32,16 +32,27 @@ inline std::string type_name(const py::handle& h) { return py::str(py::type::han
 // A Python seed (None or an integer in [0, 2^64 - 1]); rdsim::Error naming `where` otherwise.
 std::optional<std::uint64_t> read_seed(const py::object& seed, const std::string& where);
 
-// The Spec as a dict: observation dtype/shape/low/high, action kind/n/low/high, max_episode_steps, control_dt.
+// The Spec as a dict: observation dtype/shape/vector_size/low/high/parts, action kind/n/low/high,
+// max_episode_steps, control_dt, goal.
 py::dict spec_dict(const Spec& spec);
 // A goal env's layout and reward (core/goal_layout.hpp) as the dict spec_dict's "goal" holds; None
 // for other envs.
 py::object goal_dict(const GoalLayout& goal);
 
-// Empty NumPy array shaped like one observation (`batch` > 0: batch x observation).
-py::array observation_array(const ObservationSpace& space, int batch = 0);
-// Where to write an observation into `array` (its first element; call with the GIL held).
-ObservationOut observation_out(py::array& array);
+// NumPy storage for one observation of `space` (`batch` > 0: a batch of them, a leading axis) and
+// where to write the first (taken with the GIL held). `object` is the space's array (an image or a
+// vector), or for an image with a vector beside it (ObservationSpace::vector_size) the pair
+// (image bytes or None, values: value_count() floats each), which the package's spaces.py turns
+// into a goal dict.
+struct PyObservation {
+  py::object object;
+  ObservationOut out;
+};
+PyObservation py_observation(const ObservationSpace& space, int batch = 0);
+// Where observation `row` of a batch that starts at `first` lies.
+ObservationOut observation_row(ObservationOut first, const ObservationSpace& space, int row);
+// A copy of what py_observation made (an array, or the pair; None stays None).
+py::object copy_observation_object(const py::handle& observation);
 
 // Converts one action (a Python int / NumPy integer for Discrete, a float array for Box) after
 // checking its type, shape, range and finiteness; rdsim::Error with a one-line message otherwise.

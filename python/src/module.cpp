@@ -8,13 +8,12 @@
 namespace rdsim::python {
 namespace {
 
-// (name, description, supports_pixels, pixel_observations, resolved default config as JSON text)
+// (name, description, supports_pixels, resolved default config as JSON text)
 // of every env.
 py::list registry() {
   py::list out;
   for (const EnvEntry& e : env_registry())
-    out.append(py::make_tuple(e.name, e.description, e.supports_pixels, e.supports_pixels && e.pixel_observations,
-                              to_json(default_env_config(e.name)).dump()));
+    out.append(py::make_tuple(e.name, e.description, e.supports_pixels, to_json(default_env_config(e.name)).dump()));
   return out;
 }
 
@@ -51,7 +50,7 @@ PYBIND11_MODULE(_rdsim, m) {
   m.attr("__version__") = RDSIM_VERSION;
   m.attr("source_dir") = RDSIM_SOURCE_DIR;
   m.def("registry", &registry,
-        "Every registered env: (name, description, supports_pixels, pixel_observations, defaults JSON).");
+        "Every registered env: (name, description, supports_pixels, defaults JSON).");
   m.def("compute_reward", &compute_reward, py::arg("goal"), py::arg("achieved_goal"), py::arg("desired_goal"),
         "A goal env's rewards for (achieved, desired) goal pairs, batched over the leading axes");
   bind_env(m);

@@ -39,30 +39,28 @@ public:
   std::string config() const { return env_config_json(config_); }
   bool closed() const { return !env_; }
 
-  py::array reset(const py::object& seed) {
+  py::object reset(const py::object& seed) {
     Env& env = open();
     const auto s = read_seed(seed, where_ + ": reset");
-    py::array obs = observation_array(spec_.observation);
-    ObservationOut out = observation_out(obs);
+    PyObservation obs = py_observation(spec_.observation);
     {
       py::gil_scoped_release unlocked;
-      env.reset_into(out, s);
+      env.reset_into(obs.out, s);
     }
-    return obs;
+    return obs.object;
   }
 
   // (observation, reward, terminated, truncated, success, collision, out_of_bounds, distance)
   py::tuple step(const py::handle& action) {
     Env& env = open();
     read_action(spec_.action, action, action_);
-    py::array obs = observation_array(spec_.observation);
-    ObservationOut out = observation_out(obs);
+    PyObservation obs = py_observation(spec_.observation);
     StepOutcome o;
     {
       py::gil_scoped_release unlocked;
-      o = env.step_into(action_, out);
+      o = env.step_into(action_, obs.out);
     }
-    return py::make_tuple(obs, o.reward, o.terminated, o.truncated, o.info.success, o.info.collision, o.info.out_of_bounds,
+    return py::make_tuple(obs.object, o.reward, o.terminated, o.truncated, o.info.success, o.info.collision, o.info.out_of_bounds,
                           o.info.distance);
   }
 

@@ -52,18 +52,18 @@ public:
     distance_ = py::array_t<float>(n_);
     for (auto* flags : {&terminations_, &truncations_, &success_, &collision_, &out_of_bounds_, &final_mask_})
       *flags = py::array_t<bool>(n_);
-    final_observations_ = observation_array(spec_.observation, n_);
+    PyObservation final_observations = py_observation(spec_.observation, n_);
+    final_observations_ = final_observations.object;
     ones_ = py::array_t<bool>(n_);
     std::fill_n(ones_.mutable_data(), n_, true);
     info_arrays_ = {InfoArray{py::str("success"), py::str("_success"), success_},
                     InfoArray{py::str("collision"), py::str("_collision"), collision_},
                     InfoArray{py::str("out_of_bounds"), py::str("_out_of_bounds"), out_of_bounds_},
                     InfoArray{py::str("distance"), py::str("_distance"), distance_}};
-    row_size_ = spec_.observation.size();
     // Raw pointers, taken here with the GIL held: run_step() writes through them without it.
     out_ = {rewards_.mutable_data(), distance_.mutable_data(), terminations_.mutable_data(), truncations_.mutable_data(),
             success_.mutable_data(), collision_.mutable_data(), out_of_bounds_.mutable_data(), final_mask_.mutable_data(),
-            observation_out(final_observations_)};
+            final_observations.out};
   }
 
   ~PyVecEnv() {
@@ -84,15 +84,22 @@ public:
 
   // The VecEnv's observation batch as an array (num_envs, *observation shape), no copy. It keeps
   // the VecEnv's memory alive for as long as it exists (after close() too).
-  py::array observations() {
+  // For an image with a vector beside it, the pair (image bytes or None, values) as py_observation's.
+  py::object observations() {
     VecEnv& vec = open();
     const ObservationBatch& b = vec.observations();
+    const ObservationSpace& space = spec_.observation;
     std::vector<py::ssize_t> shape{n_};
-    for (int d : spec_.observation.shape) shape.push_back(d);
+    for (int d : space.shape) shape.push_back(d);
     auto* keep = new std::shared_ptr<VecEnv>(vec_);
     py::capsule owner(keep, [](void* p) { delete static_cast<std::shared_ptr<VecEnv>*>(p); });
-    if (b.type == ObsType::Float32) return py::array_t<float>(shape, b.values.data(), owner);
-    return py::array_t<std::uint8_t>(shape, b.pixels.data(), owner);
+    if (space.vector_size == 0) {
+      if (b.type == ObsType::Float32) return py::array_t<float>(shape, b.values.data(), owner);
+      return py::array_t<std::uint8_t>(shape, b.pixels.data(), owner);
+    }
+    py::array_t<float> values(std::vector<py::ssize_t>{n_, space.value_count()}, b.values.data(), owner);
+    if (b.type == ObsType::Float32) return py::make_tuple(py::none(), values);
+    return py::make_tuple(py::array_t<std::uint8_t>(shape, b.pixels.data(), owner), values);
   }
 
   void reset(const py::object& seed) {
@@ -143,7 +150,7 @@ public:
     }
     if (ended_ > 0) add_final(infos);
     if (!copy) return py::make_tuple(observations_view_, rewards_, terminations_, truncations_, infos);
-    return py::make_tuple(fresh(observations_view_), fresh(rewards_), fresh(terminations_), fresh(truncations_),
+    return py::make_tuple(copy_observation_object(observations_view_), fresh(rewards_), fresh(terminations_), fresh(truncations_),
                           infos);
   }
 
@@ -160,7 +167,7 @@ public:
 
   py::array_t<float> rewards_, distance_;
   py::array_t<bool> terminations_, truncations_, success_, collision_, out_of_bounds_, final_mask_;
-  py::array final_observations_;
+  py::object final_observations_;  // py_observation's object for n_ envs
 
 private:
   // An info array of results() and the keys it goes by.
@@ -183,16 +190,9 @@ private:
     const bool* ended = final_mask_.data();
     py::array final_obs(py::dtype("O"), std::vector<py::ssize_t>{n_});
     auto** slots = static_cast<PyObject**>(final_obs.mutable_data());
-    const auto row_bytes = static_cast<std::size_t>(final_observations_.nbytes() / n_);
-    const auto* rows = static_cast<const char*>(final_observations_.data());
-    std::vector<py::ssize_t> row_shape(spec_.observation.shape.begin(), spec_.observation.shape.end());
     for (int i = 0; i < n_; ++i) {
       py::object entry = py::none();
-      if (ended[i]) {
-        py::array row(final_observations_.dtype(), row_shape);
-        std::memcpy(row.mutable_data(), rows + static_cast<std::size_t>(i) * row_bytes, row_bytes);
-        entry = std::move(row);
-      }
+      if (ended[i]) entry = final_row(i);
       Py_XDECREF(slots[i]);  // numpy fills a new object array with None (or NULL)
       slots[i] = entry.release().ptr();
     }
@@ -205,6 +205,15 @@ private:
     infos["_final_obs"] = mask;
     infos["final_info"] = final_info;
     infos["_final_info"] = mask;
+  }
+
+  // A copy of env i's final observation (an array, or the pair (image bytes or None, values)).
+  py::object final_row(int i) const {
+    const py::int_ row(i);
+    if (!py::isinstance<py::tuple>(final_observations_)) return copy_observation_object(final_observations_[row]);
+    const auto pair = py::reinterpret_borrow<py::tuple>(final_observations_);
+    return copy_observation_object(
+        py::make_tuple(pair[0].is_none() ? py::object(py::none()) : py::object(pair[0][row]), pair[1][row]));
   }
 
   VecEnv& open() {
@@ -234,11 +243,7 @@ private:
       out_.ended[i] = s.done();
       if (!s.done()) continue;
       ++ended;
-      const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(i) * row_size_;
-      ObservationOut row = out_.final_observation;
-      if (row.values) row.values += at;
-      if (row.pixels) row.pixels += at;
-      copy_observation(s.final_observation, spec_.observation, row);
+      copy_observation(s.final_observation, spec_.observation, observation_row(out_.final_observation, spec_.observation, i));
     }
     ended_ = ended;
   }
@@ -254,7 +259,7 @@ private:
   EnvConfig config_;
   std::shared_ptr<VecEnv> vec_;
   Spec spec_;
-  int n_ = 0, row_size_ = 0;
+  int n_ = 0;
   std::vector<Action> actions_;
   Outputs out_{};
   BackgroundJob job_;

@@ -1,4 +1,6 @@
 // Spec -> the dict the Python package builds Gymnasium spaces from; observation arrays and views.
+#include <cstring>
+
 #include "bindings.hpp"
 #include "rdsim/core/error.hpp"
 
@@ -25,6 +27,7 @@ py::dict spec_dict(const Spec& spec) {
   const ObservationSpace& o = spec.observation;
   d["observation_dtype"] = o.type == ObsType::Float32 ? "float32" : "uint8";
   d["observation_shape"] = shape_tuple(o.shape);
+  d["observation_vector_size"] = o.vector_size;
   d["observation_low"] = float_array(o.low);
   d["observation_high"] = float_array(o.high);
   py::list parts;  // [(name, size), ...] (ObservationSpace::parts)
@@ -50,18 +53,50 @@ py::object goal_dict(const GoalLayout& goal) {
   return g;
 }
 
-py::array observation_array(const ObservationSpace& space, int batch) {
-  std::vector<py::ssize_t> shape;
-  if (batch > 0) shape.push_back(batch);
-  for (int d : space.shape) shape.push_back(d);
-  if (space.type == ObsType::Float32) return py::array_t<float>(shape);
-  return py::array_t<std::uint8_t>(shape);
+namespace {
+
+template <class T>
+py::array_t<T> batch_array(int batch, const std::vector<int>& shape) {
+  std::vector<py::ssize_t> dims;
+  if (batch > 0) dims.push_back(batch);
+  for (int d : shape) dims.push_back(d);
+  return py::array_t<T>(dims);
 }
 
-ObservationOut observation_out(py::array& array) {
-  void* base = array.mutable_data();
-  if (array.dtype().is(py::dtype::of<float>())) return {static_cast<float*>(base), nullptr};
-  return {nullptr, static_cast<std::uint8_t*>(base)};
+// A new array with `array`'s shape, type and values.
+py::array copied(const py::array& array) {
+  py::array copy(array.dtype(), std::vector<py::ssize_t>(array.shape(), array.shape() + array.ndim()));
+  std::memcpy(copy.mutable_data(), array.data(), static_cast<std::size_t>(array.nbytes()));
+  return copy;
+}
+
+}  // namespace
+
+PyObservation py_observation(const ObservationSpace& space, int batch) {
+  if (space.vector_size == 0) {
+    if (space.type == ObsType::Float32) {
+      auto values = batch_array<float>(batch, space.shape);
+      return {values, {values.mutable_data(), nullptr}};
+    }
+    auto pixels = batch_array<std::uint8_t>(batch, space.shape);
+    return {pixels, {nullptr, pixels.mutable_data()}};
+  }
+  auto values = batch_array<float>(batch, {space.value_count()});
+  if (space.type == ObsType::Float32) return {py::make_tuple(py::none(), values), {values.mutable_data(), nullptr}};
+  auto pixels = batch_array<std::uint8_t>(batch, space.shape);
+  return {py::make_tuple(pixels, values), {values.mutable_data(), pixels.mutable_data()}};
+}
+
+ObservationOut observation_row(ObservationOut first, const ObservationSpace& space, int row) {
+  return {first.values ? first.values + static_cast<std::ptrdiff_t>(row) * space.value_count() : nullptr,
+          first.pixels ? first.pixels + static_cast<std::ptrdiff_t>(row) * space.byte_count() : nullptr};
+}
+
+py::object copy_observation_object(const py::handle& observation) {
+  if (!py::isinstance<py::tuple>(observation)) return copied(py::reinterpret_borrow<py::array>(observation));
+  const auto pair = py::reinterpret_borrow<py::tuple>(observation);
+  const py::object pixels = pair[0].is_none() ? py::none() : py::object(copied(pair[0].cast<py::array>()));
+  return py::make_tuple(pixels, copied(pair[1].cast<py::array>()));
 }
 
 }  // namespace rdsim::python

@@ -31,8 +31,9 @@ int config_env(const std::string& path) {
     std::printf("observation parts: %s\n", parts.c_str());
   }
   if (spec.goal.active())
-    std::printf("goal-conditioned: %d observation values, achieved and desired goals of %d each, %s reward\n",
-                spec.goal.observation, spec.goal.goal_size(), to_string(spec.goal.reward));
+    std::printf("goal-conditioned: %s, achieved and desired goals of %d values each, %s reward\n",
+                spec.observation.vector_size > 0 ? "the image" : (std::to_string(spec.goal.observation) + " observation values").c_str(),
+                spec.goal.goal_size(), to_string(spec.goal.reward));
   std::printf("every option, resolved:\n%s\n", to_json(config.env).dump(2).c_str());
   return 0;
 }
@@ -43,8 +44,8 @@ int envs_command(const std::string& config_path) {
   if (!config_path.empty()) return config_env(config_path);
   std::printf("%-16s %-7s %s\n", "name", "pixels", "description");
   for (const auto& e : env_registry()) {
-    // pixels: camera images as observations; "frames": drawn for people only (render_mode).
-    const char* pixels = e.observes_pixels() ? "yes" : e.supports_pixels ? "frames" : "no";
+    // pixels: camera images as observations (and frames for people, render_mode).
+    const char* pixels = e.supports_pixels ? "yes" : "no";
     std::printf("%-16s %-7s %s\n", e.name.c_str(), pixels, e.description.c_str());
   }
   return 0;

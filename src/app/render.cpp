@@ -26,22 +26,6 @@ EnvConfig env_to_draw(const RenderOptions& o) {
   return config;
 }
 
-// An env that draws for people but observes vectors (the manipulation tasks): its render_mode frame.
-int render_frame(const RenderOptions& o, EnvConfig config) {
-  if (o.view != 1) throw Error("render: env \"" + config.name + "\" draws its main camera only (--view 1)");
-  config.render_mode = RenderMode::RgbArray;
-  config.render_width = o.width;
-  config.render_height = o.height;
-  const std::unique_ptr<Env> env = make_env(config);
-  env->reset(o.seed);
-  Image frame;
-  if (!env->render(frame)) throw Error("render: env \"" + config.name + "\" drew no frame");
-  write_png(o.out_path, frame.width, frame.height, 3, frame.rgb.data());
-  std::printf("wrote %s (%s, %dx%d, seed %llu)\n", o.out_path.c_str(), config.name.c_str(), frame.width, frame.height,
-              static_cast<unsigned long long>(o.seed));
-  return 0;
-}
-
 }  // namespace
 
 int render_command(const RenderOptions& o) {
@@ -51,7 +35,6 @@ int render_command(const RenderOptions& o) {
   const EnvEntry& entry = env_entry(config.name);
   if (!entry.supports_pixels)
     throw Error("render: env \"" + config.name + "\" has no camera to draw pixels with (see `rdsim envs`)");
-  if (!entry.observes_pixels()) return render_frame(o, config);
   config.observation = ObservationMode::RawPixels;
   config.multi_view = o.view == 2;
   config.image_width = o.width;
@@ -76,7 +59,7 @@ int render_command(const RenderOptions& o) {
 }
 
 Command render_command_entry() {
-  return {"render", "Write the raw-pixel observation an env gives after reset as a PNG (the goal tasks: their frame)",
+  return {"render", "Write the raw-pixel observation an env gives after reset as a PNG",
           [](CLI::App& cmd) -> std::function<int()> {
             struct Line {
               RenderOptions o;

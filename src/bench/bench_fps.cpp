@@ -213,7 +213,7 @@ std::vector<BenchRow> measure(const BenchFpsOptions& o) {
     if (!wanted(o.envs, entry.name) || (o.paper && !std::filesystem::exists(paper_preset_path(entry.name, "ground_truth"))))
       continue;
     for (std::string mode : {"ground_truth", "raw_pixels"}) {
-      if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.observes_pixels())) continue;
+      if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.supports_pixels)) continue;
       if (o.paper) {
         const EnvConfig preset = paper_preset(entry.name, mode);
         const int size = mode == "raw_pixels" ? preset.image_width : 0;
@@ -237,7 +237,7 @@ int threads_command(const BenchFpsOptions& o) {
   for (const auto& entry : env_registry()) {
     if (!wanted(o.envs, entry.name)) continue;
     for (std::string mode : {"ground_truth", "raw_pixels"}) {
-      if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.observes_pixels())) continue;
+      if (!wanted(o.modes, mode) || (mode == "raw_pixels" && !entry.supports_pixels)) continue;
       for (bench::Case& c : cases_of(entry, mode, o)) cases.push_back(std::move(c));
     }
   }

@@ -103,7 +103,9 @@ Workload ppo_mlp(int width) {
 
 Workload ppo_cnn(const std::string& preset, int side) {
   Spec spec = env_spec(true);
-  spec.observation = ObservationSpace{ObsType::UInt8, {side, side, 3}, {}, {}, {}};
+  spec.observation = ObservationSpace{};
+  spec.observation.type = ObsType::UInt8;
+  spec.observation.shape = {side, side, 3};
   NetworkConfig network;
   network.cnn.preset = preset;
   Rng rng(1);

@@ -214,7 +214,7 @@ int bench_remote_command(const BenchRemoteOptions& o) {
   EnvConfig pixels = ground;
   pixels.observation = ObservationMode::RawPixels;
   pixels.image_width = pixels.image_height = o.image_size;
-  const bool has_pixels = env_entry(o.env).observes_pixels();
+  const bool has_pixels = env_entry(o.env).supports_pixels;
   const std::string pixels_name = "raw pixels " + std::to_string(o.image_size) + "x" + std::to_string(o.image_size);
 
   KeyFolder keys;

@@ -23,32 +23,27 @@ std::string ObservationSpace::part_names() const {
 }
 
 void copy_observation(const Observation& obs, const ObservationSpace& space, ObservationOut out) {
-  const auto n = static_cast<std::size_t>(space.size());
-  if (space.type == ObsType::Float32) {
-    if (static_cast<std::size_t>(obs.values.size()) != n || !out.values)
-      throw Error("observation has " + std::to_string(obs.values.size()) + " values, the env's spec says " +
-                  std::to_string(n));
-    std::copy_n(obs.values.data(), n, out.values);
-    return;
-  }
-  if (obs.pixels.size() != n || !out.pixels)
+  const auto values = static_cast<std::size_t>(space.value_count());
+  const auto bytes = static_cast<std::size_t>(space.byte_count());
+  if (static_cast<std::size_t>(obs.values.size()) != values || (values > 0 && !out.values))
+    throw Error("observation has " + std::to_string(obs.values.size()) + " values, the env's spec says " +
+                std::to_string(values));
+  if (obs.pixels.size() != bytes || (bytes > 0 && !out.pixels))
     throw Error("observation has " + std::to_string(obs.pixels.size()) + " pixel bytes, the env's spec says " +
-                std::to_string(n));
-  std::copy_n(obs.pixels.data(), n, out.pixels);
+                std::to_string(bytes));
+  std::copy_n(obs.values.data(), values, out.values);
+  std::copy_n(obs.pixels.data(), bytes, out.pixels);
 }
 
 Observation make_observation(const ObservationSpace& space) {
   Observation obs;
-  if (space.type == ObsType::Float32)
-    obs.values.resize(space.size());
-  else
-    obs.pixels.resize(static_cast<std::size_t>(space.size()));
+  obs.values.resize(space.value_count());
+  obs.pixels.resize(static_cast<std::size_t>(space.byte_count()));
   return obs;
 }
 
 ObservationOut observation_out(Observation& obs) {
-  if (!obs.pixels.empty()) return {nullptr, obs.pixels.data()};
-  return {obs.values.data(), nullptr};
+  return {obs.values.size() > 0 ? obs.values.data() : nullptr, obs.pixels.empty() ? nullptr : obs.pixels.data()};
 }
 
 void Env::reset_into(ObservationOut out, std::optional<std::uint64_t> seed) {

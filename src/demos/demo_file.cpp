@@ -193,6 +193,7 @@ std::string describe_observation_space(const ObservationSpace& space) {
     text += std::to_string(space.shape[i]);
   }
   text += ']';
+  if (space.vector_size > 0) text += " + Float32[" + std::to_string(space.vector_size) + "]";
   return text;
 }
 
@@ -286,6 +287,9 @@ void validate_episode(const DemoEpisode& e, const Spec& spec, const std::string&
 }
 
 std::string encode_demo_file(const json& env_config, const Spec& spec) {
+  if (spec.observation.vector_size > 0)
+    throw Error("demonstrations: env \"" + spec.env_name + "\" observes camera images with its goals beside them, "
+                "which demonstration files do not hold yet: record with env.observation \"ground_truth\"");
   json header = json::object();
   header["format"] = "rdsim demonstrations";
   header["rdsim_version"] = RDSIM_VERSION;

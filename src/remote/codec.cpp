@@ -99,6 +99,7 @@ void put_spec(Message& m, const Spec& spec) {
                       {"action", action},
                       {"max_episode_steps", spec.max_episode_steps},
                       {"control_dt", spec.control_dt}};
+  if (o.vector_size > 0) m.header["spec"]["observation"]["vector_size"] = o.vector_size;  // Float32 values beside the image
   if (!o.parts.empty()) {  // what each value is: [[name, size], ...] (ObservationSpace::parts)
     json parts = json::array();
     for (const ObservationPart& p : o.parts) parts.push_back(json::array({p.name, p.size}));
@@ -109,7 +110,7 @@ void put_spec(Message& m, const Spec& spec) {
                                 {"points", spec.goal.points},
                                 {"distance_threshold", spec.goal.distance_threshold},
                                 {"reward", to_string(spec.goal.reward)}};
-  if (o.type == ObsType::Float32) {
+  if (o.value_count() > 0) {
     put_floats(m, "observation_low", o.low);
     put_floats(m, "observation_high", o.high);
   }
@@ -137,11 +138,16 @@ Spec get_spec(const Message& m) {
     spec.observation.shape.push_back(d.get<int>());
   }
   if (count > (1LL << 28)) bad("spec.observation.shape: too large");
-  if (spec.observation.type == ObsType::Float32) {
-    spec.observation.low = floats(m, "observation_low", static_cast<std::size_t>(count));
-    spec.observation.high = floats(m, "observation_high", static_cast<std::size_t>(count));
+  if (o.contains("vector_size")) {
+    if (shape.size() != 3) bad("spec.observation.vector_size: expected only beside an image (a shape of 3 sizes)");
+    spec.observation.vector_size = static_cast<int>(get_integer(o, "vector_size", 1, 65536));
   }
-  if (o.contains("parts")) spec.observation.parts = get_parts(member(o, "parts"), count);
+  const ObservationSpace& space = spec.observation;
+  if (space.value_count() > 0) {
+    spec.observation.low = floats(m, "observation_low", static_cast<std::size_t>(space.value_count()));
+    spec.observation.high = floats(m, "observation_high", static_cast<std::size_t>(space.value_count()));
+  }
+  if (o.contains("parts")) spec.observation.parts = get_parts(member(o, "parts"), space.vector_size > 0 ? space.vector_size : count);
   const json& a = member(s, "action");
   spec.action.discrete = get_bool(a, "discrete");
   if (spec.action.discrete) {
@@ -155,14 +161,14 @@ Spec get_spec(const Message& m) {
   spec.control_dt = get_number(s, "control_dt");
   if (s.contains("goal")) {
     const json& g = member(s, "goal");
-    spec.goal.observation = static_cast<int>(get_integer(g, "observation", 0, count));
+    spec.goal.observation = static_cast<int>(get_integer(g, "observation", 0, space.value_count()));
     spec.goal.points = static_cast<int>(get_integer(g, "points", 1, 1024));
     spec.goal.distance_threshold = static_cast<float>(get_number(g, "distance_threshold"));
     const std::string reward = get_string(g, "reward");
     if (reward != "sparse" && reward != "dense") bad("spec.goal.reward: expected sparse or dense");
     spec.goal.reward = reward == "dense" ? GoalReward::Dense : GoalReward::Sparse;
-    if (spec.observation.type != ObsType::Float32 || spec.goal.size() != count || !(spec.goal.distance_threshold > 0.0f))
-      bad("spec.goal: expected a float32 observation of observation + 6 x points values and a threshold > 0");
+    if (spec.goal.size() != space.value_count() || !(spec.goal.distance_threshold > 0.0f))
+      bad("spec.goal: expected float32 values of observation + 6 x points and a threshold > 0");
   }
   return spec;
 }
@@ -222,21 +228,33 @@ std::optional<RobotInfo> get_robot_info(const Message& m) {
   return info;
 }
 
+// "observation": the image (UInt8 bytes, or a Float32 image's values) or the vector;
+// "observation_vector": the Float32 values beside an image (ObservationSpace::vector_size).
 void put_observation(Message& m, const Spec& spec, const Observation& o) {
-  if (spec.observation.type == ObsType::UInt8)
-    m.arrays.push_back(ArrayFrame::uint8("observation", o.pixels.data(), spec.observation.shape));
+  const ObservationSpace& space = spec.observation;
+  if (space.type == ObsType::UInt8)
+    m.arrays.push_back(ArrayFrame::uint8("observation", o.pixels.data(), space.shape));
   else
-    m.arrays.push_back(ArrayFrame::float32("observation", o.values.data(), {static_cast<int>(o.values.size())}));
+    m.arrays.push_back(ArrayFrame::float32("observation", o.values.data(), {space.size()}));
+  if (space.vector_size > 0)
+    m.arrays.push_back(ArrayFrame::float32("observation_vector", o.values.data() + (space.value_count() - space.vector_size),
+                                           {space.vector_size}));
 }
 
 Observation get_observation(const Message& m, const Spec& spec) {
-  const auto count = static_cast<std::size_t>(spec.observation.size());
+  const ObservationSpace& space = spec.observation;
+  const auto count = static_cast<std::size_t>(space.size());
   Observation o;
-  if (spec.observation.type == ObsType::UInt8) {
+  if (space.type == ObsType::UInt8) {
     const ArrayFrame& a = array(m, "observation", DType::UInt8, count);
     o.pixels.assign(a.bytes.begin(), a.bytes.end());
+    if (space.vector_size > 0) o.values = floats(m, "observation_vector", static_cast<std::size_t>(space.vector_size));
   } else {
     o.values = floats(m, "observation", count);
+    if (space.vector_size > 0) {
+      o.values.conservativeResize(space.value_count());
+      o.values.tail(space.vector_size) = floats(m, "observation_vector", static_cast<std::size_t>(space.vector_size));
+    }
   }
   return o;
 }

@@ -160,8 +160,9 @@ struct EnvProcess::Shared {
 EnvProcess::EnvProcess(std::vector<std::unique_ptr<Env>> envs, const Spec& spec, int first)
     : count_(static_cast<int>(envs.size())), first_(first), spec_(spec) {
   RDSIM_ASSERT(!envs.empty(), "EnvProcess needs envs");
-  const int n = spec.observation.size();
-  obs_bytes_ = spec.observation.type == ObsType::Float32 ? 4 * static_cast<std::size_t>(n) : static_cast<std::size_t>(n);
+  // An observation in a slot: its Float32 values, then its UInt8 bytes.
+  value_bytes_ = 4 * static_cast<std::size_t>(spec.observation.value_count());
+  obs_bytes_ = value_bytes_ + static_cast<std::size_t>(spec.observation.byte_count());
   action_floats_ = spec.action.discrete ? 0 : static_cast<std::size_t>(spec.action.dim());
   slot_bytes_ = aligned(sizeof(SlotHead) + 4 * action_floats_) + 2 * aligned(obs_bytes_);
   map_bytes_ = aligned(sizeof(Shared)) + slot_bytes_ * static_cast<std::size_t>(count_);
@@ -291,8 +292,12 @@ void EnvProcess::start_step(const std::vector<Action>& actions, const std::vecto
 void EnvProcess::start_drop_caches() { start(kDropCaches); }
 
 void EnvProcess::copy_observation(int i, ObservationOut out) const {
-  const std::uint8_t* obs = slot(i) + aligned(sizeof(SlotHead) + 4 * action_floats_);
-  std::memcpy(out.values ? static_cast<void*>(out.values) : static_cast<void*>(out.pixels), obs, obs_bytes_);
+  copy_from_slot(slot(i) + aligned(sizeof(SlotHead) + 4 * action_floats_), out);
+}
+
+void EnvProcess::copy_from_slot(const std::uint8_t* obs, ObservationOut out) const {
+  if (value_bytes_ > 0) std::memcpy(out.values, obs, value_bytes_);
+  if (obs_bytes_ > value_bytes_) std::memcpy(out.pixels, obs + value_bytes_, obs_bytes_ - value_bytes_);
 }
 
 StepOutcome EnvProcess::outcome(int i) const { return reinterpret_cast<const SlotHead*>(slot(i))->outcome; }
@@ -300,8 +305,7 @@ StepOutcome EnvProcess::outcome(int i) const { return reinterpret_cast<const Slo
 void EnvProcess::copy_final_observation(int i, Observation& out) const {
   out = make_observation(spec_.observation);
   const std::uint8_t* obs = slot(i) + aligned(sizeof(SlotHead) + 4 * action_floats_) + aligned(obs_bytes_);
-  ObservationOut to = observation_out(out);
-  std::memcpy(to.values ? static_cast<void*>(to.values) : static_cast<void*>(to.pixels), obs, obs_bytes_);
+  copy_from_slot(obs, observation_out(out));
 }
 
 std::vector<std::optional<std::string>> EnvProcess::save_states() {
@@ -361,8 +365,8 @@ void EnvProcess::child_run(std::vector<std::unique_ptr<Env>>& envs, std::uint32_
   // Envs write into this process's own memory, then the observation is streamed to the slot.
   scratch_.resize((obs_bytes_ + 3) / 4);
   auto* bytes = reinterpret_cast<std::uint8_t*>(scratch_.data());
-  const ObservationOut out = spec_.observation.type == ObsType::Float32 ? ObservationOut{scratch_.data(), nullptr}
-                                                                         : ObservationOut{nullptr, bytes};
+  const ObservationOut out{value_bytes_ > 0 ? scratch_.data() : nullptr,
+                           obs_bytes_ > value_bytes_ ? bytes + value_bytes_ : nullptr};
   switch (command) {
     case kReset:
       for (int i = 0; i < count_; ++i) {

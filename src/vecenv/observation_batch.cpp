@@ -14,57 +14,48 @@ Eigen::MatrixXf observation_batch(const std::vector<Observation>& obs, const Obs
 
 void ObservationBatch::resize(const ObservationSpace& space, int envs) {
   type = space.type;
-  if (type == ObsType::Float32) {
-    values.setZero(space.size(), envs);
-    pixels.resize(0, 0);
-  } else {
-    pixels.setZero(space.size(), envs);
-    values.resize(0, 0);
-  }
+  values.setZero(space.value_count(), envs);
+  pixels.setZero(space.byte_count(), envs);
 }
 
 ObservationOut ObservationBatch::column(int env) {
-  if (type == ObsType::Float32) return {values.col(env).data(), nullptr};
-  return {nullptr, pixels.col(env).data()};
+  return {values.rows() > 0 ? values.col(env).data() : nullptr, pixels.rows() > 0 ? pixels.col(env).data() : nullptr};
 }
 
 void ObservationBatch::copy_to(int env, Observation& out) const {
-  if (type == ObsType::Float32) {
-    out.values = values.col(env);
-    out.pixels.clear();
-  } else {
-    out.values.resize(0);
-    out.pixels.assign(pixels.col(env).data(), pixels.col(env).data() + pixels.rows());
-  }
+  out.values = values.col(env);
+  out.pixels.assign(pixels.col(env).data(), pixels.col(env).data() + pixels.rows());
 }
 
 void ObservationBatch::assign(int env, const Observation& obs) {
-  ObservationSpace space;
-  space.type = type;
-  space.shape = {static_cast<int>(type == ObsType::Float32 ? values.rows() : pixels.rows())};
-  copy_observation(obs, space, column(env));
+  if (obs.values.size() != values.rows() || static_cast<Eigen::Index>(obs.pixels.size()) != pixels.rows())
+    throw Error("observation has " + std::to_string(obs.values.size()) + " values and " + std::to_string(obs.pixels.size()) +
+                " pixel bytes, the env's spec says " + std::to_string(values.rows()) + " and " + std::to_string(pixels.rows()));
+  values.col(env) = obs.values;
+  if (pixels.rows() > 0) std::copy(obs.pixels.begin(), obs.pixels.end(), pixels.col(env).data());
 }
 
 const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch) {
-  return network_input(batch, scratch, 0, batch.type == ObsType::Float32 ? static_cast<int>(batch.values.cols())
-                                                                          : static_cast<int>(batch.pixels.cols()));
+  return network_input(batch, scratch, 0, batch.envs());
 }
 
 const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch, int first, int count) {
-  if (batch.type == ObsType::Float32) {
+  if (batch.pixels.rows() == 0) {
     if (first == 0 && count == batch.values.cols()) return batch.values;
     scratch = batch.values.middleCols(first, count);
-  } else {
-    scratch = batch.pixels.middleCols(first, count).cast<float>() * pixel_input_scale;
+    return scratch;
   }
+  const Eigen::Index bytes = batch.pixels.rows(), values = batch.values.rows();
+  scratch.resize(bytes + values, count);
+  scratch.topRows(bytes) = batch.pixels.middleCols(first, count).cast<float>() * pixel_input_scale;
+  if (values > 0) scratch.bottomRows(values) = batch.values.middleCols(first, count);
   return scratch;
 }
 
 void encode_observation(const ObservationBatch& batch, int env, Eigen::Ref<Eigen::VectorXf> out) {
-  if (batch.type == ObsType::Float32)
-    out = batch.values.col(env);
-  else
-    out = batch.pixels.col(env).cast<float>() * pixel_input_scale;
+  const Eigen::Index bytes = batch.pixels.rows(), values = batch.values.rows();
+  if (bytes > 0) out.head(bytes) = batch.pixels.col(env).cast<float>() * pixel_input_scale;
+  if (values > 0) out.segment(bytes, values) = batch.values.col(env);
 }
 
 const Eigen::MatrixXf& scaled_input(const Eigen::MatrixXf& batch, float scale, Eigen::MatrixXf& scratch) {

@@ -25,14 +25,13 @@ void write_observation(std::ostream& out, const Observation& o) {
 Observation read_observation(std::istream& in, const ObservationSpace& space, const std::string& source) {
   Observation o;
   const std::uint64_t n = read_count(in, 4, source);
-  const bool floats = space.type == ObsType::Float32;
-  if (n != (floats ? static_cast<std::uint64_t>(space.size()) : 0))
+  if (n != static_cast<std::uint64_t>(space.value_count()))
     throw Error(source + ": checkpoint holds an observation of another shape than the env's (damaged file?)");
   o.values.resize(static_cast<Eigen::Index>(n));
   read_bytes(in, o.values.data(), n * 4, source);
   if (!o.values.allFinite()) throw Error(source + ": checkpoint holds an observation that is not finite (damaged file?)");
   const std::string pixels = read_string(in, source);
-  if (pixels.size() != (floats ? 0 : static_cast<std::size_t>(space.size())))
+  if (pixels.size() != static_cast<std::size_t>(space.byte_count()))
     throw Error(source + ": checkpoint holds an observation of another shape than the env's (damaged file?)");
   o.pixels.assign(pixels.begin(), pixels.end());
   return o;

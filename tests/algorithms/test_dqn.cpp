@@ -83,7 +83,7 @@ Observation value(float v) {
 }  // namespace
 
 TEST_CASE("n-step returns sum n discounted rewards and flush at an episode's end", "[dqn]") {
-  const ObservationSpace space{ObsType::Float32, {1}, {}, {}, {}};
+  const ObservationSpace space = ObservationSpace::vector(1);
   ReplayBuffer buffer(64, 1);
   NStepReturns n3(3, 0.5, space);
   // Env 0: an episode of 5 steps that terminates; env 1: 2 steps, then truncated. Observation t
@@ -126,7 +126,7 @@ TEST_CASE("n-step returns sum n discounted rewards and flush at an episode's end
 }
 
 TEST_CASE("n-step returns: waiting steps survive save/load, damaged or mismatched state is refused", "[dqn]") {
-  const ObservationSpace space{ObsType::Float32, {1}, {}, {}, {}};
+  const ObservationSpace space = ObservationSpace::vector(1);
   ReplayBuffer a(16, 1), b(16, 1);
   NStepReturns first(3, 0.9, space);
   first.add(0, value(1.0f), 0, 1.0f, value(2.0f), false, false, a);
@@ -148,7 +148,7 @@ TEST_CASE("n-step returns: waiting steps survive save/load, damaged or mismatche
   CHECK_THROWS_WITH(other_n.load(again, "ckpt.bin"), Catch::Contains("ckpt.bin") && Catch::Contains("n_step"));
   std::stringstream wider;
   first.save(wider);
-  NStepReturns other_size(3, 0.9, ObservationSpace{ObsType::Float32, {2}, {}, {}, {}});
+  NStepReturns other_size(3, 0.9, ObservationSpace::vector(2));
   CHECK_THROWS_WITH(other_size.load(wider, "ckpt.bin"), Catch::Contains("wrong size"));
   std::stringstream cut(again.str().substr(0, 20));
   CHECK_THROWS_AS(NStepReturns(3, 0.9, space).load(cut, "ckpt.bin"), Error);

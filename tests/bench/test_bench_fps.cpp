@@ -112,6 +112,7 @@ TEST_CASE("bench-fps --threads: pixel envs on threads and on worker processes wi
 TEST_CASE("bench-fps --set: env keys on every row, in its env_config, and a bad one is one error", "[bench]") {
   BenchFpsOptions o;
   o.envs = {"push"};
+  o.modes = {"ground_truth"};
   o.settings = {"substeps=5", "physics_step=0.008", "randomize={\"action_latency\": 1}"};
   const nlohmann::json j = run_bench(o);
   CHECK(j.at("settings").size() == 3);

@@ -43,7 +43,7 @@ std::vector<Case> contract_cases() {
       joints.get<ManipulationOptions>().control = ArmControl::Joints;
       cases.push_back({entry.name + ", ground_truth, control joints", joints});
     }
-    if (!entry.supports_pixels || !entry.pixel_observations) continue;
+    if (!entry.supports_pixels) continue;
     c.observation = ObservationMode::RawPixels;
     c.image_width = 24;
     c.image_height = 16;
@@ -69,14 +69,23 @@ void check_spaces(const Spec& spec, const EnvConfig& config) {
   CHECK(spec.max_episode_steps == config.max_steps);
   CHECK(spec.control_dt >= 0.0);
   const ObservationSpace& o = spec.observation;
-  if (o.type == ObsType::Float32 && config.observation == ObservationMode::RawPixels) {
+  const bool pixels = config.observation == ObservationMode::RawPixels;
+  // A goal env's images carry its goals beside them, which Spec::goal indexes among the values.
+  CHECK(o.vector_size == (pixels && spec.goal.active() ? 2 * spec.goal.goal_size() : 0));
+  if (pixels && spec.goal.active()) {
+    CHECK(spec.goal.observation == (o.type == ObsType::Float32 ? o.size() : 0));
+    CHECK(spec.goal.size() == o.value_count());
+    CHECK(o.parts == std::vector<ObservationPart>{{"achieved_goal", spec.goal.goal_size()}, {"desired_goal", spec.goal.goal_size()}});
+  } else if (pixels) {
+    CHECK(o.parts.empty());
+  }
+  if (o.type == ObsType::Float32 && pixels) {
     // Stacked Float32 channels (image_channels): r, g, b, depth, segmentation per camera.
     CHECK(config.image_channels == "rgb_depth_segmentation");
     CHECK(o.shape == std::vector<int>{config.image_height, config.image_width, config.multi_view ? 10 : 5});
-    REQUIRE(o.low.size() == o.size());
-    REQUIRE(o.high.size() == o.size());
+    REQUIRE(o.low.size() == o.value_count());
+    REQUIRE(o.high.size() == o.value_count());
     CHECK((o.low.array() <= o.high.array()).all());
-    CHECK(o.parts.empty());
   } else if (o.type == ObsType::Float32) {
     REQUIRE(o.shape.size() == 1);
     CHECK(o.shape[0] > 0);
@@ -102,10 +111,9 @@ void check_spaces(const Spec& spec, const EnvConfig& config) {
   } else {
     const int channels = config.multi_view ? 6 : 3;
     CHECK(o.shape == std::vector<int>{config.image_height, config.image_width, channels});
-    CHECK(o.low.size() == 0);  // UInt8: 0..255
-    CHECK(o.high.size() == 0);
-    CHECK(o.parts.empty());
-    CHECK(config.observation == ObservationMode::RawPixels);
+    CHECK(o.low.size() == o.vector_size);  // UInt8: 0..255; bounds for the goals beside them
+    CHECK(o.high.size() == o.vector_size);
+    CHECK(pixels);
   }
   const ActionSpace& a = spec.action;
   if (a.discrete) {
@@ -120,18 +128,13 @@ void check_spaces(const Spec& spec, const EnvConfig& config) {
 
 // The observation has the space's dtype and size, and Float32 values are finite and in bounds.
 void check_observation(const ObservationSpace& space, const Observation& obs) {
-  if (space.type == ObsType::Float32) {
-    REQUIRE(obs.values.size() == space.size());
-    CHECK(obs.pixels.empty());
-    CHECK(obs.values.allFinite());
-    INFO("observation " << obs.values.transpose() << "\nlow " << space.low.transpose() << "\nhigh "
-                        << space.high.transpose());
-    CHECK((obs.values.array() >= space.low.array()).all());
-    CHECK((obs.values.array() <= space.high.array()).all());
-  } else {
-    CHECK(obs.values.size() == 0);
-    CHECK(obs.pixels.size() == static_cast<size_t>(space.size()));
-  }
+  REQUIRE(obs.values.size() == space.value_count());
+  CHECK(obs.pixels.size() == static_cast<size_t>(space.byte_count()));
+  if (space.value_count() == 0) return;
+  CHECK(obs.values.allFinite());
+  INFO("observation " << obs.values.tail(std::min<Eigen::Index>(obs.values.size(), 64)).transpose());
+  CHECK((obs.values.array() >= space.low.array()).all());
+  CHECK((obs.values.array() <= space.high.array()).all());
 }
 
 Action random_action(const ActionSpace& a, Rng& rng) {

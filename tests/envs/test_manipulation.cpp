@@ -4,6 +4,7 @@
 // The env contract (spaces, determinism, truncation, stepping after the end) is test_env_contract's.
 //   ./build/test_envs "[.demo]"   also writes docs/manipulation_panda_<task>.png (the docs' pictures).
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -214,6 +215,53 @@ TEST_CASE("Manipulation envs save and load their state exactly", "[envs][manipul
       REQUIRE(ra.reward == rb.reward);
     }
     CHECK_THROWS_WITH(sb.load_state("nonsense", "bad.bin"), Catch::Contains("bad.bin"));
+  }
+}
+
+TEST_CASE("raw_pixels: the camera image with the goals beside it, the episode as with ground truth", "[envs][manipulation][pixels]") {
+  for (const char* name : {"push", "stack"}) {
+    for (const char* channels : {"rgb", "depth"}) {
+      INFO(name << ", " << channels);
+      const EnvConfig truth = default_env_config(name);
+      EnvConfig config = truth;
+      config.observation = ObservationMode::RawPixels;
+      config.image_width = 32;
+      config.image_height = 24;
+      config.image_channels = channels;
+      auto pixels = make_env(config), vectors = make_env(truth);
+      const Spec& spec = pixels->spec();
+      const GoalLayout& g = spec.goal;
+      const int image = std::string(channels) == "rgb" ? 0 : 32 * 24;  // a Float32 image's values come first
+      CHECK(spec.observation.vector_size == 2 * g.goal_size());
+      CHECK(g.observation == image);
+      CHECK(g.points == vectors->spec().goal.points);
+      const GoalLayout& t = vectors->spec().goal;
+      // The same physics: the expert's episode gives the same rewards and goals in both.
+      ManipulationExpert expert(*vectors);
+      Observation p = pixels->reset(21);
+      Observation v = vectors->reset(21);
+      expert.reset();
+      std::vector<std::uint8_t> first = p.pixels;
+      bool image_changed = false;
+      for (int step = 0; step < spec.max_episode_steps; ++step) {
+        REQUIRE(p.values.size() == image + 2 * g.goal_size());
+        CHECK(p.values.segment(g.achieved_offset(), 2 * g.goal_size()) == v.values.segment(t.achieved_offset(), 2 * t.goal_size()));
+        const Action a = expert.act();
+        const StepResult rp = pixels->step(a), rv = vectors->step(a);
+        REQUIRE(rp.reward == rv.reward);
+        REQUIRE(rp.terminated == rv.terminated);
+        REQUIRE(rp.info.success == rv.info.success);
+        p = rp.observation;
+        v = rv.observation;
+        image_changed = image_changed || (image == 0 ? p.pixels != first : false);
+        if (rv.terminated || rv.truncated) break;
+      }
+      CHECK(v.values.segment(t.achieved_offset(), t.goal_size()) == p.values.segment(g.achieved_offset(), g.goal_size()));
+      if (image == 0) {
+        CHECK(image_changed);  // the arm and the cube move in the picture
+        CHECK(*std::max_element(p.pixels.begin(), p.pixels.end()) > *std::min_element(p.pixels.begin(), p.pixels.end()));
+      }
+    }
   }
 }
 

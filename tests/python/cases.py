@@ -32,7 +32,7 @@ def env_cases():
     for env in rdsim.envs():
         for discrete in action_kinds(env["id"]):
             cases.append((env["id"], {"is_discrete": discrete}))
-            if env["pixel_observations"]:
+            if env["supports_pixels"]:
                 cases.append((env["id"], {"is_discrete": discrete, **PIXELS}))
             if has_joint_control(env["id"]):
                 cases.append((env["id"], {"is_discrete": discrete, "control": "joints"}))

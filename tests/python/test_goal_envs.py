@@ -98,3 +98,76 @@ def test_joint_control_moves_the_arms_joints_and_observes_them():
     moved = obs["observation"][parts["joint_positions"]] - before
     assert moved[0] > 0.1 and np.abs(moved[1:]).max() < 0.02
     env.close()
+
+
+PIXELS = {"observation": "raw_pixels", "image_width": 40, "image_height": 32}
+
+
+@pytest.mark.parametrize("channels", ["rgb", "depth"])
+def test_raw_pixels_observe_the_image_with_the_goals_beside_it(channels):
+    env = rdsim.make("rdsim/JakaPush-v0", image_channels=channels, **PIXELS)
+    truth = rdsim.make("rdsim/JakaPush-v0")
+    space = env.observation_space
+    assert isinstance(space, gymnasium.spaces.Dict) and set(space.spaces) == KEYS
+    image = space["observation"]
+    assert image.shape == ((32, 40, 3) if channels == "rgb" else (32, 40, 1))
+    assert image.dtype == (np.uint8 if channels == "rgb" else np.float32)
+    assert space["achieved_goal"].shape == space["desired_goal"].shape == (3,)
+    obs, _ = env.reset(seed=4)
+    want, _ = truth.reset(seed=4)
+    assert space.contains(obs)
+    for _ in range(12):  # the same physics as ground truth: the same goals and rewards
+        np.testing.assert_array_equal(obs["achieved_goal"], want["achieved_goal"])
+        np.testing.assert_array_equal(obs["desired_goal"], want["desired_goal"])
+        action = np.array([0.5, -0.3, -1.0], np.float32)
+        obs, reward, *_ = env.step(action)
+        want, want_reward, *_ = truth.step(action)
+        assert reward == want_reward == env.compute_reward(obs["achieved_goal"], obs["desired_goal"], None)
+    if channels == "rgb":
+        assert obs["observation"].max() > obs["observation"].min()
+    env.close()
+    truth.close()
+
+
+def test_raw_pixels_through_make_vec_in_worker_processes():
+    venv = rdsim.make_vec("rdsim/JakaPush-v0", 3, num_threads=2, seed=5, max_steps=4, **PIXELS)
+    assert venv.uses_processes  # osmesa pixels: processes by default
+    single = rdsim.make("rdsim/JakaPush-v0", max_steps=4, **PIXELS)
+    obs, _ = venv.reset(seed=5)
+    assert set(obs) == KEYS and obs["observation"].shape == (3, 32, 40, 3) and obs["desired_goal"].shape == (3, 3)
+    assert venv.observation_space.contains(obs)
+    first, _ = single.reset(seed=int(rdsim._rdsim.env_seed(5, 1)))
+    np.testing.assert_array_equal(obs["observation"][1], first["observation"])
+    np.testing.assert_array_equal(obs["desired_goal"][1], first["desired_goal"])
+    for _ in range(4):
+        obs, reward, terminated, truncated, info = venv.step(np.zeros((3, 3), np.float32))
+        mine, own_reward, *_ = single.step(np.zeros(3, np.float32))
+    assert (terminated | truncated).all()
+    final = info["final_obs"][1]
+    assert set(final) == KEYS and final["observation"].dtype == np.uint8
+    np.testing.assert_array_equal(final["observation"], mine["observation"])
+    np.testing.assert_array_equal(final["achieved_goal"], mine["achieved_goal"])
+    assert reward[1] == own_reward
+    venv.close()
+    single.close()
+
+
+def test_raw_pixels_train_with_sb3_multi_input_policy_and_her():
+    torch = pytest.importorskip("torch")
+    from stable_baselines3 import SAC, HerReplayBuffer
+    from stable_baselines3.common.env_checker import check_env
+
+    torch.set_num_threads(1)
+    env = rdsim.make("rdsim/JakaPush-v0", observation="raw_pixels", image_width=48, image_height=48)  # NatureCNN's least: 36
+    check_env(env)
+    model = SAC("MultiInputPolicy", env, replay_buffer_class=HerReplayBuffer, buffer_size=1000, learning_starts=60,
+                batch_size=16, policy_kwargs={"net_arch": [16], "normalize_images": True}, seed=0, verbose=0)
+    model.learn(total_timesteps=80)
+    assert model.replay_buffer.size() > 0 and model.num_timesteps >= 80
+    env.close()
+
+
+def test_rdsims_own_training_refuses_pixel_goal_envs_clearly(tmp_path):
+    with pytest.raises(rdsim.Error, match="raw_pixels.*goal env.*ground_truth"):
+        rdsim.train({"algorithm": "sac", "env": {"name": "push", **PIXELS}, "total_timesteps": 1000},
+                    log_dir=tmp_path / "run", quiet=True)

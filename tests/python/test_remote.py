@@ -33,6 +33,25 @@ def test_remote_env_matches_local(server):
         remote.step(0)
 
 
+@pytest.mark.parametrize("channels", ["rgb", "depth"])
+def test_remote_goal_env_with_camera_images_matches_local(server, channels):
+    options = dict(observation="raw_pixels", image_width=32, image_height=24, image_channels=channels, max_steps=6)
+    remote = rdsim.RemoteEnv(server.address, "rdsim/JakaPush-v0", **options)
+    local = rdsim.make("rdsim/JakaPush-v0", **options)
+    assert remote.observation_space == local.observation_space
+    a, _ = remote.reset(seed=3)
+    b, _ = local.reset(seed=3)
+    for _ in range(6):
+        assert a.keys() == b.keys()
+        for key in a:
+            np.testing.assert_array_equal(a[key], b[key])
+        act = np.array([0.2, 0.5, -1.0], np.float32)
+        (a, ra, *_), (b, rb, *_) = remote.step(act), local.step(act)
+        assert ra == rb
+    remote.close()
+    local.close()
+
+
 def test_remote_errors(server):
     with pytest.raises(rdsim.Error, match="max_steps"):
         rdsim.RemoteEnv(server.address, "rdsim/CartPole-v1", max_steps=0)

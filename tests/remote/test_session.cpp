@@ -2,6 +2,7 @@
 // answered exactly as the local env would (bit for bit).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "rdsim/core/config_reader.hpp"
@@ -215,5 +216,45 @@ TEST_CASE("session: a goal env's layout and reward cross the link, its steps bit
     bad = m;
     bad.header["spec"]["observation"]["parts"] = parts;
     CHECK_THROWS_WITH(get_spec(bad), Contains("spec.observation.parts"));
+  }
+}
+
+TEST_CASE("session: a goal env's camera images cross the link with the goals beside them", "[remote][session]") {
+  for (const char* channels : {"rgb", "depth"}) {
+    INFO(channels);
+    Session s(hello(std::string(R"({"name": "push", "observation": "raw_pixels", "image_width": 32, "image_height": 24, )") +
+                    R"("image_channels": ")" + channels + R"("})"));
+    const Message m = s.hello_reply(1);
+    const auto local = make_env(s.config());
+    const Spec spec = get_spec(m);
+    const ObservationSpace& want = local->spec().observation;
+    CHECK(spec.observation.type == want.type);
+    CHECK(spec.observation.shape == want.shape);
+    CHECK(spec.observation.vector_size == want.vector_size);
+    CHECK(spec.observation.low == want.low);
+    CHECK(spec.observation.parts == want.parts);
+    CHECK(spec.goal.observation == local->spec().goal.observation);
+    const Observation mine = local->reset(9);
+    const Observation theirs = get_observation(s.handle(request(R"({"id": 2, "request": "reset", "seed": 9})")), spec);
+    CHECK(theirs.values == mine.values);
+    CHECK(theirs.pixels == mine.pixels);
+    for (int t = 0; t < 10; ++t) {
+      const std::vector<float> a{0.4f, -0.2f, -0.5f};
+      const StepResult own = local->step(Action::continuous(Eigen::Map<const Eigen::VectorXf>(a.data(), 3)));
+      const StepResult got = get_step_result(
+          s.handle(request(R"({"id": 3, "request": "step", "action": )" + nlohmann::json(a).dump() + "}")), spec);
+      REQUIRE(got.observation.values == own.observation.values);
+      REQUIRE(got.observation.pixels == own.observation.pixels);
+      REQUIRE(got.reward == own.reward);
+    }
+    // A vector beside a flat observation, and a reply without the vector, are each one clear error.
+    Message bad = m;
+    bad.header["spec"]["observation"]["shape"] = {12};
+    CHECK_THROWS_WITH(get_spec(bad), Contains("spec.observation"));
+    Message reply = s.handle(request(R"({"id": 4, "request": "reset", "seed": 9})"));
+    reply.arrays.erase(std::remove_if(reply.arrays.begin(), reply.arrays.end(),
+                                      [](const ArrayFrame& f) { return f.name == "observation_vector"; }),
+                       reply.arrays.end());
+    CHECK_THROWS_WITH(get_observation(reply, spec), Contains("observation_vector"));
   }
 }

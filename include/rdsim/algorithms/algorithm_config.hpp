@@ -72,6 +72,10 @@ void write_algorithm_config(const AlgorithmConfig& config, nlohmann::json& out);
 // deep for the image), as building it would. Adding an algorithm: add its case there.
 void estimate_algorithm_memory(const AlgorithmConfig& config, const Spec& spec, int num_envs, MemoryEstimate& estimate);
 
+// rdsim::Error naming `config.source` when no algorithm of rdsim trains on `spec`'s observations
+// (camera images with a goal vector beside them); make_algorithm and the memory estimate check it.
+void check_trainable(const AlgorithmConfig& config, const Spec& spec);
+
 // Creates the algorithm for envs described by `spec`, with fresh weights drawn from
 // Rng::derive(seed, rng_stream::network_init). rdsim::Error when the algorithm cannot handle the
 // spec (e.g. DQN with a Box action space, SAC with a Discrete one).

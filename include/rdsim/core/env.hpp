@@ -29,24 +29,42 @@ enum class ObsType { Float32, UInt8 };
 struct ObservationPart {
   std::string name;
   int size = 0;
+
+  bool operator==(const ObservationPart&) const = default;
 };
 
 // What an observation looks like. Ground-truth observations are Float32 vectors (shape {n});
 // pixel observations are UInt8 images (or Float32 stacks of colour, depth and segmentation:
-// EnvConfig::image_channels) stored height x width x channels, row-major.
+// EnvConfig::image_channels) stored height x width x channels, row-major. A goal env's pixel
+// observations also carry a Float32 vector beside the image (vector_size values: its achieved and
+// desired goals), after a Float32 image's values in Observation::values.
 struct ObservationSpace {
   ObsType type = ObsType::Float32;
-  std::vector<int> shape;
-  Eigen::VectorXf low, high;  // per element; empty for UInt8 (bounds 0..255)
-  // What each value of a vector observation is, in order, covering every value once (names
-  // unique; a goal env's last two are "achieved_goal" and "desired_goal"). The robot tasks name
-  // theirs (randomize.observation_noise_parts reads them); empty = not named (images, classic control).
+  std::vector<int> shape;     // the vector's or the image's
+  int vector_size = 0;        // Float32 values beside an image; 0 = none (every other space)
+  Eigen::VectorXf low, high;  // per Float32 value (value_count()); UInt8 bytes are 0..255
+  // What each value of a vector observation (or of the vector beside an image) is, in order,
+  // covering every one once (names unique; a goal env's last two are "achieved_goal" and
+  // "desired_goal"). The robot tasks name theirs (randomize.observation_noise_parts reads them);
+  // empty = not named (images, classic control).
   std::vector<ObservationPart> parts;
 
+  // Elements of `shape`: the vector's values or the image's pixels x channels.
   int size() const {
     int n = 1;
     for (int d : shape) n *= d;
     return n;
+  }
+  // Float32 values of one observation (Observation::values): a Float32 vector or image, then the
+  // vector beside an image.
+  int value_count() const { return (type == ObsType::Float32 ? size() : 0) + vector_size; }
+  // UInt8 bytes of one observation (Observation::pixels).
+  int byte_count() const { return type == ObsType::UInt8 ? size() : 0; }
+  // A Float32 vector of `size` values without bounds or names.
+  static ObservationSpace vector(int size) {
+    ObservationSpace s;
+    s.shape = {size};
+    return s;
   }
   // Where part `name` starts and how many values it has; {-1, 0} when there is none.
   std::pair<int, int> part(const std::string& name) const;
@@ -83,8 +101,8 @@ struct Action {
 };
 
 struct Observation {
-  Eigen::VectorXf values;              // Float32 observations
-  std::vector<std::uint8_t> pixels;    // UInt8 observations (HWC)
+  Eigen::VectorXf values;              // Float32 values (ObservationSpace::value_count())
+  std::vector<std::uint8_t> pixels;    // UInt8 images (HWC; ObservationSpace::byte_count())
 };
 
 // An RGB picture for people (Env::render), row 0 at the top.
@@ -117,9 +135,9 @@ struct StepOutcome {
   StepInfo info;
 };
 
-// Caller-owned memory for one observation of a space: spec().observation.size() floats for a
-// Float32 space (`values`), as many bytes (HWC) for a UInt8 space (`pixels`); the other pointer
-// is null. It must stay valid for the duration of the call only.
+// Caller-owned memory for one observation of a space: value_count() floats (`values`) and
+// byte_count() bytes (`pixels`, HWC); a pointer whose count is 0 is null. It must stay valid for
+// the duration of the call only.
 struct ObservationOut {
   float* values = nullptr;
   std::uint8_t* pixels = nullptr;

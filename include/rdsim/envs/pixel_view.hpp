@@ -35,6 +35,12 @@ struct ImageChannels {
 // plane, which every env camera has at OrbitView's default).
 ObservationSpace pixel_space(const EnvConfig& config);
 
+// A goal env's raw-pixel observation space: `image` (pixel_space's) with the achieved and desired
+// goals beside it (vector_size values, their bounds and the parts "achieved_goal", "desired_goal"
+// from `ground_truth`, the env's vector space, whose goals come last); `goal` then indexes the
+// observation's values (its observation slice: a Float32 image's values, or none).
+ObservationSpace pixel_goal_space(const ObservationSpace& image, const ObservationSpace& ground_truth, GoalLayout& goal);
+
 // One episode's changes to a PixelView's drawing (domain randomization, envs/task_randomizer.hpp),
 // all relative to the view as built: per camera a shift of its position and target (m, world
 // axes), turns of its view direction (rad: yaw about the world's z, then pitch about the camera's

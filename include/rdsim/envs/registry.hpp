@@ -20,11 +20,6 @@ struct EnvEntry {
   // groups (EnvConfig::options), which say what else it reads.
   EnvConfig (*defaults)();
   std::unique_ptr<Env> (*make)(const EnvConfig&);
-  // With cameras: whether the agent may observe camera images ("observation": "raw_pixels"). The
-  // goal-conditioned manipulation tasks draw pictures for people (render_mode) but observe vectors.
-  bool pixel_observations = true;
-
-  bool observes_pixels() const { return supports_pixels && pixel_observations; }
 };
 
 // Every environment rdsim knows, listed explicitly in envs/registry.cpp (no static-init magic,

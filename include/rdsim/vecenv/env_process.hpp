@@ -64,10 +64,12 @@ private:
   void child_run(std::vector<std::unique_ptr<Env>>& envs, std::uint32_t command);
   std::string what_envs() const;
   std::uint8_t* slot(int i) const;
+  // An observation stored in a slot at `obs` (values, then bytes) into `out`.
+  void copy_from_slot(const std::uint8_t* obs, ObservationOut out) const;
 
   int count_ = 0, first_ = 0;
   Spec spec_;
-  std::size_t obs_bytes_ = 0, action_floats_ = 0, slot_bytes_ = 0, map_bytes_ = 0;
+  std::size_t obs_bytes_ = 0, value_bytes_ = 0, action_floats_ = 0, slot_bytes_ = 0, map_bytes_ = 0;
   Shared* shared_ = nullptr;  // the control block, followed by one slot per env
   int socket_ = -1;           // the parent's end (the child's end in the child)
   pid_t pid_ = -1;

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -17,11 +18,11 @@ Eigen::MatrixXf observation_batch(const std::vector<Observation>& obs, const Obs
 struct ObservationBatch {
   using Bytes = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>;
   ObsType type = ObsType::Float32;
-  Eigen::MatrixXf values;  // Float32 spaces: size x envs (empty otherwise)
-  Bytes pixels;            // UInt8 spaces: size x envs, each column one HWC image (empty otherwise)
+  Eigen::MatrixXf values;  // value_count() x envs: Float32 vectors or images, the vector beside an image
+  Bytes pixels;            // byte_count() x envs, each column one HWC image (UInt8 spaces; empty otherwise)
 
   void resize(const ObservationSpace& space, int envs);
-  int envs() const { return static_cast<int>(type == ObsType::Float32 ? values.cols() : pixels.cols()); }
+  int envs() const { return static_cast<int>(std::max(values.cols(), pixels.cols())); }
   // Where env `env` writes its observation.
   ObservationOut column(int env);
   // Env `env`'s observation as an Observation: a copy into `out`, reusing its storage.
@@ -30,8 +31,8 @@ struct ObservationBatch {
   void assign(int env, const Observation& obs);
 };
 
-// Network input for every env of `batch` (one column each): a Float32 batch itself (no copy), a
-// UInt8 one scaled to [0, 1] into `scratch`, bit for bit as encode_observation does.
+// Network input for every env of `batch` (one column each): a Float32 batch itself (no copy), one
+// with pixels scaled to [0, 1] (then its values) into `scratch`, bit for bit as encode_observation does.
 const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch);
 // The same for envs [first, first + count) (a copy into `scratch` unless that is every env).
 const Eigen::MatrixXf& network_input(const ObservationBatch& batch, Eigen::MatrixXf& scratch, int first, int count);

@@ -44,6 +44,9 @@
 // finger_opening, joint_positions (control "joints"), then cube1_position, cube1_orientation, cube1_velocity, cube1_angular_velocity,
 // cube1_from_effector (cube2_... for a second cube), achieved_goal, desired_goal.
 // Every value is clipped into the space's bounds (a cube fallen to the floor still fits).
+// Observation "raw_pixels": the camera image (PixelView: the arm's main view, or both with
+// multi_view; image_channels as for the reach tasks) with the achieved and desired goals beside it
+// (pixel_goal_space): Python's Dict observation holds the image as "observation".
 // Reward and success: Spec::goal (core/goal_layout.hpp) with reward_type and distance_threshold;
 // info.success = every goal point within distance_threshold; info.distance = |achieved - desired|.
 // Episodes: max_steps steps (50; stack 100, as panda-gym's); success ends one (terminated, panda-gym's rule).
@@ -65,7 +68,7 @@ public:
   StepOutcome step_into(const Action& action, ObservationOut out) override;
   bool step_physics_only() override;
   bool render(Image& frame) override;
-  bool steps_on_any_thread() const override { return !viewer_ && !cameras_; }
+  bool steps_on_any_thread() const override { return !pixels_ && !viewer_ && !cameras_; }
 
   const RobotInfo& robot_info() const override { return robot_info_; }
   RobotSnapshot robot_state() override;
@@ -101,6 +104,8 @@ private:
   template <class SetTargets>
   StepOutcome control_step(ObservationOut out, SetTargets&& set_targets);
   void observe(ObservationOut out) const;
+  // The achieved and desired goals into `values` at Spec::goal's offsets, clipped into their bounds.
+  void observe_goals(float* values) const;
   void achieved_goal(float* out) const;
   void judge(const float* observation, StepOutcome& r) const;
   void place(const Placement& placement);
@@ -109,6 +114,7 @@ private:
   const ManipulationTask& task_;
   Spec spec_;
   std::unique_ptr<ReachTask> world_;
+  std::unique_ptr<PixelView> pixels_;  // observation raw_pixels only
   std::unique_ptr<PixelView> viewer_;  // render_mode rgb_array only
   std::vector<CameraMount> camera_mounts_;  // RobotControl's cameras: the scene camera
   std::unique_ptr<RobotCameras> cameras_;   // made on the first camera_image
@@ -126,7 +132,6 @@ private:
   ArmControl control_ = ArmControl::Effector;
   float joint_step_ = 0.05f;
   std::vector<Eigen::Vector3f> goals_;
-  std::vector<float> scratch_;  // one observation, for judging a step written elsewhere
   Rng rng_;
   int steps_ = 0;
   bool done_ = true;
