@@ -154,23 +154,31 @@ void Sac::gradient_step(double* sums) {
   draw_normal(next_noise, action_dim_, b, noise_rng_);
   const nn::TanhGaussian next_pi(next_mean, next_log_std, next_noise);
   const Eigen::MatrixXf& next_in = critic_input(batch_.next_observations, next_pi.actions(), critic_in_);
-  const Eigen::VectorXf next_q =
-      q_target_[0].infer(next_in).row(0).transpose().cwiseMin(q_target_[1].infer(next_in).row(0).transpose());
+  // The two critics' passes are independent: side by side on the learner's threads (nn/gemm.hpp),
+  // each writing only its own network and outputs, so the bits do not depend on the thread count.
+  Eigen::RowVectorXf target_q[2];
+  nn::run_side_by_side(2, [&](int i) { target_q[i] = q_target_[i].infer(next_in).row(0); });
+  const Eigen::VectorXf next_q = target_q[0].transpose().cwiseMin(target_q[1].transpose());
   const Eigen::VectorXf y = sac::soft_td_targets(batch_.rewards, batch_.terminated, next_q, next_pi.log_probs(), alpha,
                                                  static_cast<float>(cfg_.gamma));
 
   // 4. Critics: loss 0.5 sum_i mean((Q_i(s, a) - y)^2).
   const Eigen::MatrixXf& in = critic_input(batch_.observations, batch_.action_values, critic_in_);
+  Eigen::RowVectorXf values[2];
+  double losses[2];
+  nn::run_side_by_side(2, [&](int i) {
+    q_[i].zero_grad();
+    values[i] = q_[i].forward(in).row(0);
+    const Eigen::RowVectorXf d = values[i] - y.transpose();
+    losses[i] = 0.5 * d.cast<double>().squaredNorm() / b;
+    q_[i].backward(d * inv_b, false);
+  });
   double critic_loss = 0.0, q_mean = 0.0;
   Eigen::RowVectorXf q_stored = Eigen::RowVectorXf::Constant(b, std::numeric_limits<float>::infinity());
-  for (nn::Mlp& q : q_) {
-    q.zero_grad();
-    const Eigen::RowVectorXf value = q.forward(in).row(0);
-    q_stored = q_stored.cwiseMin(value);
-    const Eigen::RowVectorXf d = value - y.transpose();
-    critic_loss += 0.5 * d.cast<double>().squaredNorm() / b;
-    q_mean += value.cast<double>().mean() / 2.0;
-    q.backward(d * inv_b, false);
+  for (int i = 0; i < 2; ++i) {  // summed in critic order, as on one thread
+    q_stored = q_stored.cwiseMin(values[i]);
+    critic_loss += losses[i];
+    q_mean += values[i].cast<double>().mean() / 2.0;
   }
   average_gradients(critic_optimizer_->params());
   critic_optimizer_->step();
@@ -178,11 +186,15 @@ void Sac::gradient_step(double* sums) {
   // 5. Actor: loss mean(alpha log pi(a|s) - min_i Q_i(s, a)), a = the actions of step 1, through
   //    the updated critics; dQ/da comes from the critic that gives the minimum.
   const Eigen::MatrixXf& pi_in = critic_input(batch_.observations, pi.actions(), critic_in_);
-  const Eigen::RowVectorXf q0 = q_[0].forward(pi_in).row(0);
-  const Eigen::RowVectorXf q1 = q_[1].forward(pi_in).row(0);
-  Eigen::MatrixXf d_q0 = Eigen::MatrixXf::Zero(1, b), d_q1 = Eigen::MatrixXf::Zero(1, b);
-  for (int j = 0; j < b; ++j) (q0[j] <= q1[j] ? d_q0(0, j) : d_q1(0, j)) = -inv_b;
-  const Eigen::MatrixXf d_in = q_[0].backward(d_q0) + q_[1].backward(d_q1);  // the critics' grads are zeroed before their next step
+  Eigen::RowVectorXf q_pi[2];
+  nn::run_side_by_side(2, [&](int i) { q_pi[i] = q_[i].forward(pi_in).row(0); });
+  const Eigen::RowVectorXf& q0 = q_pi[0];
+  const Eigen::RowVectorXf& q1 = q_pi[1];
+  Eigen::MatrixXf d_q[2] = {Eigen::MatrixXf::Zero(1, b), Eigen::MatrixXf::Zero(1, b)};
+  for (int j = 0; j < b; ++j) (q0[j] <= q1[j] ? d_q[0](0, j) : d_q[1](0, j)) = -inv_b;
+  Eigen::MatrixXf d_in_each[2];  // the critics' grads are zeroed before their next step
+  nn::run_side_by_side(2, [&](int i) { d_in_each[i] = q_[i].backward(d_q[i]); });
+  const Eigen::MatrixXf d_in = d_in_each[0] + d_in_each[1];
   const Eigen::VectorXf d_log_prob = Eigen::VectorXf::Constant(b, alpha * inv_b);
   const nn::TanhGaussian::Grad g = pi.backward(d_in.bottomRows(action_dim_), d_log_prob);
   Eigen::MatrixXf d_out(2 * action_dim_, b);

@@ -137,23 +137,31 @@ void Td3::gradient_step(double* sums) {
     next_a = next_a.cwiseMax(-1.0f).cwiseMin(1.0f);
   }
   const Eigen::MatrixXf& next_in = critic_input(batch_.next_observations, next_a, critic_in_);
-  Eigen::VectorXf next_q = q_target_[0].infer(next_in).row(0).transpose();
-  if (critics_ == 2) next_q = next_q.cwiseMin(q_target_[1].infer(next_in).row(0).transpose());
+  // The critics' passes are independent: side by side on the learner's threads (nn/gemm.hpp), each
+  // writing only its own network and outputs, so the bits do not depend on the thread count.
+  Eigen::RowVectorXf target_q[2];
+  nn::run_side_by_side(critics_, [&](int i) { target_q[i] = q_target_[i].infer(next_in).row(0); });
+  Eigen::VectorXf next_q = target_q[0].transpose();
+  if (critics_ == 2) next_q = next_q.cwiseMin(target_q[1].transpose());
   const Eigen::VectorXf y =
       batch_.rewards.array() + static_cast<float>(cfg_.gamma) * (1.0f - batch_.terminated.array()) * next_q.array();
 
   // Critics: loss sum_i mean((Q_i(s, a) - y)^2).
   const Eigen::MatrixXf& in = critic_input(batch_.observations, batch_.action_values, critic_in_);
-  double critic_loss = 0.0, q_mean = 0.0;
-  Eigen::RowVectorXf q_stored;  // Q_1 of the stored actions (the demonstrations' Q-filter)
-  for (int i = 0; i < critics_; ++i) {
+  Eigen::RowVectorXf values[2];
+  double losses[2];
+  nn::run_side_by_side(critics_, [&](int i) {
     q_[i].zero_grad();
-    const Eigen::RowVectorXf value = q_[i].forward(in).row(0);
-    if (i == 0) q_stored = value;
-    const Eigen::RowVectorXf d = value - y.transpose();
-    critic_loss += d.cast<double>().squaredNorm() / b;
-    q_mean += value.cast<double>().mean() / critics_;
+    values[i] = q_[i].forward(in).row(0);
+    const Eigen::RowVectorXf d = values[i] - y.transpose();
+    losses[i] = d.cast<double>().squaredNorm() / b;
     q_[i].backward(2.0f * inv_b * d, false);
+  });
+  double critic_loss = 0.0, q_mean = 0.0;
+  const Eigen::RowVectorXf& q_stored = values[0];  // Q_1 of the stored actions (the demonstrations' Q-filter)
+  for (int i = 0; i < critics_; ++i) {  // summed in critic order, as on one thread
+    critic_loss += losses[i];
+    q_mean += values[i].cast<double>().mean() / critics_;
   }
   average_gradients(critic_optimizer_->params());
   critic_optimizer_->step();

@@ -117,6 +117,8 @@ void set_gemm_threads(int threads) {
 
 int gemm_threads() { return thread_count().load(std::memory_order_relaxed); }
 
+void run_side_by_side(int count, const std::function<void(int)>& task) { batch_parts::run(count, task); }
+
 GemmScope::GemmScope(GemmBackend backend, int threads) : saved_backend_(gemm_backend()), saved_threads_(gemm_threads()) {
   set_gemm_backend(backend);
   set_gemm_threads(threads);

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 
 // The one matrix product of the networks (dense layers, convolutions): C = op(A) op(B) or
@@ -33,6 +34,13 @@ const char* to_string(GemmBackend backend);
 // run on the calling thread.
 void set_gemm_threads(int threads);
 int gemm_threads();
+
+// Runs task(i) for every i in [0, count) side by side on up to gemm_threads() threads (in turn on
+// one), for independent work such as SAC's two critics, whose layers are each too small to be cut
+// into parts. The products inside a task run one-threaded, cut as they always are, so a task
+// that touches only its own networks and outputs gives the same bits on any thread count.
+// Rethrows the first error (lowest i) once every task has ended.
+void run_side_by_side(int count, const std::function<void(int)>& task);
 
 // Sets the backend and thread count for its lifetime, then restores the ones before.
 class GemmScope {
