@@ -21,6 +21,8 @@
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
 #                          (taskset; torch one thread): env steps and seconds to 0.9, final success.
+#   compare_alone          the same pair one after the other, each with the whole machine: rdsim
+#                          with RDSIM_GEMM=onednn on every core, SB3 with torch on every core.
 # Settings: OUT (default a new /tmp folder), SEEDS, JOBS, TIMESTEPS, RDSIM_BIN (as learning.sh),
 # SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps).
 set -euo pipefail
@@ -62,13 +64,29 @@ first_at() {
                  printf "%s %s %.2f\n", (hit ? hit : "never"), (hit ? sprintf("%.0f", at) : "-"), (c ? t / c : 0) }' "$1"
 }
 
-compare() {
-  local steps sb3_steps
-  steps=$("$py" -c "import json; print(json.load(open('configs/jaka_push.json'))['total_timesteps'])")
-  sb3_steps=${SB3_TIMESTEPS:-$steps}
-  mkdir -p "$out/compare"
+sb3_budget() {  # SB3's env steps: SB3_TIMESTEPS, or the config's total_timesteps
+  echo "${SB3_TIMESTEPS:-$("$py" -c "import json; print(json.load(open('configs/jaka_push.json'))['total_timesteps'])")}"
+}
+
+pair_header() {
   echo "| seed | rdsim: 0.9 at (steps, s) | rdsim final / eval | SB3: 0.9 at (steps, s) | SB3 final / eval |"
   echo "|---|---|---|---|---|"
+}
+
+pair_row() {  # seed rdsim_run sb3_run: the table row of one seed's pair (a replay of rdsim's model)
+  local re se ra rs rf sa ss sf
+  re=$("$bin" replay "$2/model.bin" -n 100 | tail -n 1 | sed -E 's/.*success rate ([0-9.]+) over.*/\1/')
+  se=$(sed -E -n 's/.*over [0-9]+ episodes: success ([0-9.]+).*/\1/p' "$3.log")
+  read -r ra rs rf < <(first_at "$2/episodes.csv")
+  read -r sa ss sf < <(first_at "$3/episodes.csv")
+  echo "| $1 | $ra, $rs | $rf / $re | $sa, $ss | $sf / $se |"
+}
+
+compare() {
+  local sb3_steps
+  sb3_steps=$(sb3_budget)
+  mkdir -p "$out/compare"
+  pair_header
   for seed in $seeds; do
     local r="$out/compare/rdsim_seed$seed" s="$out/compare/sb3_seed$seed"
     taskset -c 0 "$bin" train --quiet --overwrite --config configs/jaka_push.json --seed "$seed" --log-dir "$r" \
@@ -77,12 +95,25 @@ compare() {
     taskset -c 1 "$py" examples/sb3_her.py --config configs/jaka_push.json --seed "$seed" --timesteps "$sb3_steps" \
       --torch-threads 1 --csv "$s/episodes.csv" >"$s.log" 2>&1 &
     wait
-    local re se
-    re=$("$bin" replay "$r/model.bin" -n 100 | tail -n 1 | sed -E 's/.*success rate ([0-9.]+) over.*/\1/')
-    se=$(sed -E -n 's/.*over [0-9]+ episodes: success ([0-9.]+).*/\1/p' "$s.log")
-    read -r ra rs rf < <(first_at "$r/episodes.csv")
-    read -r sa ss sf < <(first_at "$s/episodes.csv")
-    echo "| $seed | $ra, $rs | $rf / $re | $sa, $ss | $sf / $se |"
+    pair_row "$seed" "$r" "$s"
+  done
+}
+
+# compare's pair, one run at a time on every core (the issue's "on 2 cores").
+compare_alone() {
+  local sb3_steps cores
+  sb3_steps=$(sb3_budget)
+  cores=$(nproc)
+  mkdir -p "$out/compare_alone"
+  pair_header
+  for seed in $seeds; do
+    local r="$out/compare_alone/rdsim_seed$seed" s="$out/compare_alone/sb3_seed$seed"
+    RDSIM_GEMM=onednn "$bin" train --quiet --overwrite --config configs/jaka_push.json --seed "$seed" --log-dir "$r" \
+      >"$r.log" 2>&1
+    mkdir -p "$s"
+    "$py" examples/sb3_her.py --config configs/jaka_push.json --seed "$seed" --timesteps "$sb3_steps" \
+      --torch-threads "$cores" --csv "$s/episodes.csv" >"$s.log" 2>&1
+    pair_row "$seed" "$r" "$s"
   done
 }
 
@@ -106,7 +137,8 @@ for task in "${tasks[@]}"; do
       edited_config configs/jaka_stack_demos.json "del c['demonstrations']" "$out/stack_her.json"
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her compare)" >&2
+    compare_alone) compare_alone ;;
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her compare compare_alone)" >&2
        exit 2 ;;
   esac
 done
