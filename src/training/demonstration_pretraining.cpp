@@ -14,15 +14,17 @@
 
 namespace rdsim {
 
-void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const Spec& spec, bool resume,
-                               const std::filesystem::path& dir, bool quiet) {
-  const DemonstrationsConfig& dc = *config.algorithm.demonstrations;
-  DemoFile demos;
+DemoFile read_demonstrations(const TrainConfig& config) {
   try {
-    demos = read_demo_file(dc.file);
+    return read_demo_file(config.algorithm.demonstrations->file);
   } catch (const Error& e) {  // which key of which config named the file (a relative one: from the config's folder)
     throw Error(config.source + ": demonstrations.file: " + e.what());
   }
+}
+
+void learn_from_demonstrations(const TrainConfig& config, const DemoFile& demos, Algorithm& algo, const Spec& spec,
+                               bool resume, const std::filesystem::path& dir, bool quiet) {
+  const DemonstrationsConfig& dc = *config.algorithm.demonstrations;
   check_demos_fit(demos, to_json(config.env), spec);
   if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
   Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);

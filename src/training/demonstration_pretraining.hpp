@@ -2,14 +2,18 @@
 #include <filesystem>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/demos/demo_file.hpp"
 #include "rdsim/training/train_config.hpp"
 
 namespace rdsim {
 
-// The config's "demonstrations": the file read and checked against the env, then handed to the
-// algorithm (pre-training on a fresh run; `dir`/pretrain.csv gets one row per epoch; `dir` is
-// empty on MPI ranks other than 0, which write nothing).
-void learn_from_demonstrations(const TrainConfig& config, Algorithm& algo, const Spec& spec, bool resume,
-                               const std::filesystem::path& dir, bool quiet);
+// The file of the config's "demonstrations", read (errors name the config and its key).
+DemoFile read_demonstrations(const TrainConfig& config);
+
+// The demonstrations checked against the env, then handed to the algorithm (pre-training on a
+// fresh run; `dir`/pretrain.csv gets one row per epoch; `dir` is empty on MPI ranks other than 0,
+// which write nothing).
+void learn_from_demonstrations(const TrainConfig& config, const DemoFile& demos, Algorithm& algo, const Spec& spec,
+                               bool resume, const std::filesystem::path& dir, bool quiet);
 
 }  // namespace rdsim

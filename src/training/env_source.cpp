@@ -1,7 +1,10 @@
 #include "rdsim/training/env_source.hpp"
 
+#include "rdsim/core/assert.hpp"
+#include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
+#include "rdsim/training/demonstration_starts.hpp"
 
 namespace rdsim {
 
@@ -10,10 +13,17 @@ std::unique_ptr<Env> open_env(const EnvConfig& env, const RemoteEnvConfig& remot
   return make_env(env);
 }
 
-std::vector<std::unique_ptr<Env>> open_envs(TrainConfig& config) {
+std::vector<std::unique_ptr<Env>> open_envs(TrainConfig& config, const std::shared_ptr<const DemoFile>& demos) {
   std::vector<std::unique_ptr<Env>> envs;
   for (int i = 0; i < config.num_envs; ++i) envs.push_back(open_env(config.env, config.remote));
   if (const auto* remote = dynamic_cast<const RemoteEnv*>(envs.front().get())) config.env = remote->resolved_config();
+  const auto& dc = config.algorithm.demonstrations;
+  if (!dc || dc->start_fraction <= 0.0) return envs;
+  RDSIM_ASSERT(demos != nullptr, "the demonstrations are read before the envs that start from them");
+  check_demos_fit(*demos, to_json(config.env), envs.front()->spec());  // before any replay
+  for (auto& env : envs)
+    env = start_from_demonstrations(std::move(env), demos, dc->start_fraction,
+                                    config.source + ": demonstrations.start_fraction");
   return envs;
 }
 

@@ -242,9 +242,11 @@ void Trainer::start() {
   r.resume = !settings_.resume_dir.empty();
 
   const std::uint64_t seed = rank_seed(config.seed, comm.rank());
+  std::shared_ptr<const DemoFile> demos;  // read once: the pre-training's and the envs' demonstration starts
   on_every_rank(comm, [&] {  // an env or algorithm that refuses the config: one message
     const nn::GemmBackend backend = resolve_gemm(config);
-    r.vec = std::make_unique<VecEnv>(open_envs(config), seed, config.stats_window,
+    if (config.algorithm.demonstrations) demos = std::make_shared<const DemoFile>(read_demonstrations(config));
+    r.vec = std::make_unique<VecEnv>(open_envs(config, demos), seed, config.stats_window,
                                      resolve_num_threads(config, comm.local_size()), resolve_env_workers(config));
     r.vec->set_groups(std::min(config.env_groups, r.vec->size()));
     // The env workers wait while the learner updates, so it may use as many threads (the results
@@ -272,7 +274,7 @@ void Trainer::start() {
   // Under MPI every rank learns from the demonstrations (the same draws: the stream is the run's,
   // not the rank's) and rank 0 writes pretrain.csv.
   if (config.algorithm.demonstrations)
-    learn_from_demonstrations(config, *r.algo, r.vec->spec(), r.resume,
+    learn_from_demonstrations(config, *demos, *r.algo, r.vec->spec(), r.resume,
                               r.root ? r.start.folder->path() : std::filesystem::path(), settings_.quiet || !r.root);
   if (!r.resume) share_weights(comm, *r.algo);
 

@@ -157,3 +157,39 @@ TEST_CASE("her: the expert's demonstrations join a goal task's replay, and a fil
   CHECK(r.exit_code == 1);
   CHECK_THAT(r.err, Contains("demonstrations.bc_weight_decay") && Contains("has no effect with \"algorithm\": \"sac\""));
 }
+
+TEST_CASE("her: episodes that start from the demonstrations' states give the same CSVs on 1 and 2 threads and after kill -9 "
+          "and --resume, and bc refuses the key",
+          "[cli][her][demos]") {
+  ScratchDir dir("her_demo_starts");
+  const std::string demo = dir / "push.demo";
+  auto r = run_rdsim("demos record --quiet --expert --env push -n 4 --out " + demo, dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string config = dir / "starts.json";
+  rltest::spit(config, R"({"algorithm": "sac", "env": {"name": "push"}, "seed": 5, "total_timesteps": 2000, "num_envs": 2,
+    "checkpoint_interval": 800, "network": {"hidden_sizes": [16, 16]},
+    "sac": {"learning_starts": 200, "batch_size": 32, "buffer_size": 4000}, "her": {},
+    "demonstrations": {"file": ")" + demo + R"(", "bc_epochs": 2, "demo_fraction": 0.25, "start_fraction": 0.5}})");
+  for (const std::string threads : {"1", "2"}) {
+    r = run_rdsim("train --quiet --config " + config + " --threads " + threads + " --log-dir " + (dir / ("t" + threads)), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  CHECK(run_logs(dir / "t1") == run_logs(dir / "t2"));
+  CHECK_THAT(rltest::slurp(dir / "t1/config.json"), Contains("\"start_fraction\": 0.5"));
+
+  const std::string run = dir / "killed";
+  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 50ms));
+  r = run_rdsim("train --quiet --resume " + run, dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(run_logs(run) == run_logs(dir / "t1"));
+
+  rltest::check_config_errors(dir, {{R"({"algorithm": "bc", "env": {"name": "push"}, "demonstrations": {"file": ")" + demo +
+                                         R"(", "start_fraction": 0.5}})",
+                                     "demonstrations.start_fraction: has no effect with \"algorithm\": \"bc\""},
+                                    {R"({"algorithm": "sac", "env": {"name": "push"}, "her": {}, "demonstrations": {"file": ")" +
+                                         demo + R"(", "start_fraction": 1.5}})",
+                                     "demonstrations.start_fraction"}});
+}
