@@ -167,8 +167,8 @@ TEST_CASE("her: episodes that start from the demonstrations' states give the sam
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const std::string config = dir / "starts.json";
-  rltest::spit(config, R"({"algorithm": "sac", "env": {"name": "push"}, "seed": 5, "total_timesteps": 2000, "num_envs": 2,
-    "checkpoint_interval": 800, "network": {"hidden_sizes": [16, 16]},
+  rltest::spit(config, R"({"algorithm": "sac", "env": {"name": "push"}, "seed": 5, "total_timesteps": 1200, "num_envs": 2,
+    "checkpoint_interval": 400, "network": {"hidden_sizes": [16, 16]},
     "sac": {"learning_starts": 200, "batch_size": 32, "buffer_size": 4000}, "her": {},
     "demonstrations": {"file": ")" + demo + R"(", "bc_epochs": 2, "demo_fraction": 0.25, "start_fraction": 0.5}})");
   for (const std::string threads : {"1", "2"}) {
