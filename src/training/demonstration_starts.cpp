@@ -53,7 +53,11 @@ public:
     if (seed) rng_ = Rng::derive(*seed, rng_stream::demonstration_starts);
     if (rng_.uniform() < fraction_) {
       const DemoEpisode& e = demos_->episodes[replayable_[rng_.below(replayable_.size())]];
-      replay(e, static_cast<int>(rng_.below(static_cast<std::uint64_t>(e.steps()))), out);
+      // A step the env's own limit leaves at least one step after (demonstrations may have been
+      // recorded with a longer env.max_steps).
+      const int limit = spec().max_episode_steps;
+      const int steps = limit > 0 ? std::clamp(limit - 1, 1, e.steps()) : e.steps();
+      replay(e, static_cast<int>(rng_.below(static_cast<std::uint64_t>(steps))), out);
       return;
     }
     inner_->reset_into(out, rng_.next_u64());
@@ -102,7 +106,7 @@ private:
       if (o.terminated || o.truncated)
         throw Error(where_ + ": replaying " + demos_->path + " (the episode of seed " + std::to_string(*e.seed) +
                     ") ends the episode at step " + std::to_string(t + 1) + " of " + std::to_string(e.steps()) +
-                    ": the env's step limit (env.max_steps) is shorter than the demonstrations'");
+                    ": the file was recorded by another build of rdsim or with other env options; record it again");
     }
   }
 

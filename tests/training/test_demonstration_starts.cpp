@@ -114,3 +114,19 @@ TEST_CASE("demonstration starts: a file without seeds and a replay that strays a
                                             "does not give its recorded observation at step 0") &&
                                        Contains("record it again"));
 }
+
+TEST_CASE("demonstration starts: an env with a shorter step limit than the demonstrations' starts early enough to take a step",
+          "[demonstration_starts]") {
+  const auto demos = expert_demos(2);
+  EnvConfig config = default_env_config("push");
+  config.max_steps = 4;
+  auto env = start_from_demonstrations(make_env(config), demos, 1.0, "c.json: demonstrations.start_fraction");
+  env->reset(11);
+  for (int k = 0; k < 20; ++k) {
+    const auto [e, t] = recorded_at(*demos, env->reset());
+    REQUIRE(e >= 0);
+    CHECK(t < 3);
+    const StepResult r = env->step(demos->episodes[static_cast<std::size_t>(e)].actions[static_cast<std::size_t>(t)]);
+    CHECK(!r.truncated);  // at most step 3 of 4
+  }
+}
