@@ -23,7 +23,9 @@ py::array_t<float> compute_reward(const py::dict& goal, const py::array& achieve
   GoalLayout g;
   g.points = goal["points"].cast<int>();
   g.distance_threshold = goal["distance_threshold"].cast<float>();
-  g.reward = goal["reward"].cast<std::string>() == "dense" ? GoalReward::Dense : GoalReward::Sparse;
+  const std::optional<GoalReward> reward = goal_reward_from_string(goal["reward"].cast<std::string>());
+  if (!reward) throw Error("compute_reward: goal[\"reward\"]: expected sparse, partial or dense");
+  g.reward = *reward;
   const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(achieved);
   const auto d = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(desired);
   const auto size = static_cast<py::ssize_t>(g.goal_size());

@@ -164,9 +164,9 @@ Spec get_spec(const Message& m) {
     spec.goal.observation = static_cast<int>(get_integer(g, "observation", 0, space.value_count()));
     spec.goal.points = static_cast<int>(get_integer(g, "points", 1, 1024));
     spec.goal.distance_threshold = static_cast<float>(get_number(g, "distance_threshold"));
-    const std::string reward = get_string(g, "reward");
-    if (reward != "sparse" && reward != "dense") bad("spec.goal.reward: expected sparse or dense");
-    spec.goal.reward = reward == "dense" ? GoalReward::Dense : GoalReward::Sparse;
+    const std::optional<GoalReward> reward = goal_reward_from_string(get_string(g, "reward"));
+    if (!reward) bad("spec.goal.reward: expected sparse, partial or dense");
+    spec.goal.reward = *reward;
     if (spec.goal.size() != space.value_count() || !(spec.goal.distance_threshold > 0.0f))
       bad("spec.goal: expected float32 values of observation + 6 x points and a threshold > 0");
   }

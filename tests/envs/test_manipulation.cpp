@@ -113,13 +113,22 @@ TEST_CASE("Manipulation tasks declare the goal layout and reward of their spec",
   }
 }
 
-TEST_CASE("Goal rewards: sparse needs every point within the threshold, dense is minus the distance", "[envs][manipulation]") {
+TEST_CASE("Goal rewards: sparse needs every point within the threshold, partial pays per point, dense is minus the distance",
+          "[envs][manipulation]") {
   GoalLayout g{.observation = 0, .points = 2, .distance_threshold = 0.05f, .reward = GoalReward::Sparse};
   const float desired[] = {0, 0, 0, 0, 0, 0.04f};
   const float near[] = {0.03f, 0, 0, 0, 0.04f, 0.04f};
   const float half[] = {0.03f, 0, 0, 0, 0.06f, 0.04f};
   CHECK(g.reward_of(near, desired) == 0.0f);
   CHECK(g.reward_of(half, desired) == -1.0f);
+  const float none[] = {0.06f, 0, 0, 0, 0.06f, 0.04f};
+  g.reward = GoalReward::Partial;
+  CHECK(g.reward_of(near, desired) == 0.0f);
+  CHECK(g.reward_of(half, desired) == -0.5f);
+  CHECK(g.reward_of(none, desired) == -1.0f);
+  CHECK(goal_reward_from_string("partial") == GoalReward::Partial);
+  CHECK(goal_reward_from_string(to_string(GoalReward::Dense)) == GoalReward::Dense);
+  CHECK_FALSE(goal_reward_from_string("shaped"));
   g.reward = GoalReward::Dense;
   CHECK(g.reward_of(half, desired) == Approx(-std::sqrt(0.03f * 0.03f + 0.06f * 0.06f)));
 }

@@ -43,6 +43,15 @@ def test_dense_reward_is_minus_the_distance():
     env.close()
 
 
+def test_partial_reward_pays_each_cube_on_its_goal():
+    env = rdsim.make("rdsim/JakaStack-v0", reward_type="partial")
+    d = np.array([0.4, 0.0, 0.02, 0.4, 0.0, 0.06], np.float32)
+    one = d + np.array([0.01, 0, 0, 0.2, 0, 0], np.float32)  # the first cube placed, the second far
+    np.testing.assert_array_equal(env.compute_reward(np.stack([d, one, d + 0.3]), np.stack([d, d, d]), None),
+                                  np.array([0.0, -0.5, -1.0], np.float32))
+    env.close()
+
+
 def test_non_goal_envs_have_no_compute_reward():
     env = rdsim.make("rdsim/JakaButton-v0")
     assert not hasattr(env, "compute_reward") and env.goal is None

@@ -182,6 +182,10 @@ TEST_CASE("session: a goal env's layout and reward cross the link, its steps bit
   CHECK(spec.goal.points == want.points);
   CHECK(spec.goal.distance_threshold == want.distance_threshold);
   CHECK(spec.goal.reward == want.reward);
+  for (const char* reward : {"partial", "dense"}) {  // each reward type by name
+    Session other(hello(std::string(R"({"name": "stack", "reward_type": ")") + reward + "\"}"));
+    CHECK(to_string(get_spec(other.hello_reply(1)).goal.reward) == std::string(reward));
+  }
   REQUIRE(spec.observation.parts.size() == local->spec().observation.parts.size());
   for (size_t p = 0; p < spec.observation.parts.size(); ++p) {
     CHECK(spec.observation.parts[p].name == local->spec().observation.parts[p].name);

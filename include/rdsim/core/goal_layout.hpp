@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <string>
 
 // Goal-conditioned observations (Gymnasium-Robotics' GoalEnv): one Float32 observation vector read
@@ -12,13 +13,15 @@
 // achieved == desired == 3 x points values.
 namespace rdsim {
 
-enum class GoalReward { Sparse, Dense };
+enum class GoalReward { Sparse, Partial, Dense };
 
 struct GoalLayout {
   int observation = 0;  // values of the "observation" slice (first)
   int points = 0;       // 3-D points in a goal; 0 = not a goal-conditioned env
   float distance_threshold = 0.05f;  // m: a goal point closer than this to its desired point is reached
   // Sparse: -1 until every goal point is within distance_threshold of its desired point, then 0.
+  // Partial: minus the share of goal points not within it (stack: -1, -0.5 with one cube on its
+  // goal, 0): Nair et al. 2018's step reward, the same as Sparse for one point.
   // Dense: minus the Euclidean distance between the whole achieved and desired vectors (panda-gym's).
   GoalReward reward = GoalReward::Sparse;
 
@@ -37,6 +40,10 @@ struct GoalLayout {
   void compute_reward(const float* achieved, const float* desired, int n, float* out) const;
 };
 
-inline const char* to_string(GoalReward r) { return r == GoalReward::Sparse ? "sparse" : "dense"; }
+inline const char* to_string(GoalReward r) {
+  return r == GoalReward::Sparse ? "sparse" : r == GoalReward::Partial ? "partial" : "dense";
+}
+// The reward named `name` (to_string's names); none for any other string.
+std::optional<GoalReward> goal_reward_from_string(const std::string& name);
 
 }  // namespace rdsim

@@ -14,7 +14,8 @@
 namespace rdsim {
 
 inline const config::Names<GoalReward>& goal_reward_names() {
-  static const config::Names<GoalReward> names = {{"sparse", GoalReward::Sparse}, {"dense", GoalReward::Dense}};
+  static const config::Names<GoalReward> names = {
+      {"sparse", GoalReward::Sparse}, {"partial", GoalReward::Partial}, {"dense", GoalReward::Dense}};
   return names;
 }
 
@@ -49,8 +50,9 @@ template <class V, class C>
   requires config::Describes<C, ManipulationOptions>
 void describe(V& v, C& c) {
   v.choice("reward_type", c.reward_type, goal_reward_names(),
-           "sparse: -1 until every goal point is within distance_threshold of its goal, then 0; dense: minus the "
-           "distance between the achieved and desired goal vectors (m). Success ends the episode (panda-gym's rule)");
+           "sparse: -1 until every goal point is within distance_threshold of its goal, then 0; partial: minus the "
+           "share of goal points not yet within it (stack: -0.5 with one cube placed; the same as sparse with one "
+           "point); dense: minus the distance between the achieved and desired goal vectors (m). Success ends the episode (panda-gym's rule)");
   v.field("distance_threshold", c.distance_threshold, config::Range{1e-3, 1.0},
           "m; a goal point closer than this to its goal counts as reached (info.success)");
   v.choice("control", c.control, arm_control_names(),
