@@ -145,4 +145,14 @@ inline bool kill_after_first_checkpoint(const std::string& config, const std::st
   return alive;
 }
 
+// kill_after_first_checkpoint, then `rdsim train --resume` of the killed run to its end; both must
+// go as planned (the caller compares the logs with an uninterrupted run's).
+inline void kill_and_resume(const std::string& config, const std::string& run, const rltest::ScratchDir& dir,
+                            std::chrono::milliseconds after) {
+  REQUIRE(kill_after_first_checkpoint(config, run, dir.path.string(), after));
+  const auto r = rltest::run_rdsim("train --quiet --resume " + run, dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+}
+
 }  // namespace proctest

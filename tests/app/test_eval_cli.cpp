@@ -105,10 +105,7 @@ TEST_CASE("eval: after kill -9 and --resume the evaluations and best_model.bin o
   CHECK(rltest::lines(rltest::slurp(dir / "whole/eval.csv")).size() == 9);  // 1500, 3000, ..., 12000
 
   const std::string run = dir / "killed";
-  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 300ms));
-  r = run_rdsim("train --quiet --resume " + run, dir);
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
+  proctest::kill_and_resume(config, run, dir, 300ms);
   CHECK(eval_rows(run) == eval_rows(dir / "whole"));
   CHECK(rltest::run_logs(run) == rltest::run_logs(dir / "whole"));
   CHECK(rdsim::read_model_file(run + "/best_model.bin").payload == rdsim::read_model_file(dir / "whole/best_model.bin").payload);

@@ -77,10 +77,7 @@ TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume
 
   // Killed once a checkpoint exists, resumed: the run of one that was never killed.
   const std::string run = dir / "killed";
-  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 100ms));
-  const auto r = run_rdsim("train --quiet --resume " + run, dir);
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
+  proctest::kill_and_resume(config, run, dir, 100ms);
   CHECK(run_logs(run) == run_logs(dir / "t1"));
 }
 
@@ -180,10 +177,7 @@ TEST_CASE("her: episodes that start from the demonstrations' states give the sam
   CHECK_THAT(rltest::slurp(dir / "t1/config.json"), Contains("\"start_fraction\": 0.5"));
 
   const std::string run = dir / "killed";
-  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 50ms));
-  r = run_rdsim("train --quiet --resume " + run, dir);
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
+  proctest::kill_and_resume(config, run, dir, 50ms);
   CHECK(run_logs(run) == run_logs(dir / "t1"));
 
   rltest::check_config_errors(dir, {{R"({"algorithm": "bc", "env": {"name": "push"}, "demonstrations": {"file": ")" + demo +

@@ -49,10 +49,7 @@ TEST_CASE("randomize: after kill -9 and --resume the run of one never killed", "
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const std::string run = dir / "killed";
-  REQUIRE(proctest::kill_after_first_checkpoint(config, run, dir.path.string(), 20ms));
-  r = run_rdsim("train --quiet --resume " + run, dir);
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
+  proctest::kill_and_resume(config, run, dir, 20ms);
   CHECK(run_logs(run) == run_logs(dir / "whole"));
 }
 
