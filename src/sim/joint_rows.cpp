@@ -2,6 +2,8 @@
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 
+#include "small_cholesky.hpp"
+
 namespace rdsim {
 namespace {
 
@@ -39,10 +41,11 @@ SideSlots add_side(btMultiBody* body, const btScalar* jacobian, btMultiBodyJacob
     const int own = r->velocity_index[static_cast<size_t>(source.dof)];
     bool one_joint = true;
     for (int i = 0; i < n; ++i) one_joint &= i == own || jacobian[i] == btScalar(0);
-    if (one_joint) {
+    const double* column = one_joint ? r->column(source.dof) : nullptr;
+    if (column) {
       const double value = jacobian[own];
       for (int j = 0; j < n - 6; ++j)
-        response[r->velocity_index[static_cast<size_t>(j)]] = static_cast<btScalar>(value * r->inverse(j, source.dof));
+        response[r->velocity_index[static_cast<size_t>(j)]] = static_cast<btScalar>(value * column[j]);
       return s;
     }
   }
@@ -59,15 +62,16 @@ btScalar add_dot(btScalar sum, const btScalar* a, const btScalar* b, int n) {
 // What fillMultiBodyConstraint does for a joint row (one degree of freedom, both sides
 // multibodies, no position error): Jacobians and responses, the effective mass 1 / (J M^-1 J^T)
 // (0 for a row nothing responds to), bounds, and a right-hand side that asks for
-// `desired_velocity`. Returns the row's velocity J v. Responses from `source` when it has them.
+// `desired_velocity`. Returns the row's velocity J v. Each side's response from its source when
+// that has them.
 btScalar fill_joint_row(btMultiBodySolverConstraint& c, btMultiBodyJacobianData& data, const btScalar* jacobian_a,
                         const btScalar* jacobian_b, btScalar lower, btScalar upper, btScalar desired_velocity,
-                        const ResponseSource& source) {
+                        const ResponseSource& source_a, const ResponseSource& source_b) {
   btMultiBody* body_a = c.m_multiBodyA;
   btMultiBody* body_b = c.m_multiBodyB;
   const int na = body_a->getNumDofs() + 6, nb = body_b->getNumDofs() + 6;
-  const SideSlots a = add_side(body_a, jacobian_a, data, source);
-  const SideSlots b = add_side(body_b, jacobian_b, data, source);
+  const SideSlots a = add_side(body_a, jacobian_a, data, source_a);
+  const SideSlots b = add_side(body_b, jacobian_b, data, source_b);
   c.m_deltaVelAindex = a.velocity;
   c.m_jacAindex = a.jacobian;
   c.m_deltaVelBindex = b.velocity;
@@ -94,6 +98,19 @@ btScalar fill_joint_row(btMultiBodySolverConstraint& c, btMultiBodyJacobianData&
   c.m_lowerLimit = lower;
   c.m_upperLimit = upper;
   return velocity;
+}
+
+// A row's right-hand side as Bullet's fillMultiBodyConstraint makes it from the row's position
+// error `penetration` and its velocity impulse: erp of the error per step, combined with the
+// velocity term, or kept apart for the split-impulse push when split impulses are on.
+void add_position_error(btMultiBodySolverConstraint& c, const btContactSolverInfo& info, btScalar penetration,
+                        btScalar velocity_impulse) {
+  const bool combined = !info.m_splitImpulse || penetration > info.m_splitImpulsePenetrationThreshold;
+  const btScalar erp = combined ? info.m_erp : info.m_erp2;
+  const btScalar positional = -penetration * erp / info.m_timeStep;
+  const btScalar penetration_impulse = positional * c.m_jacDiagABInv;
+  c.m_rhs = combined ? penetration_impulse + velocity_impulse : velocity_impulse;
+  c.m_rhsPenetration = combined ? btScalar(0) : penetration_impulse;
 }
 
 // The joint's axis in the world, times `direction`, where Bullet records it on a joint row (its
@@ -124,6 +141,27 @@ bool supported(const btMultiBody* a, const btMultiBody* b, int link) {
 
 }  // namespace
 
+bool JointResponses::set_mass(const Eigen::MatrixXd& mass) {
+  const int n = static_cast<int>(mass.rows());
+  factor_ = mass;
+  columns_.resize(n, n);
+  solved_.assign(static_cast<size_t>(n), 0);
+  valid = cholesky(factor_, n);  // M = L L^T, in place
+  return valid;
+}
+
+const double* JointResponses::column(int dof) const {
+  signed char& state = solved_[static_cast<size_t>(dof)];
+  if (state == 0) {
+    auto x = columns_.col(dof);
+    x.setZero();
+    x[dof] = 1.0;
+    cholesky_solve(factor_, static_cast<int>(factor_.rows()), x);
+    state = x.allFinite() ? 1 : -1;
+  }
+  return state > 0 ? columns_.col(dof).data() : nullptr;
+}
+
 btScalar JointMotor::target_velocity(const btContactSolverInfo& info) const {
   const btScalar position = m_bodyA->getJointPosMultiDof(m_linkA)[0];
   const btScalar velocity = m_bodyA->getJointVelMultiDof(m_linkA)[0];
@@ -149,7 +187,7 @@ void JointMotor::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiB
   c.m_linkA = m_linkA;
   c.m_linkB = m_linkB;
   fill_joint_row(c, data, jacobianA(0), jacobianB(0), -m_maxAppliedImpulse, m_maxAppliedImpulse, target_velocity(info),
-                 source_);
+                 source_, source_);
   c.m_orgConstraint = this;
   c.m_orgDofIndex = 0;
   record_axis(c, m_bodyA->getLink(m_linkA), 1);
@@ -175,18 +213,47 @@ void JointLimit::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiB
     c.m_linkA = m_linkA;
     c.m_linkB = m_linkB;
     const btScalar velocity =
-        fill_joint_row(c, data, jacobianA(row), jacobianB(row), 0, m_maxAppliedImpulse, 0, source_);
+        fill_joint_row(c, data, jacobianA(row), jacobianB(row), 0, m_maxAppliedImpulse, 0, source_, source_);
     record_axis(c, m_bodyA->getLink(m_linkA), row ? btScalar(-1) : btScalar(1));
     // Bullet's limit law: stop the joint's motion into the limit and push back erp of the
-    // penetration per step (split into a separate push when split impulses are on).
-    const bool combined = !info.m_splitImpulse || penetration > info.m_splitImpulsePenetrationThreshold;
-    const btScalar erp = combined ? info.m_erp : info.m_erp2;
-    const btScalar positional = -penetration * erp / info.m_timeStep;
-    const btScalar penetration_impulse = positional * c.m_jacDiagABInv;
-    const btScalar velocity_impulse = -velocity * c.m_jacDiagABInv;
-    c.m_rhs = combined ? penetration_impulse + velocity_impulse : velocity_impulse;
-    c.m_rhsPenetration = combined ? btScalar(0) : penetration_impulse;
+    // penetration per step.
+    add_position_error(c, info, penetration, -velocity * c.m_jacDiagABInv);
   }
+}
+
+JointGear::JointGear(btMultiBody* body, int link_a, int link_b)
+    : btMultiBodyGearConstraint(body, link_a, body, link_b, btVector3(0, 0, 0), btVector3(0, 0, 0),
+                                btMatrix3x3::getIdentity(), btMatrix3x3::getIdentity()) {}
+
+void JointGear::createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                                     const btContactSolverInfo& info) {
+  if (!supported(m_bodyA, m_bodyB, m_linkA) || !supported(m_bodyA, m_bodyB, m_linkB) || m_gearAuxLink >= 0 ||
+      getNumRows() != 1) {
+    btMultiBodyGearConstraint::createConstraintRows(rows, data, info);
+    return;
+  }
+  if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
+  if (m_numDofsFinalized != m_jacSizeBoth || m_maxAppliedImpulse == btScalar(0)) return;
+  jacobianA(0)[6 + m_bodyA->getLink(m_linkA).m_dofOffset] = 1;
+  jacobianB(0)[6 + m_bodyB->getLink(m_linkB).m_dofOffset] = m_gearRatio;
+  btMultiBodySolverConstraint& c = rows.expandNonInitializing();
+  c.m_multiBodyA = m_bodyA;
+  c.m_multiBodyB = m_bodyB;
+  c.m_linkA = m_linkA;
+  c.m_linkB = m_linkB;
+  const btScalar velocity = fill_joint_row(c, data, jacobianA(0), jacobianB(0), -m_maxAppliedImpulse,
+                                           m_maxAppliedImpulse, 0, source_a_, source_b_);
+  c.m_orgConstraint = this;
+  c.m_orgDofIndex = 0;
+  record_axis(c, m_bodyA->getLink(m_linkA), 1);
+  // Bullet's gear law: the error of q_a + ratio q_b from the target, erp of it (and the solver's
+  // erp of that) pushed back per step.
+  btScalar error = 0;
+  if (m_erp != 0) {
+    const btScalar diff = m_gearRatio * m_bodyA->getJointPosMultiDof(m_linkB)[0] + m_bodyA->getJointPosMultiDof(m_linkA)[0];
+    error = -m_erp * (m_relativePositionTarget - diff);
+  }
+  add_position_error(c, info, error, (btScalar(0) - velocity) * c.m_jacDiagABInv);
 }
 
 }  // namespace rdsim

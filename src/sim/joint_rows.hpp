@@ -1,6 +1,7 @@
 #pragma once
-// Bullet's joint motor and joint limit (btMultiBodyJointMotor, btMultiBodyJointLimitConstraint)
-// with their solver rows set up without the work that yields zeros; only src/sim includes this.
+// Bullet's joint motor, joint limit and gear (btMultiBodyJointMotor, btMultiBodyJointLimitConstraint,
+// btMultiBodyGearConstraint) with their solver rows set up without the work that yields zeros;
+// only src/sim includes this.
 //
 // Why: both constraints name their multibody twice, as body A and body B, and Bullet computes
 // each row's unit-impulse response for both sides, one articulated-body pass each
@@ -16,6 +17,7 @@
 // the sums over both sides in Bullet's order (adding exact zeros changes no sum). tests/sim: a
 // world with these constraints steps bit for bit as one with Bullet's
 // (WorldSettings::sparse_joint_rows). Not so when the robot hands its rows JointResponses (below).
+#include <BulletDynamics/Featherstone/btMultiBodyGearConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 
@@ -29,10 +31,22 @@ namespace rdsim {
 // step (WorldSettings::mass_matrix_responses). A joint row whose Jacobian is one joint's takes its
 // response from here instead of a Bullet articulated-body pass of its own: one factorisation per
 // step against one pass per row. Not bit-exact: Bullet computes the passes in single precision.
-struct JointResponses {
+// Only the columns the step's rows ask for are solved (a gripper's fingers: 2 of 8).
+class JointResponses {
+public:
   bool valid = false;                // false: the rows use Bullet's passes (e.g. joints welded)
-  Eigen::MatrixXd inverse;           // M^-1, in the robot's dof order
   std::vector<int> velocity_index;   // per dof: its entry in Bullet's velocity vector (6 + dof offset)
+
+  // A new step's M(q) (the robot's dof order): factorised here; false (and not valid) when it is not
+  // positive definite.
+  bool set_mass(const Eigen::MatrixXd& mass);
+  // Column `dof` of M^-1, solved on its first use this step; nullptr when it is not finite.
+  const double* column(int dof) const;
+
+private:
+  Eigen::MatrixXd factor_;            // cholesky()'s L of M = L L^T
+  mutable Eigen::MatrixXd columns_;   // M^-1's columns solved so far this step
+  mutable std::vector<signed char> solved_;  // per column: 0 not yet, 1 finite, -1 not finite
 };
 
 // Where a joint row takes its responses from: column `dof` of `responses` (kept by the robot,
@@ -68,6 +82,25 @@ public:
 
 private:
   ResponseSource source_;
+};
+
+// Bullet's gear between two one-degree-of-freedom joints of one multibody: q_a + ratio q_b held at
+// the relative target (with ratio -1 the two joints equal), erp of the error corrected per step, the
+// row's impulse within +-max. Its Jacobian has one joint's entry on each side, so with JointResponses
+// each side's response is that joint's column of M^-1 (two Bullet passes per step without).
+class JointGear : public btMultiBodyGearConstraint {
+public:
+  JointGear(btMultiBody* body, int link_a, int link_b);
+
+  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                            const btContactSolverInfo& info) override;
+  void use_responses(const ResponseSource& a, const ResponseSource& b) {
+    source_a_ = a;
+    source_b_ = b;
+  }
+
+private:
+  ResponseSource source_a_, source_b_;
 };
 
 }  // namespace rdsim

@@ -162,12 +162,10 @@ struct Robot::MassResponses {
   JointDynamics dynamics;
   JointResponses out;  // what the joint rows read
   Eigen::VectorXd q;
-  Eigen::MatrixXd mass;  // M(q), then its Cholesky factor
-  RowMajorMatrix inverse;
+  Eigen::MatrixXd mass;  // M(q)
 
   MassResponses(const RobotModel& model, const std::vector<Inertial>& inertials, int dof)
-      : dynamics(model, inertials), q(dof), mass(dof, dof), inverse(dof, dof) {
-    out.inverse.resize(dof, dof);
+      : dynamics(model, inertials), q(dof), mass(dof, dof) {
     out.velocity_index.assign(static_cast<size_t>(dof), -1);
   }
 };
@@ -299,7 +297,10 @@ Robot::Robot(PhysicsWorld& world, int body, const RobotModel& model, const Eigen
     d.damping = options.joint_damping ? static_cast<float>(j.damping) : 0.0f;
     dofs_.push_back(d);
   }
-  if (options.drive == JointDrive::ConstraintMotor && world.settings().mass_matrix_responses)
+  // Joint rows exist with motors on every joint, or on the motor dofs and couplings of the
+  // computed-torque drive (a gripper's fingers).
+  const bool rows = options.drive == JointDrive::ConstraintMotor || !options.motor_dofs.empty() || !options.coupled_dofs.empty();
+  if (rows && world.settings().mass_matrix_responses)
     responses_ = std::make_unique<MassResponses>(model, simulated_inertials(model, options.inertia_from_shapes, mass_scale_), dof());
   build();
   if (options.drive == JointDrive::ComputedTorque) {
@@ -451,8 +452,15 @@ void Robot::build() {
     const Dof& da = dofs_[static_cast<size_t>(a)];
     const Dof& db = dofs_[static_cast<size_t>(b)];
     if (da.welded || db.welded) continue;
-    auto* gear = new btMultiBodyGearConstraint(multibody_, da.bullet_link, multibody_, db.bullet_link, btVector3(0, 0, 0),
-                                               btVector3(0, 0, 0), btMatrix3x3::getIdentity(), btMatrix3x3::getIdentity());
+    btMultiBodyGearConstraint* gear = nullptr;
+    if (own_rows) {
+      auto* own = new JointGear(multibody_, da.bullet_link, db.bullet_link);
+      own->use_responses({responses, a}, {responses, b});
+      gear = own;
+    } else {
+      gear = new btMultiBodyGearConstraint(multibody_, da.bullet_link, multibody_, db.bullet_link, btVector3(0, 0, 0),
+                                           btVector3(0, 0, 0), btMatrix3x3::getIdentity(), btMatrix3x3::getIdentity());
+    }
     gear->setGearRatio(kCouplingRatio);
     gear->setErp(kCouplingErp);
     gear->setMaxAppliedImpulse(static_cast<btScalar>(2.0f * std::max(da.effort, db.effort)) * dt);
@@ -695,8 +703,10 @@ void Robot::before_step() {
   if (std::any_of(dofs_.begin(), dofs_.end(), [](const Dof& d) { return d.welded; })) free_welds_near_contacts();
   for (const Dof& d : dofs_)
     if (d.damping > 0.0f && !d.welded) multibody_->addJointTorque(d.bullet_link, -d.damping * multibody_->getJointVel(d.bullet_link));
-  if (responses_) update_responses();
-  if (!drive_) return;
+  if (!drive_) {
+    if (responses_) update_responses(nullptr);
+    return;
+  }
   TorqueDrive& t = *drive_;
   const double dt = world_.settings().time_step;
   for (int i = 0; i < dof(); ++i) {
@@ -709,21 +719,22 @@ void Robot::before_step() {
     t.v_target[i] = std::clamp(v, -static_cast<double>(d.velocity), static_cast<double>(d.velocity));
   }
   t.dynamics.mass_matrix_and_bias(t.q, t.qd, t.gravity, t.mass, t.bias);
+  if (responses_) update_responses(&t.mass);  // the same M(q), for the motor dofs' and couplings' rows
   t.solve_impulses(dt);
   for (int i = 0; i < dof(); ++i)
     multibody_->addJointTorque(dofs_[static_cast<size_t>(i)].bullet_link, static_cast<btScalar>(t.impulse[i] / dt));
 }
 
-void Robot::update_responses() {
+void Robot::update_responses(const Eigen::MatrixXd* mass) {
   MassResponses& r = *responses_;
   r.out.valid = false;  // welded joints: Bullet's multibody has fewer dofs than the model
   if (std::any_of(dofs_.begin(), dofs_.end(), [](const Dof& d) { return d.welded; })) return;
-  for (int i = 0; i < dof(); ++i) r.q[i] = multibody_->getJointPos(dofs_[static_cast<size_t>(i)].bullet_link);
-  r.dynamics.mass_matrix(r.q, r.mass);
-  if (!cholesky(r.mass, dof())) return;  // M = L L^T, in place
-  cholesky_inverse(r.mass, dof(), r.inverse);
-  r.out.inverse = r.inverse;
-  r.out.valid = r.out.inverse.allFinite();
+  if (!mass) {
+    for (int i = 0; i < dof(); ++i) r.q[i] = multibody_->getJointPos(dofs_[static_cast<size_t>(i)].bullet_link);
+    r.dynamics.mass_matrix(r.q, r.mass);
+    mass = &r.mass;
+  }
+  r.out.set_mass(*mass);
 }
 
 Robot::LinkInertia Robot::link_inertia(int link) const {

@@ -43,6 +43,13 @@ EnvConfig panda_config(const std::string& task) {
   return c;
 }
 
+// The default 10 physics steps of 4 ms, and the fastest setting benchmarked (docs/benchmarks.md):
+// 4 of 10 ms, the same 40 ms per env step.
+void use_substeps(EnvConfig& c, int substeps) {
+  c.get<ManipulationOptions>().substeps = substeps;
+  c.get<ManipulationOptions>().physics_step = 0.04 / substeps;
+}
+
 struct ExpertRun {
   int successes = 0;
   int episodes = 0;
@@ -148,8 +155,8 @@ TEST_CASE("The scripted expert solves every manipulation task with pybullet_data
     WARN("skipped: pybullet_data not found");
     return;
   }
-  // Measured on seeds 1000-1199 (Intel Xeon, 2026-11-29): reach_goal 200, push 194, pick_and_place
-  // 198, stack 195 of 200. The floors leave a few episodes of margin (another CPU rounds differently
+  // Measured on seeds 1000-1199 (AMD EPYC Zen 5, 2026-12-02): reach_goal 200, push 195, pick_and_place
+  // 199, stack 196 of 200. The floors leave a few episodes of margin (another CPU rounds differently
   // and a grasp is chaotic). The Panda's stack needs stack's 100 steps (panda-gym's): the drive keeps
   // the URDF's joint speed limits, so its carries make 2-3 cm per step where the JAKA's make 5, and
   // in 50 steps it stacked in 72 episodes of 200.
@@ -162,45 +169,73 @@ TEST_CASE("The scripted expert solves every manipulation task with pybullet_data
 }
 
 TEST_CASE("A cube held in the air for 5 s slips less than 5 mm", "[envs][manipulation][grasp]") {
-  EnvConfig c = default_env_config("pick_and_place");
-  c.get<ManipulationOptions>().distance_threshold = 0.001;  // no success (it would end the episode)
-  c.max_steps = 400;
-  auto env = make_env(c);
-  auto& m = dynamic_cast<ManipulationEnv&>(*env);
-  ManipulationExpert expert(*env);
-  env->reset(11);
-  expert.reset();
-  // Grasp and lift 10 cm: the expert until the cube is held, then straight up.
-  int steps = 0;
-  while (m.finger_opening() > TaskArea::cube_size + 0.006f || m.cube_position(0).z() < 0.019f) {
-    env->step(expert.act());
-    REQUIRE(++steps < 60);
+  for (int substeps : {10, 4}) {
+    EnvConfig c = default_env_config("pick_and_place");
+    use_substeps(c, substeps);
+    c.get<ManipulationOptions>().distance_threshold = 0.001;  // no success (it would end the episode)
+    c.max_steps = 400;
+    auto env = make_env(c);
+    auto& m = dynamic_cast<ManipulationEnv&>(*env);
+    ManipulationExpert expert(*env);
+    env->reset(11);
+    expert.reset();
+    // Grasp and lift 10 cm: the expert until the cube is held, then straight up.
+    int steps = 0;
+    while (m.finger_opening() > TaskArea::cube_size + 0.006f || m.cube_position(0).z() < 0.019f) {
+      env->step(expert.act());
+      REQUIRE(++steps < 60);
+    }
+    Eigen::VectorXf up(4);
+    up << 0.0f, 0.0f, 0.5f, -1.0f;
+    for (int t = 0; t < 10; ++t) env->step(Action::continuous(up));
+    const float lifted = m.cube_position(0).z();
+    REQUIRE(lifted > 0.09f);
+    const Eigen::Vector3f held_at = m.cube_position(0) - m.world().ee_position();
+    Eigen::VectorXf hold(4);
+    hold << 0.0f, 0.0f, 0.0f, -1.0f;
+    for (int t = 0; t < 125; ++t) env->step(Action::continuous(hold));  // 125 x 40 ms = 5 s
+    const Eigen::Vector3f slip = (m.cube_position(0) - m.world().ee_position()) - held_at;
+    INFO(substeps << " substeps: slip " << slip.norm() * 1000 << " mm");
+    CHECK(slip.norm() < 0.005f);
   }
-  Eigen::VectorXf up(4);
-  up << 0.0f, 0.0f, 0.5f, -1.0f;
-  for (int t = 0; t < 10; ++t) env->step(Action::continuous(up));
-  const float lifted = m.cube_position(0).z();
-  REQUIRE(lifted > 0.09f);
-  const Eigen::Vector3f held_at = m.cube_position(0) - m.world().ee_position();
-  Eigen::VectorXf hold(4);
-  hold << 0.0f, 0.0f, 0.0f, -1.0f;
-  for (int t = 0; t < 125; ++t) env->step(Action::continuous(hold));  // 125 x 40 ms = 5 s
-  const Eigen::Vector3f slip = (m.cube_position(0) - m.world().ee_position()) - held_at;
-  INFO("slip " << slip.norm() * 1000 << " mm");
-  CHECK(slip.norm() < 0.005f);
 }
 
-// With half the physics steps (5 of 8 ms: the same 40 ms per env step) the drive's gain follows
-// and the expert still grasps. Measured on seeds 1000-1199 (Intel Xeon, 2026-11-29): reach_goal 200,
-// push 197, pick_and_place 198, stack 190 (with the gain of 10 steps kept, stack fell to 169); 6
-// substeps: 200, 198, 200, 195.
+// With 4 physics steps of 10 ms (the same 40 ms per env step) the drive's gain and the solver
+// follow the step and the expert still grasps, on both arms. Measured on seeds 1000-1199 (AMD EPYC
+// Zen 5, 2026-12-02), JAKA / Panda of 200: push 199 / 198, pick_and_place 198 / 200, stack 194 / 196.
 TEST_CASE("substeps: fewer, longer physics steps keep the expert's grasp", "[envs][manipulation][expert]") {
-  EnvConfig c = default_env_config("pick_and_place");
-  c.get<ManipulationOptions>().substeps = 5;
-  c.get<ManipulationOptions>().physics_step = 0.008;
-  const ExpertRun run = run_expert(c, 100);
-  INFO(run.successes << " of " << run.episodes);
-  CHECK(run.successes >= 95);
+  for (const char* name : {"push", "pick_and_place", "stack"}) {
+    EnvConfig jaka = default_env_config(name);
+    use_substeps(jaka, 4);
+    const ExpertRun run = run_expert(jaka, 100);
+    INFO("JAKA " << name << ": " << run.successes << " of " << run.episodes);
+    CHECK(run.successes >= 95);
+    if (pybullet_data().empty()) continue;
+    EnvConfig panda = panda_config(name);
+    use_substeps(panda, 4);
+    const ExpertRun panda_run = run_expert(panda, 100);
+    INFO("Panda " << name << ": " << panda_run.successes << " of " << panda_run.episodes);
+    CHECK(panda_run.successes >= 93);
+  }
+}
+
+TEST_CASE("The solver follows the physics step: 10 iterations up to 4 ms, the fingers' rows solved directly beyond",
+          "[envs][manipulation]") {
+  auto settings = [](int substeps) {
+    EnvConfig c = default_env_config("push");
+    use_substeps(c, substeps);
+    auto env = make_env(c);
+    return dynamic_cast<ManipulationEnv&>(*env).world().world().settings();
+  };
+  const WorldSettings by_default = settings(10), long_steps = settings(4);
+  CHECK(by_default.solver_iterations == 10);
+  CHECK(by_default.solver_residual_threshold == 0.0);
+  CHECK_FALSE(by_default.joint_block_solve);
+  CHECK(long_steps.solver_iterations == 40);
+  CHECK(long_steps.solver_residual_threshold > 0.0);
+  CHECK(long_steps.joint_block_solve);
+  CHECK(long_steps.joint_row_warm_start == 1.0);
+  CHECK(by_default.mass_matrix_responses);
 }
 
 TEST_CASE("Manipulation envs save and load their state exactly", "[envs][manipulation][state]") {

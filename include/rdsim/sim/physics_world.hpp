@@ -32,8 +32,8 @@ struct WorldSettings {
   double friction_erp = 0.2;          // the same for friction anchors
   double linear_slop = 0.0;           // m of penetration left uncorrected
   double warmstarting_factor = 0.85;  // share of last step's impulses each solve starts from
-  // Solve the joint rows (motors, joint limits) on their non-zero entries only. Exact: the same
-  // impulses, bit for bit, as Bullet's dense rows, in a fraction of the time (src/sim/sparse_row_solver.hpp).
+  // Solve the joint rows (motors, joint limits, couplings) on their non-zero entries only. Exact: the
+  // same impulses, bit for bit, as Bullet's dense rows, in a fraction of the time (src/sim/sparse_row_solver.hpp).
   // false = Bullet's own code, kept for the tests that show the two agree.
   bool sparse_joint_rows = true;
   // Each joint row (motor, joint limit) starts the solve from this fraction of the impulse it
@@ -50,10 +50,11 @@ struct WorldSettings {
   // the solver's tolerance of where the iterations converge. Skipped (Bullet's iterations alone)
   // when the rows span several bodies or are linearly dependent.
   bool joint_block_solve = false;
-  // The unit-impulse responses of a robot's joint rows (motors, joint limits) from rdsim's own mass
-  // matrix, M(q)^-1 by composite rigid bodies in double precision once per physics step, instead
-  // of one Bullet articulated-body pass per row (src/sim/joint_rows.hpp). Not bit-exact: Bullet
-  // computes its passes in single precision. Robots with welded joints keep Bullet's passes.
+  // The unit-impulse responses of a robot's joint rows (motors, joint limits, couplings) from rdsim's
+  // own mass matrix, M(q) by composite rigid bodies in double precision factorised once per physics
+  // step (the computed-torque drive's own M(q) where it has one), instead of one Bullet
+  // articulated-body pass per row (src/sim/joint_rows.hpp). Not bit-exact: Bullet computes its
+  // passes in single precision. Robots with welded joints keep Bullet's passes.
   bool mass_matrix_responses = false;
   // Skip Bullet's narrow phase for a box and a convex shape whose broadphase boxes overlap but
   // which are provably farther apart than the contact-breaking threshold, and have no contact

@@ -80,8 +80,8 @@ struct RobotOptions {
   // effort; the ComputedTorque drive, blind to contacts, would press with only the force that moves
   // the free finger. The ComputedTorque drive leaves these dofs alone.
   std::vector<int> motor_dofs{};
-  // Pairs of dofs held at equal positions by a Bullet gear constraint (a gripper's two fingers: the
-  // mimic joint of a real gripper's linkage), so a squeezed object stays centred between them.
+  // Pairs of dofs held at equal positions by a gear constraint (Bullet's law; a gripper's two fingers:
+  // the mimic joint of a real gripper's linkage), so a squeezed object stays centred between them.
   std::vector<std::pair<int, int>> coupled_dofs{};
 };
 
@@ -210,8 +210,9 @@ private:
 
   void update_transforms();
   bool has_motor(int dof) const;  // named by RobotOptions::motor_dofs
-  // M(q)^-1 for the joint rows, before a step (WorldSettings::mass_matrix_responses).
-  void update_responses();
+  // M(q)^-1 for the joint rows, before a step (WorldSettings::mass_matrix_responses), from `mass`
+  // (the drive's M(q), computed this step) or, without it, computed here.
+  void update_responses(const Eigen::MatrixXd* mass);
   // The Bullet objects for the current dofs_ (welded ones as fixed joints), and their removal.
   void build();
   void tear_down();

@@ -87,7 +87,9 @@ void describe(V& v, C& c) {
   v.field("physics_step", c.physics_step, config::Range{1e-4, 0.05}, "s per physics step");
   v.field("substeps", c.substeps, config::Range{1, 1000},
           "physics steps per env step (an env step lasts physics_step x substeps s); the joints' drive closes as "
-          "much of a move per env step with any count (its per-physics-step gain 1 - 0.7^(10 / substeps))");
+          "much of a move per env step with any count (its per-physics-step gain 1 - 0.7^(10 / substeps)), and "
+          "with physics steps over 4 ms the solver solves the fingers' rows directly before up to 40 iterations "
+          "(10 otherwise), which keeps the grasp down to 4 steps of 10 ms");
   v.check(c.area_centre.size() == 2, "area_centre", "expected 2 numbers (x, y)");
   v.check(!c.finger_joints.empty(), "finger_joints", "expected the names of the fingers' joints");
 }
