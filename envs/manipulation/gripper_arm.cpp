@@ -51,7 +51,7 @@ void set_solver(double physics_step, WorldSettings& world) {
   world.joint_row_warm_start = long_step ? 1.0 : 0.0;
   world.joint_block_solve = long_step;
   // The fingers' rows take their responses from the arm drive's own M(q) (one factorisation per
-  // physics step) instead of an articulated-body pass per row: 15 % of a push step at the default
+  // physics step) instead of an articulated-body pass per row: about 10 % of a push step at the default
   // substeps (WorldSettings::mass_matrix_responses).
   world.mass_matrix_responses = true;
 }

@@ -46,20 +46,4 @@ inline void cholesky_solve(const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::Out
   }
 }
 
-// M^-1 (m x m) from the factor cholesky() left: L Y = I, then L^T X = Y, a whole row of the
-// right-hand sides per operation (vectorised across the columns) rather than m solves, each a
-// chain of dependent operations. `x` is row-major so that a row is contiguous.
-using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-inline void cholesky_inverse(const Eigen::Ref<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>& l, int m, RowMajorMatrix& x) {
-  x.setIdentity(m, m);
-  for (int i = 0; i < m; ++i) {
-    for (int k = 0; k < i; ++k) x.row(i) -= l(i, k) * x.row(k);
-    x.row(i) *= l(i, i);
-  }
-  for (int i = m - 1; i >= 0; --i) {
-    for (int k = i + 1; k < m; ++k) x.row(i) -= l(k, i) * x.row(k);
-    x.row(i) *= l(i, i);
-  }
-}
-
 }  // namespace rdsim
