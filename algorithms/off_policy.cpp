@@ -10,6 +10,7 @@
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/demos/demo_file.hpp"
 #include "rdsim/nn/serialize.hpp"
 
 namespace rdsim {
@@ -103,7 +104,9 @@ std::vector<Metrics> OffPolicy::learn_from_demonstrations(const DemoFile& demos,
     return (2.0f * (a.values.array() - low) / (high - low) - 1.0f).cwiseMax(-1.0f).cwiseMin(1.0f).matrix();
   });
   std::vector<Metrics> rows;
+  // A resumed run's checkpoint holds the statistics, the demonstrations' included.
   if (!pretrain) return rows;
+  if (normalizer_.enabled()) observe_demonstrations(demos);
   // Gradient steps on the demonstrations alone (DQfD's and Nair et al.'s first phase).
   const long long per_epoch =
       std::max<long long>(1, (demos_->transitions() + settings_.batch_size - 1) / settings_.batch_size);
@@ -116,6 +119,18 @@ std::vector<Metrics> OffPolicy::learn_from_demonstrations(const DemoFile& demos,
   }
   demos_only_ = false;
   return rows;
+}
+
+void OffPolicy::observe_demonstrations(const DemoFile& demos) {
+  // normalize_observations: the statistics start from every demonstrated observation, so the
+  // pre-training sees standardised inputs; the env's observations join them from the first update.
+  for (const DemoEpisode& e : demos.episodes) {
+    Eigen::MatrixXf obs(observation_size_, static_cast<Eigen::Index>(e.observations.size()));
+    for (std::size_t t = 0; t < e.observations.size(); ++t)
+      encode_observation(e.observations[t], spec_.observation, obs.col(static_cast<Eigen::Index>(t)));
+    normalizer_.observe(obs);
+  }
+  normalizer_.refresh(communicator());
 }
 
 const Eigen::MatrixXf& OffPolicy::actor_input(const Eigen::MatrixXf& observations, Eigen::MatrixXf& scratch) const {

@@ -2,12 +2,14 @@
 #include "rdsim/app/demos.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "rdsim/app/command.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/rng.hpp"
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
@@ -53,6 +55,9 @@ int demos_record_command(const DemosRecordOptions& o) {
     }
   }
   auto env = make_env(env_config);
+  const ActionSpace& space = env->spec().action;
+  if (o.action_noise > 0.0 && space.discrete)
+    throw Error("demos record: --action-noise: expected Box actions (" + env->spec().env_name + " has Discrete ones)");
   const std::unique_ptr<ScriptedExpert> expert = make_expert(*env);
   DemoWriter writer(o.out_path, to_json(env_config), env->spec(), o.append);
   int written = 0, successes = 0;
@@ -65,8 +70,12 @@ int demos_record_command(const DemosRecordOptions& o) {
     episode.env_config = to_json(env_config);
     episode.start(env->reset(seed));
     expert->reset();
+    Rng noise = Rng::derive(seed, rng_stream::recording_noise);
     while (!episode.ended()) {
-      const Action a = expert->act();
+      Action a = expert->act();
+      if (o.action_noise > 0.0)
+        for (Eigen::Index i = 0; i < a.values.size(); ++i)
+          a.values[i] = std::clamp(a.values[i] + static_cast<float>(noise.normal(0.0, o.action_noise)), space.low[i], space.high[i]);
       episode.add(a, env->step(a));
     }
     const bool success = episode.success();
@@ -114,6 +123,10 @@ Command demos_command_entry() {
             record->add_flag("--append", o.append, "Add to an existing file of the same env");
             record->add_flag("--fixed-target", o.fixed_target, "--env: keep the default target (no random_target)");
             record->add_flag("--continuous", o.continuous, "--env: Box(3) actions instead of Discrete(6)");
+            record->add_option("--action-noise", o.action_noise,
+                               "Box actions: std of the Gaussian noise (action units) added to each expert action before it is "
+                               "taken and recorded, so the episodes show the way back to the expert's path (DART)")
+                ->check(CLI::Range(0.0, 10.0))->capture_default_str();
             record->add_flag("--only-successes", o.only_successes, "Write successful episodes only");
             record->add_flag("-q,--quiet", o.quiet, "No line per episode");
             return [l, &cmd] {

@@ -41,9 +41,11 @@ void check_combination(ConfigReader& r, const TrainConfig& c) {
       r.fail("normalize_observations", "only for vector observations (pixels are already scaled to [0, 1])");
     if (c.algorithm.network.input_scale != defaults.input_scale)
       network.fail("input_scale", "has no effect with normalize_observations (the inputs are standardised; remove the key)");
-    if (c.algorithm.demonstrations)
-      r.fail("normalize_observations", "cannot be combined with demonstrations yet (the pre-training would see other "
-                                       "inputs than the training)");
+    // sac, td3 and ddpg start the statistics from the demonstrations (OffPolicy::observe_demonstrations).
+    if (c.algorithm.demonstrations && !takes_her(c.algorithm.name()))
+      r.fail("normalize_observations", "cannot be combined with demonstrations for " + c.algorithm.name() +
+                                           " (its pre-training would see other inputs than its training); sac, td3 "
+                                           "and ddpg take both");
   }
   if (c.env.is_discrete && c.algorithm.network.log_std_init != defaults.log_std_init)
     network.fail("log_std_init", "has no effect with discrete actions (only Box actions have a Gaussian policy)");

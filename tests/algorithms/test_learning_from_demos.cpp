@@ -236,8 +236,9 @@ TEST_CASE("DQN refuses demonstrations without a step", "[demos][dqn]") {
 
 TEST_CASE("SAC and TD3 pre-train on demonstrations, keep a share of every minibatch and clone with a Q-filter",
           "[demos][sac][td3]") {
-  for (const char* name : {"sac", "td3"}) {
-    INFO(name);
+  // normalize_observations too: the statistics start from the demonstrations.
+  for (const auto& [name, normalize] : {std::pair{"sac", false}, {"td3", false}, {"sac", true}}) {
+    INFO(name << (normalize ? " with normalize_observations" : ""));
     const DemoFile f = expert_demos(false, 20);
     AlgorithmConfig c = config_for(default_algorithm_params(name));
     std::visit(
@@ -256,6 +257,7 @@ TEST_CASE("SAC and TD3 pre-train on demonstrations, keep a share of every miniba
     demos.bc_epochs = 150;
     demos.bc_weight = 20.0;
     demos.demo_fraction = 0.25;
+    c.normalize_observations = normalize;
     auto algo = make_algorithm(c, 2, f.spec);
     CHECK(agreement(*algo, false, 700) < 0.5);
     Rng rng(1);

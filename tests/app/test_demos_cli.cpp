@@ -108,6 +108,37 @@ TEST_CASE("the scripted expert's file replays: its actions from its seeds give i
   }
 }
 
+TEST_CASE("demos record --action-noise: the actions taken, noisy, replay to the file's observations; the same twice",
+          "[demos]") {
+  ScratchDir dir("demos_noise");
+  const std::string args = "demos record --expert --env jaka_button --continuous -n 3 -q --seed 7 --out ";
+  REQUIRE(run_rdsim(args + (dir / "clean.demo"), dir).exit_code == 0);
+  REQUIRE(run_rdsim(args + (dir / "a.demo") + " --action-noise 0.2", dir).exit_code == 0);
+  REQUIRE(run_rdsim(args + (dir / "b.demo") + " --action-noise 0.2", dir).exit_code == 0);
+  const rdsim::DemoFile clean = rdsim::read_demo_file(dir / "clean.demo"), noisy = rdsim::read_demo_file(dir / "a.demo");
+  CHECK(noisy.episodes.size() == 3);
+  // Each episode's noise comes from its seed: the same command writes the same episodes.
+  const rdsim::DemoFile again = rdsim::read_demo_file(dir / "b.demo");
+  for (std::size_t k = 0; k < noisy.episodes.size(); ++k) CHECK(noisy.episodes[k].actions.size() == again.episodes[k].actions.size());
+  CHECK(noisy.episodes[0].actions[0].values == again.episodes[0].actions[0].values);
+  // The first action differs from the expert's own, and the file holds what was taken: it replays.
+  CHECK(noisy.episodes[0].actions[0].values != clean.episodes[0].actions[0].values);
+  const rdsim::DemoEpisode& e = noisy.episodes[0];
+  rdsim::ConfigReader reader(e.env_config, dir / "a.demo", "env");
+  auto env = rdsim::make_env(rdsim::read_env_config(reader));
+  REQUIRE(env->reset(*e.seed).values == e.observations[0].values);
+  for (int t = 0; t < e.steps(); ++t) {
+    const auto i = static_cast<std::size_t>(t);
+    CHECK(e.actions[i].values.cwiseAbs().maxCoeff() <= 1.0f);  // clipped to the Box
+    REQUIRE(env->step(e.actions[i]).observation.values == e.observations[i + 1].values);
+  }
+  // Discrete actions take no noise.
+  auto r = run_rdsim("demos record --expert --env jaka_button -n 1 -q --action-noise 0.1 --out " + (dir / "d.demo"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, Contains("demos record: --action-noise: expected Box actions (jaka_button has Discrete ones)"));
+}
+
 TEST_CASE("bad demonstration files and demonstrations of another env are one clear error", "[demos][bad-file]") {
   ScratchDir dir("demos_bad");
   const std::string demos = dir / "button.demo";

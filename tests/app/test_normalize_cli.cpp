@@ -88,7 +88,8 @@ TEST_CASE("normalize_observations: misuse is one clear error naming the config a
       {R"({"env": {"name": "cartpole"}, "normalize_observations": true, "network": {"input_scale": 0.1}})", "network.input_scale"},
       {R"({"env": {"name": "cartpole"}, "normalize_observations": "yes"})", "normalize_observations"},
       {R"({"env": {"name": "cartpole"}, "normalize_observations": true, "demonstrations": {"file": "x.demo"}})",
-       "cannot be combined with demonstrations"},
+       "cannot be combined with demonstrations for ppo (its pre-training would see other inputs than its training); "
+       "sac, td3 and ddpg take both"},
   };
   rltest::check_config_errors(dir, cases);
 }

@@ -124,6 +124,7 @@ protected:
 
 private:
   void collect_step(VecEnv& envs, bool warmup);
+  void observe_demonstrations(const DemoFile& demos);
 
   // scratch, reused so the collection loop does not allocate
   Eigen::MatrixXf obs_, actions_;

@@ -20,6 +20,11 @@ struct DemosRecordOptions {
   bool fixed_target = false;   // --env: keep the env's default target (random_target false)
   bool continuous = false;     // --env: Box(3) actions (is_discrete false)
   bool only_successes = false; // write successful episodes only (trying at most 10x episodes)
+  // Box actions: standard deviation, in action units, of the Gaussian noise added to each of the
+  // expert's actions before it is taken (then clipped to the space). The file holds the actions
+  // taken. The episodes visit states off the expert's own path together with its way back, which a
+  // policy cloned from them needs (DART, Laskey et al. 2017); 0 = the expert's actions as they are.
+  double action_noise = 0.0;
   bool quiet = false;
 };
 // Runs the scripted expert and appends each episode, labelled "scripted", as it ends.

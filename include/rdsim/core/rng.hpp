@@ -91,6 +91,7 @@ inline constexpr std::uint64_t demonstrations = 9;    // demonstration splits, p
 inline constexpr std::uint64_t randomization = 10;    // an env's domain randomization (observation noise)
 inline constexpr std::uint64_t episode_randomization = 11;  // its per-episode draws (masses, cameras, ...)
 inline constexpr std::uint64_t demonstration_starts = 12;   // which training episodes start from a demonstration's state
+inline constexpr std::uint64_t recording_noise = 13;       // `rdsim demos record --action-noise` (per episode seed)
 inline constexpr std::uint64_t env_base = 1000;
 inline constexpr std::uint64_t mpi_rank_base = 1'000'000;  // rank r > 0 of an MPI job: its seed
 }  // namespace rng_stream
