@@ -56,6 +56,9 @@ int demos_record_command(const DemosRecordOptions& o) {
   }
   auto env = make_env(env_config);
   const ActionSpace& space = env->spec().action;
+  // NaN passes CLI11's range check and would record the expert's own actions without a word.
+  if (!(o.action_noise >= 0.0 && o.action_noise <= 10.0))
+    throw Error("demos record: --action-noise: expected a standard deviation from 0 to 10, got " + std::to_string(o.action_noise));
   if (o.action_noise > 0.0 && space.discrete)
     throw Error("demos record: --action-noise: expected Box actions (" + env->spec().env_name + " has Discrete ones)");
   const std::unique_ptr<ScriptedExpert> expert = make_expert(*env);

@@ -137,6 +137,12 @@ TEST_CASE("demos record --action-noise: the actions taken, noisy, replay to the 
   CHECK(r.exit_code == 1);
   CHECK(rltest::lines(r.err).size() == 1);
   CHECK_THAT(r.err, Contains("demos record: --action-noise: expected Box actions (jaka_button has Discrete ones)"));
+  // Nor does a noise that is not a number, and nothing is written.
+  r = run_rdsim("demos record --expert --env push -n 1 -q --action-noise nan --out " + (dir / "n.demo"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, Contains("demos record: --action-noise: expected a standard deviation from 0 to 10, got nan"));
+  CHECK_FALSE(std::filesystem::exists(dir / "n.demo"));
 }
 
 TEST_CASE("bad demonstration files and demonstrations of another env are one clear error", "[demos][bad-file]") {
