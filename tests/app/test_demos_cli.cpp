@@ -108,7 +108,7 @@ TEST_CASE("the scripted expert's file replays: its actions from its seeds give i
   }
 }
 
-TEST_CASE("demos record --action-noise: the actions taken, noisy, replay to the file's observations; the same twice",
+TEST_CASE("demos record --action-noise: the actions taken, noisy, replay to the file's observations, the same twice",
           "[demos]") {
   ScratchDir dir("demos_noise");
   const std::string args = "demos record --expert --env jaka_button --continuous -n 3 -q --seed 7 --out ";
