@@ -111,7 +111,7 @@ private:
   std::unique_ptr<nn::Adam> actor_optimizer_, critic_optimizer_, alpha_optimizer_;
   ReplayBatch batch_;
   // scratch
-  Eigen::MatrixXf input_, critic_in_, mean_, log_std_, noise_;
+  Eigen::MatrixXf input_, next_input_, critic_in_, mean_, log_std_, noise_;
 };
 
 void Sac::policy(const Eigen::MatrixXf& obs, bool deterministic, Rng& rng, Eigen::MatrixXf& actions) {
@@ -131,9 +131,15 @@ void Sac::gradient_step(double* sums) {
   const int b = cfg_.batch_size;
   const float inv_b = 1.0f / static_cast<float>(b);
 
-  // 1. The current policy's reparameterised actions at s (the actor's training pass).
-  Eigen::MatrixXf mean, log_std, noise;
-  const Eigen::MatrixXf out = actor_.forward(actor_input(batch_.observations, input_));
+  // 1. The current policy's reparameterised actions at s (the actor's training pass), and, for
+  //    step 3, its actions at s': the same weights, so both passes run side by side (forward()
+  //    and infer() keep their own buffers).
+  Eigen::MatrixXf mean, log_std, noise, next_mean, next_log_std, next_noise;
+  const Eigen::MatrixXf& obs_in = actor_input(batch_.observations, input_);
+  const Eigen::MatrixXf& next_obs_in = actor_input(batch_.next_observations, next_input_);
+  const Eigen::MatrixXf* outs[2] = {nullptr, nullptr};
+  nn::run_side_by_side(2, [&](int i) { outs[i] = i == 0 ? &actor_.forward(obs_in) : &actor_.infer(next_obs_in); });
+  const Eigen::MatrixXf& out = *outs[0];
   split(out, mean, log_std);
   draw_normal(noise, action_dim_, b, noise_rng_);
   const nn::TanhGaussian pi(mean, log_std, noise);
@@ -149,8 +155,7 @@ void Sac::gradient_step(double* sums) {
   }
 
   // 3. Soft TD targets from the target critics at s', with a' drawn from the current policy.
-  Eigen::MatrixXf next_mean, next_log_std, next_noise;
-  split(actor_.infer(actor_input(batch_.next_observations, input_)), next_mean, next_log_std);
+  split(*outs[1], next_mean, next_log_std);
   draw_normal(next_noise, action_dim_, b, noise_rng_);
   const nn::TanhGaussian next_pi(next_mean, next_log_std, next_noise);
   const Eigen::MatrixXf& next_in = critic_input(batch_.next_observations, next_pi.actions(), critic_in_);
@@ -192,8 +197,8 @@ void Sac::gradient_step(double* sums) {
   const Eigen::RowVectorXf& q1 = q_pi[1];
   Eigen::MatrixXf d_q[2] = {Eigen::MatrixXf::Zero(1, b), Eigen::MatrixXf::Zero(1, b)};
   for (int j = 0; j < b; ++j) (q0[j] <= q1[j] ? d_q[0](0, j) : d_q[1](0, j)) = -inv_b;
-  Eigen::MatrixXf d_in_each[2];  // the critics' grads are zeroed before their next step
-  nn::run_side_by_side(2, [&](int i) { d_in_each[i] = q_[i].backward(d_q[i]); });
+  Eigen::MatrixXf d_in_each[2];  // through the critics, which this loss does not train
+  nn::run_side_by_side(2, [&](int i) { d_in_each[i] = q_[i].input_gradient(d_q[i]); });
   const Eigen::MatrixXf d_in = d_in_each[0] + d_in_each[1];
   const Eigen::VectorXf d_log_prob = Eigen::VectorXf::Constant(b, alpha * inv_b);
   const nn::TanhGaussian::Grad g = pi.backward(d_in.bottomRows(action_dim_), d_log_prob);

@@ -173,7 +173,7 @@ void Td3::gradient_step(double* sums) {
     const Eigen::MatrixXf& pi_in = critic_input(batch_.observations, a, critic_in_);
     const Eigen::RowVectorXf q_policy = q_[0].forward(pi_in).row(0);
     last_actor_loss_ = -q_policy.cast<double>().mean();
-    Eigen::MatrixXf d_in = q_[0].backward(Eigen::MatrixXf::Constant(1, b, -inv_b));  // critic grads are zeroed before their next step
+    Eigen::MatrixXf d_in = q_[0].input_gradient(Eigen::MatrixXf::Constant(1, b, -inv_b));  // Q_1 is not trained by this loss
     // Demonstrated columns: the Q-filtered cloning term pulls the actor's actions towards them.
     sums[3] += clone_demonstrations(demos, a, batch_.action_values, q_stored, q_policy, d_in.bottomRows(action_dim_));
     sums[4] += 1.0;  // actor updates

@@ -92,6 +92,40 @@ TEST_CASE("Mlp backward accumulates and zero_grad clears", "[nn]") {
   CHECK(nn::global_grad_norm(params) == 0.0f);
 }
 
+TEST_CASE("Mlp input_gradient is backward's input gradient and leaves the parameter gradients alone", "[nn]") {
+  Rng rng(5);
+  // 128 x 128 on 256 columns: the layer whose two backward products run side by side.
+  nn::Mlp net({12, {128, 128}, 1, nn::Activation::ReLU}, 1.0f, rng);
+  const MatrixXf x = random_matrix(12, 256, rng), c = random_matrix(1, 256, rng);
+  net.forward(x);
+  net.zero_grad();
+  const MatrixXf through = net.input_gradient(c);
+  CHECK(nn::global_grad_norm(net.params()) == 0.0f);
+  const MatrixXf full = net.backward(c);
+  CHECK(through == full);  // the same products in the same order: the same bits
+  CHECK_THROWS_WITH(net.input_gradient(MatrixXf::Ones(1, 3)), Catch::Contains("does not match"));
+}
+
+TEST_CASE("Mlp backward gives the same bits on one thread and on two", "[nn]") {
+  std::vector<nn::GemmBackend> backends = {nn::GemmBackend::Eigen};
+  if (nn::onednn_available()) backends.push_back(nn::GemmBackend::OneDnn);
+  for (const nn::GemmBackend backend : backends) {
+    std::vector<MatrixXf> results[2];
+    for (int threads : {1, 2}) {
+      const nn::GemmScope scope(backend, threads);
+      Rng rng(8);
+      nn::Mlp net({12, {128, 128}, 3, nn::Activation::Tanh}, 1.0f, rng);
+      const MatrixXf x = random_matrix(12, 256, rng), c = random_matrix(3, 256, rng);
+      net.forward(x);
+      net.zero_grad();
+      results[threads - 1].push_back(net.backward(c));
+      for (const nn::Param& p : net.params()) results[threads - 1].push_back(*p.grad);
+    }
+    REQUIRE(results[0].size() == results[1].size());
+    for (size_t i = 0; i < results[0].size(); ++i) CHECK(results[0][i] == results[1][i]);
+  }
+}
+
 TEST_CASE("Mlp infer and evaluate agree with forward and keep the training cache", "[nn]") {
   Rng rng(11);
   nn::Mlp net({4, {16, 16}, 2, nn::Activation::ReLU}, 0.01f, rng);

@@ -1,7 +1,9 @@
 #include <catch2/catch.hpp>
 #include <sstream>
 
+#include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/nn/serialize.hpp"
 #include "rdsim/nn/nn.hpp"
 
 using namespace rdsim;
@@ -46,6 +48,38 @@ TEST_CASE("Adam's first step moves every coordinate by lr (bias correction)", "[
   adam.step();
   CHECK(x.value(0) == Approx(-0.1f).epsilon(1e-4));
   CHECK(x.value(1) == Approx(0.1f).epsilon(1e-3));
+}
+
+TEST_CASE("Adam: a moment that decays below the normal floats is flushed, in its own pass only", "[nn]") {
+  // One step with a gradient, then a thousand without: beta1^1000 takes the first moment far
+  // below the smallest normal float, where it must read as zero (and the weight stay put), while
+  // this thread's own float arithmetic keeps its subnormals afterwards.
+  nn::Tensor x(20, 1);  // 16 floats on the vector path and 4 on the scalar tail
+  x.value.setConstant(0.5f);
+  nn::Adam adam({nn::param_of(x, "x")}, {.lr = 0.01f});
+  x.grad.setConstant(1.0f);
+  adam.step();
+  const MatrixXf after_first = x.value;
+  x.grad.setZero();
+  MatrixXf at_500;
+  for (int i = 1; i <= 1000; ++i) {
+    adam.step();
+    if (i == 500) at_500 = x.value;
+  }
+  // m = 0.1 * 0.9^t: normal until t ~ 820, so the weight still moves up to there, then stops.
+  CHECK((at_500.array() < after_first.array()).all());
+  // The saved first moment (tag, count, steps, lr, then m and v of each tensor) is exactly zero.
+  std::stringstream state;
+  adam.save_state(state);
+  read_u32(state, "state");
+  read_u32(state, "state");
+  CHECK(read_u64(state, "state") == 1001);
+  read_f32(state, "state");
+  MatrixXf m;
+  nn::read_matrix(state, m, 20, 1, "state", "m");
+  CHECK(m.isZero(0.0f));
+  volatile float tiny = 1e-38f;
+  CHECK(tiny * 0.5f > 0.0f);  // MXCSR restored: subnormal results outside the pass
 }
 
 TEST_CASE("RMSprop minimises a quadratic in both epsilon placements", "[nn]") {

@@ -22,6 +22,8 @@
 #                          evaluation of 50 episodes every 50k steps (eval.csv: the training
 #                          window counts the episodes that start part-way)
 #   stack_normalized       stack_starts with normalize_observations in place of network.input_scale
+#   stack_demo_half        stack_normalized with demo_fraction 0.5 (half of every batch demonstrated)
+#   stack_starts_most      stack_normalized with start_fraction 0.8
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -148,12 +150,21 @@ for task in "${tasks[@]}"; do
       edited_config configs/jaka_stack_demos.json "c['demonstrations'].update(file='$out/stack.demo', start_fraction=0.5); c['eval'] = {'every': 100000, 'episodes': 50}; del c['network']['input_scale']; c['normalize_observations'] = True" \
         "$out/stack_normalized.json"
       learn stack_normalized "$out/stack_normalized.json" 0.6 ;;
+    stack_demo_half|stack_starts_most)
+      # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), or with
+      # four in five episodes started from the demonstrations' states.
+      record_demos stack
+      edit="c['demonstrations'].update(file='$out/stack.demo', start_fraction=0.5); c['eval'] = {'every': 100000, 'episodes': 50}; del c['network']['input_scale']; c['normalize_observations'] = True"
+      if [ "$task" = stack_demo_half ]; then edit="$edit; c['demonstrations']['demo_fraction'] = 0.5"
+      else edit="$edit; c['demonstrations']['start_fraction'] = 0.8"; fi
+      edited_config configs/jaka_stack_demos.json "$edit" "$out/$task.json"
+      learn "$task" "$out/$task.json" 0.6 ;;
     stack_her)
       edited_config configs/jaka_stack_demos.json "del c['demonstrations']" "$out/stack_her.json"
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
     compare_alone) compare_alone ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized compare compare_alone)" >&2
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most compare compare_alone)" >&2
        exit 2 ;;
   esac
 done

@@ -13,8 +13,9 @@
 # ep_rew_mean). Other settings: SEEDS (default "1 2 3"), OUT (run folders, default a new /tmp
 # folder), RDSIM_BIN (default build/rdsim), EVAL_EPISODES (default 100, 0 = no evaluation),
 # JOBS (runs at a time, default 1; more makes the wall-clock column meaningless),
-# TIMESTEPS (overrides the config's total_timesteps), RESUME=1 (keep a seed whose summary row
-# $OUT/seed<k>.row an earlier run of the same config left, instead of training it again).
+# TIMESTEPS (overrides the config's total_timesteps), THREADS (train's --threads), RESUME=1 (keep
+# a seed whose summary row $OUT/seed<k>.row an earlier run of the same config left, instead of
+# training it again).
 #
 #   SEEDS="$(seq -s' ' 1 10)" METRIC=return BUDGET=100000 tools/bench/learning.sh configs/cartpole_ppo.json 475
 set -euo pipefail
@@ -58,6 +59,7 @@ run_seed() {
     return 0
   fi
   [ -n "${TIMESTEPS:-}" ] && extra=(--timesteps "$TIMESTEPS")
+  [ -n "${THREADS:-}" ] && extra+=(--threads "$THREADS")
   start=$(date +%s%N)
   if ! "$bin" train --quiet --overwrite --config "$config" --seed "$seed" --log-dir "$dir" "${extra[@]}" >"$out/seed$seed.log" 2>&1; then
     echo "seed $seed: training failed (see $out/seed$seed.log)"

@@ -47,6 +47,11 @@ public:
   const Eigen::MatrixXf& infer(const Eigen::MatrixXf& x) override;
   Eigen::MatrixXf evaluate(const Eigen::MatrixXf& x) const override;
   ParamList params() override;
+
+  // dLoss/dInput (input_size x batch) of the LAST forward() batch, the parameter gradients left
+  // untouched: an actor's loss back through a critic that this loss does not train (SAC's and
+  // TD3's actor steps), with half the products of backward().
+  Eigen::MatrixXf input_gradient(const Eigen::MatrixXf& grad_output) const;
   int input_size() const override { return shape_.input_size; }
   int output_size() const override { return shape_.output_size; }
   std::unique_ptr<Network> clone() const override { return std::make_unique<Mlp>(*this); }
@@ -62,6 +67,7 @@ public:
 
 private:
   void run(const Eigen::MatrixXf& x, std::vector<Eigen::MatrixXf>& acts) const;
+  void check_backward(const Eigen::MatrixXf& grad_output) const;
 
   MlpShape shape_;
   std::vector<Dense> layers_;
