@@ -52,7 +52,7 @@ TEST_CASE("Adam's first step moves every coordinate by lr (bias correction)", "[
 
 TEST_CASE("Adam: a moment that decays below the normal floats is flushed, in its own pass only", "[nn]") {
   // One step with a gradient, then a thousand without: beta1^1000 takes the first moment far
-  // below the smallest normal float, where it must read as zero (and the weight stay put), while
+  // below the smallest normal float, where it must be flushed to zero, while
   // this thread's own float arithmetic keeps its subnormals afterwards.
   nn::Tensor x(20, 1);  // 16 floats on the vector path and 4 on the scalar tail
   x.value.setConstant(0.5f);

@@ -24,6 +24,7 @@
 #   stack_normalized       stack_starts with normalize_observations in place of network.input_scale
 #   stack_demo_half        stack_normalized with demo_fraction 0.5 (half of every batch demonstrated)
 #   stack_starts_most      stack_normalized with start_fraction 0.8
+#   stack_half_most        stack_normalized with both (demo_fraction 0.5, start_fraction 0.8)
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -31,7 +32,8 @@
 #   compare_alone          the same pair one after the other, each with the whole machine: rdsim
 #                          with RDSIM_GEMM=onednn on every core, SB3 with torch on every core.
 # Settings: OUT (default a new /tmp folder), SEEDS, JOBS, TIMESTEPS, RDSIM_BIN (as learning.sh),
-# SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps).
+# SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps), EDIT (stack_normalized:
+# a further Python edit of the config c, e.g. "c['demonstrations']['start_fraction'] = 0.95").
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
@@ -124,6 +126,9 @@ compare_alone() {
   done
 }
 
+# stack_normalized's edit of configs/jaka_stack_demos.json (the demonstrations recorded into $out).
+normalized="c['demonstrations'].update(file='$out/stack.demo', start_fraction=0.5); c['eval'] = {'every': 100000, 'episodes': 50}; del c['network']['input_scale']; c['normalize_observations'] = True"
+
 for task in "${tasks[@]}"; do
   case "$task" in
     push) learn push configs/jaka_push.json 0.9 ;;
@@ -147,16 +152,18 @@ for task in "${tasks[@]}"; do
       learn stack_starts "$out/stack_starts.json" 0.6 ;;
     stack_normalized)
       record_demos stack
-      edited_config configs/jaka_stack_demos.json "c['demonstrations'].update(file='$out/stack.demo', start_fraction=0.5); c['eval'] = {'every': 100000, 'episodes': 50}; del c['network']['input_scale']; c['normalize_observations'] = True" \
-        "$out/stack_normalized.json"
+      edited_config configs/jaka_stack_demos.json "$normalized${EDIT:+; $EDIT}" "$out/stack_normalized.json"
       learn stack_normalized "$out/stack_normalized.json" 0.6 ;;
-    stack_demo_half|stack_starts_most)
-      # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), or with
-      # four in five episodes started from the demonstrations' states.
+    stack_demo_half|stack_starts_most|stack_half_most)
+      # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), with
+      # four in five episodes started from the demonstrations' states, or with both.
       record_demos stack
-      edit="c['demonstrations'].update(file='$out/stack.demo', start_fraction=0.5); c['eval'] = {'every': 100000, 'episodes': 50}; del c['network']['input_scale']; c['normalize_observations'] = True"
-      if [ "$task" = stack_demo_half ]; then edit="$edit; c['demonstrations']['demo_fraction'] = 0.5"
-      else edit="$edit; c['demonstrations']['start_fraction'] = 0.8"; fi
+      half="c['demonstrations']['demo_fraction'] = 0.5" most="c['demonstrations']['start_fraction'] = 0.8"
+      case "$task" in
+        stack_demo_half) edit="$normalized; $half" ;;
+        stack_starts_most) edit="$normalized; $most" ;;
+        *) edit="$normalized; $half; $most" ;;
+      esac
       edited_config configs/jaka_stack_demos.json "$edit" "$out/$task.json"
       learn "$task" "$out/$task.json" 0.6 ;;
     stack_her)
@@ -164,7 +171,7 @@ for task in "${tasks[@]}"; do
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
     compare_alone) compare_alone ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most compare compare_alone)" >&2
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most compare compare_alone)" >&2
        exit 2 ;;
   esac
 done
