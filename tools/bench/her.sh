@@ -25,6 +25,9 @@
 #   stack_demo_half        stack_normalized with demo_fraction 0.5 (half of every batch demonstrated)
 #   stack_starts_most      stack_normalized with start_fraction 0.8
 #   stack_half_most        stack_normalized with both (demo_fraction 0.5, start_fraction 0.8)
+#   stack_partial          stack_half_most with the partial reward (env.reward_type "partial": -0.5
+#                          while one cube is on its goal), its demonstrations recorded with it
+#                          (into $OUT/stack_partial.demo)
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -32,8 +35,9 @@
 #   compare_alone          the same pair one after the other, each with the whole machine: rdsim
 #                          with RDSIM_GEMM=onednn on every core, SB3 with torch on every core.
 # Settings: OUT (default a new /tmp folder), SEEDS, JOBS, TIMESTEPS, RDSIM_BIN (as learning.sh),
-# SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps), EDIT (stack_normalized:
-# a further Python edit of the config c, e.g. "c['demonstrations']['start_fraction'] = 0.95").
+# SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps), EDIT (stack_normalized
+# and the variants after it: a further Python edit of the config c, e.g.
+# "c['demonstrations']['start_fraction'] = 0.95" or "c['sac']['gamma'] = 0.98").
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 cd "$root"
@@ -154,24 +158,32 @@ for task in "${tasks[@]}"; do
       record_demos stack
       edited_config configs/jaka_stack_demos.json "$normalized${EDIT:+; $EDIT}" "$out/stack_normalized.json"
       learn stack_normalized "$out/stack_normalized.json" 0.6 ;;
-    stack_demo_half|stack_starts_most|stack_half_most)
+    stack_demo_half|stack_starts_most|stack_half_most|stack_partial)
       # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), with
-      # four in five episodes started from the demonstrations' states, or with both.
-      record_demos stack
+      # four in five episodes started from the demonstrations' states, or with both (and the
+      # partial reward).
       half="c['demonstrations']['demo_fraction'] = 0.5" most="c['demonstrations']['start_fraction'] = 0.8"
       case "$task" in
         stack_demo_half) edit="$normalized; $half" ;;
         stack_starts_most) edit="$normalized; $most" ;;
-        *) edit="$normalized; $half; $most" ;;
+        stack_half_most) edit="$normalized; $half; $most" ;;
+        *) edit="$normalized; $half; $most; c['env']['reward_type'] = 'partial'; c['demonstrations']['file'] = '$out/stack_partial.demo'" ;;
       esac
-      edited_config configs/jaka_stack_demos.json "$edit" "$out/$task.json"
+      edited_config configs/jaka_stack_demos.json "$edit${EDIT:+; $EDIT}" "$out/$task.json"
+      # The demonstrations' rewards are the config's env's (the partial reward's own for stack_partial).
+      if [ "$task" = stack_partial ]; then
+        [ -f "$out/stack_partial.demo" ] ||
+          "$bin" demos record --quiet --expert --config "$out/$task.json" -n 50 --out "$out/stack_partial.demo"
+      else
+        record_demos stack
+      fi
       learn "$task" "$out/$task.json" 0.6 ;;
     stack_her)
       edited_config configs/jaka_stack_demos.json "del c['demonstrations']" "$out/stack_her.json"
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
     compare_alone) compare_alone ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most compare compare_alone)" >&2
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial compare compare_alone)" >&2
        exit 2 ;;
   esac
 done
