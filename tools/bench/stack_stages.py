@@ -43,6 +43,8 @@ def main() -> None:
     p.add_argument("model")
     p.add_argument("--episodes", type=int, default=50)
     args = p.parse_args()
+    if args.episodes < 1:
+        p.error("--episodes: expected 1 or more")
     model = rdsim.load_model(args.model)
     env = rdsim.make("stack")
     reached_n = at_end_1 = at_end_2 = wins = 0
