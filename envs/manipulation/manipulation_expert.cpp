@@ -38,8 +38,18 @@ ManipulationExpert::ManipulationExpert(Env& env) : env_([&env]() -> Manipulation
 
 void ManipulationExpert::reset() {
   stage_ = 0;
+  missing_ = false;
   last_opening_ = env_.finger_opening();
   aim_ = env_.world().ee_position();
+}
+
+bool ManipulationExpert::grasps() const { return env_.cubes() > 0 && env_.task().name != std::string("push"); }
+
+void ManipulationExpert::miss_first_grasp(const Eigen::Vector2f& offset) {
+  if (!grasps())
+    throw Error(env_.spec().env_name + ": only a task that grasps a cube (pick_and_place, stack) has a grasp to miss");
+  missing_ = true;
+  miss_ = offset;
 }
 
 Action ManipulationExpert::action(const Eigen::Vector3f& aim, float opening, float largest) {
@@ -92,9 +102,17 @@ Action ManipulationExpert::plan() {
 
 Action ManipulationExpert::carry(int k, const Eigen::Vector3f& goal) {
   const Eigen::Vector3f ee = env_.world().ee_position();
-  const Eigen::Vector3f cube = env_.cube_position(k);
+  Eigen::Vector3f cube = env_.cube_position(k);
   const float low = env_.world().spec().workspace.min().z();
-  const bool around = xy_distance(cube, ee) < 0.02f && std::abs(cube.z() - ee.z()) < 0.025f;
+  if (missing_) {
+    // The grasp to miss is over once the fingers have closed past the cube's width, down beside it.
+    if (env_.finger_opening() < kCube - 0.005f && ee.z() < std::max(cube.z(), low) + 0.01f &&
+        last_opening_ - env_.finger_opening() < kStopped)
+      missing_ = false;
+    else
+      cube.head<2>() += miss_;  // aim at the point beside the cube as if the cube were there
+  }
+  const bool around = !missing_ && xy_distance(cube, ee) < 0.02f && std::abs(cube.z() - ee.z()) < 0.025f;
   const float opening = env_.finger_opening();
   if (around && opening < kHeld && last_opening_ - opening < kStopped) {
     // Held: move the effector by what the cube still has to go, travelling high when it is far.

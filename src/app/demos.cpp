@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include "rdsim/demos/demo_file.hpp"
 #include "rdsim/demos/demo_summary.hpp"
 #include "rdsim/demos/demo_writer.hpp"
+#include "rdsim/envs/manipulation/manipulation_expert.hpp"
 #include "rdsim/envs/scripted_expert.hpp"
 #include "rdsim/envs/reaching/reach_options.hpp"
 #include "rdsim/envs/registry.hpp"
@@ -61,7 +63,13 @@ int demos_record_command(const DemosRecordOptions& o) {
     throw Error("demos record: --action-noise: expected a standard deviation from 0 to 10, got " + std::to_string(o.action_noise));
   if (o.action_noise > 0.0 && space.discrete)
     throw Error("demos record: --action-noise: expected Box actions (" + env->spec().env_name + " has Discrete ones)");
+  if (!(o.missed_grasps >= 0.0 && o.missed_grasps <= 1.0))
+    throw Error("demos record: --missed-grasps: expected a share of the episodes from 0 to 1, got " + std::to_string(o.missed_grasps));
   const std::unique_ptr<ScriptedExpert> expert = make_expert(*env);
+  auto* manipulation = dynamic_cast<ManipulationExpert*>(expert.get());
+  if (o.missed_grasps > 0.0 && !(manipulation && manipulation->grasps()))
+    throw Error("demos record: --missed-grasps: expected a task that grasps a cube (pick_and_place, stack), got " +
+                env->spec().env_name);
   DemoWriter writer(o.out_path, to_json(env_config), env->spec(), o.append);
   int written = 0, successes = 0;
   const long long max_attempts = o.only_successes ? 10LL * o.episodes : o.episodes;
@@ -73,6 +81,15 @@ int demos_record_command(const DemosRecordOptions& o) {
     episode.env_config = to_json(env_config);
     episode.start(env->reset(seed));
     expert->reset();
+    if (o.missed_grasps > 0.0) {
+      Rng draws = Rng::derive(seed, rng_stream::missed_grasps);
+      const bool miss = draws.uniform() < o.missed_grasps;
+      // Beside the cube along x, across the fingers (which open along y): open fingers that came
+      // down beside it along y would land on it.
+      const double side = draws.uniform() < 0.5 ? -1.0 : 1.0;
+      const double along = side * draws.uniform(0.045, 0.06), across = draws.uniform(-0.01, 0.01);  // m
+      if (miss) manipulation->miss_first_grasp(Eigen::Vector2f(static_cast<float>(along), static_cast<float>(across)));
+    }
     Rng noise = Rng::derive(seed, rng_stream::recording_noise);
     while (!episode.ended()) {
       Action a = expert->act();
@@ -130,6 +147,10 @@ Command demos_command_entry() {
                                "Box actions: std of the Gaussian noise (action units) added to each expert action before it is "
                                "taken and recorded, so the episodes show the way back to the expert's path (DART)")
                 ->check(CLI::Range(0.0, 10.0))->capture_default_str();
+            record->add_option("--missed-grasps", o.missed_grasps,
+                               "pick_and_place, stack: the share of episodes whose first grasp closes on nothing 4.5-6 cm "
+                               "beside the first cube before the expert grasps it (episodes that show the way back)")
+                ->check(CLI::Range(0.0, 1.0))->capture_default_str();
             record->add_flag("--only-successes", o.only_successes, "Write successful episodes only");
             record->add_flag("-q,--quiet", o.quiet, "No line per episode");
             return [l, &cmd] {

@@ -145,6 +145,38 @@ TEST_CASE("demos record --action-noise: the actions taken, noisy, replay to the 
   CHECK_FALSE(std::filesystem::exists(dir / "n.demo"));
 }
 
+TEST_CASE("demos record --missed-grasps: longer episodes that still succeed and replay; one clear error where nothing is grasped",
+          "[demos]") {
+  ScratchDir dir("demos_missed");
+  const std::string args = "demos record --expert --env pick_and_place -n 3 -q --seed 5 --out ";
+  REQUIRE(run_rdsim(args + (dir / "clean.demo"), dir).exit_code == 0);
+  REQUIRE(run_rdsim(args + (dir / "missed.demo") + " --missed-grasps 1", dir).exit_code == 0);
+  const rdsim::DemoFile clean = rdsim::read_demo_file(dir / "clean.demo"), missed = rdsim::read_demo_file(dir / "missed.demo");
+  REQUIRE(missed.episodes.size() == 3);
+  for (std::size_t k = 0; k < missed.episodes.size(); ++k) {
+    INFO("episode " << k);
+    CHECK(missed.episodes[k].success());
+    // Down beside the cube, shut, up and over again: longer than the expert's own episode.
+    CHECK(missed.episodes[k].steps() > clean.episodes[k].steps() + 5);
+  }
+  const rdsim::DemoEpisode& e = missed.episodes[0];
+  rdsim::ConfigReader reader(e.env_config, dir / "missed.demo", "env");
+  auto env = rdsim::make_env(rdsim::read_env_config(reader));
+  REQUIRE(env->reset(*e.seed).values == e.observations[0].values);
+  for (int t = 0; t < e.steps(); ++t)
+    REQUIRE(env->step(e.actions[static_cast<std::size_t>(t)]).observation.values == e.observations[static_cast<std::size_t>(t) + 1].values);
+
+  auto r = run_rdsim("demos record --expert --env push -n 1 -q --missed-grasps 0.5 --out " + (dir / "p.demo"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, Contains("demos record: --missed-grasps: expected a task that grasps a cube (pick_and_place, stack), got push"));
+  CHECK_FALSE(std::filesystem::exists(dir / "p.demo"));
+  r = run_rdsim("demos record --expert --env stack -n 1 -q --missed-grasps nan --out " + (dir / "n.demo"), dir);
+  CHECK(r.exit_code == 1);
+  CHECK(rltest::lines(r.err).size() == 1);
+  CHECK_THAT(r.err, Contains("demos record: --missed-grasps: expected a share of the episodes from 0 to 1, got nan"));
+}
+
 TEST_CASE("bad demonstration files and demonstrations of another env are one clear error", "[demos][bad-file]") {
   ScratchDir dir("demos_bad");
   const std::string demos = dir / "button.demo";

@@ -25,6 +25,12 @@ struct DemosRecordOptions {
   // taken. The episodes visit states off the expert's own path together with its way back, which a
   // policy cloned from them needs (DART, Laskey et al. 2017); 0 = the expert's actions as they are.
   double action_noise = 0.0;
+  // pick_and_place, stack: the share of episodes (drawn from each episode's seed) whose first grasp
+  // goes down 4.5-6 cm beside the first cube along x (across the fingers), on a side drawn the
+  // same way, and closes on
+  // nothing before the expert goes back up and grasps it (ManipulationExpert::miss_first_grasp):
+  // episodes that show the way back from a missed grasp. 0 = none.
+  double missed_grasps = 0.0;
   bool quiet = false;
 };
 // Runs the scripted expert and appends each episode, labelled "scripted", as it ends.

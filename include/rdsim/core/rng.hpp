@@ -92,6 +92,7 @@ inline constexpr std::uint64_t randomization = 10;    // an env's domain randomi
 inline constexpr std::uint64_t episode_randomization = 11;  // its per-episode draws (masses, cameras, ...)
 inline constexpr std::uint64_t demonstration_starts = 12;   // which training episodes start from a demonstration's state
 inline constexpr std::uint64_t recording_noise = 13;       // `rdsim demos record --action-noise` (per episode seed)
+inline constexpr std::uint64_t missed_grasps = 14;         // `rdsim demos record --missed-grasps` (per episode seed)
 inline constexpr std::uint64_t env_base = 1000;
 inline constexpr std::uint64_t mpi_rank_base = 1'000'000;  // rank r > 0 of an MPI job: its seed
 }  // namespace rng_stream

@@ -31,6 +31,13 @@ public:
 
   Eigen::Vector3f aim() const { return aim_; }  // where the effector is heading (world frame)
 
+  // This episode's first grasp (call after reset(); pick_and_place and stack) goes down `offset`
+  // (m, world x and y) beside the first cube and closes the fingers there on nothing; then the
+  // expert goes on as usual: up, over the cube and down again. The episode shows the way back from
+  // a missed grasp. rdsim::Error for a task without a grasp.
+  void miss_first_grasp(const Eigen::Vector2f& offset);
+  bool grasps() const;  // the task grasps a cube (pick_and_place, stack)
+
 private:
   Action plan();  // act() without the bookkeeping
   Action push();
@@ -43,6 +50,8 @@ private:
   int stage_ = 0;  // stack: 0 first cube, 1 release and rise, 2 second cube
   float last_opening_ = 0.0f;  // m, the fingers' opening at the last act()
   Eigen::Vector3f aim_ = Eigen::Vector3f::Zero();
+  bool missing_ = false;  // the first grasp still to be missed, miss_ beside the first cube
+  Eigen::Vector2f miss_ = Eigen::Vector2f::Zero();
 };
 
 }  // namespace rdsim
