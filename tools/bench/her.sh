@@ -28,6 +28,9 @@
 #   stack_partial          stack_half_most with the partial reward (env.reward_type "partial": -0.5
 #                          while one cube is on its goal), its demonstrations recorded with it
 #                          (into $OUT/stack_partial.demo)
+#   stack_missed           stack_half_most with demonstrations of which half start with a missed
+#                          grasp (demos record --missed-grasps 0.5 --only-successes, into
+#                          $OUT/stack_missed.demo)
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -158,7 +161,7 @@ for task in "${tasks[@]}"; do
       record_demos stack
       edited_config configs/jaka_stack_demos.json "$normalized${EDIT:+; $EDIT}" "$out/stack_normalized.json"
       learn stack_normalized "$out/stack_normalized.json" 0.6 ;;
-    stack_demo_half|stack_starts_most|stack_half_most|stack_partial)
+    stack_demo_half|stack_starts_most|stack_half_most|stack_partial|stack_missed)
       # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), with
       # four in five episodes started from the demonstrations' states, or with both (and the
       # partial reward).
@@ -167,6 +170,7 @@ for task in "${tasks[@]}"; do
         stack_demo_half) edit="$normalized; $half" ;;
         stack_starts_most) edit="$normalized; $most" ;;
         stack_half_most) edit="$normalized; $half; $most" ;;
+        stack_missed) edit="$normalized; $half; $most; c['demonstrations']['file'] = '$out/stack_missed.demo'" ;;
         *) edit="$normalized; $half; $most; c['env']['reward_type'] = 'partial'; c['demonstrations']['file'] = '$out/stack_partial.demo'" ;;
       esac
       edited_config configs/jaka_stack_demos.json "$edit${EDIT:+; $EDIT}" "$out/$task.json"
@@ -174,6 +178,9 @@ for task in "${tasks[@]}"; do
       if [ "$task" = stack_partial ]; then
         [ -f "$out/stack_partial.demo" ] ||
           "$bin" demos record --quiet --expert --config "$out/$task.json" -n 50 --out "$out/stack_partial.demo"
+      elif [ "$task" = stack_missed ]; then
+        [ -f "$out/stack_missed.demo" ] ||
+          "$bin" demos record --quiet --expert --env stack -n 50 --missed-grasps 0.5 --only-successes --out "$out/stack_missed.demo"
       else
         record_demos stack
       fi
@@ -183,7 +190,7 @@ for task in "${tasks[@]}"; do
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
     compare_alone) compare_alone ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial compare compare_alone)" >&2
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial stack_missed compare compare_alone)" >&2
        exit 2 ;;
   esac
 done
