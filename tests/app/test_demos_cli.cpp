@@ -145,7 +145,7 @@ TEST_CASE("demos record --action-noise: the actions taken, noisy, replay to the 
   CHECK_FALSE(std::filesystem::exists(dir / "n.demo"));
 }
 
-TEST_CASE("demos record --missed-grasps: longer episodes that still succeed and replay; one clear error where nothing is grasped",
+TEST_CASE("demos record --missed-grasps: longer episodes that still succeed and replay, one clear error where nothing is grasped",
           "[demos]") {
   ScratchDir dir("demos_missed");
   const std::string args = "demos record --expert --env pick_and_place -n 3 -q --seed 5 --out ";
