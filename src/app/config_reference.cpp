@@ -101,7 +101,7 @@ std::string config_reference() {
       "errors naming the file and the key. The resolved config (every value filled in) is written to\n"
       "`<log_dir>/config.json` and embedded in `model.bin`.\n\n"
       "**Paths**: a path written in a config file (`env.urdf`, `env.package_paths`, `env.server_key`,\n"
-      "`env.client_key`, `demonstrations.file`, `log_dir`) is relative to that file's folder, a path on the\n"
+      "`env.client_key`, `demonstrations.file`, `demonstrations.start_file`, `log_dir`) is relative to that file's folder, a path on the\n"
       "command line (`--log-dir`) or in Python code to the current folder; `config.json` records them\n"
       "absolute, so `--resume` and `replay` find them from anywhere. Without `log_dir` a run goes to\n"
       "`runs/<config file name>` in the current folder.\n\n"
@@ -137,7 +137,7 @@ std::string config_reference() {
          "Absent by default. `file` (a `.demo` file of the config's env) is required; a key the algorithm\n"
          "does not use is an error: `fit_critic`, `bc_weight` and `bc_weight_decay` are for ppo and a2c,\n"
          "`demo_fraction`, `large_margin`, `margin` and `margin_weight` for dqn; sac, td3 and ddpg read `file`,\n"
-         "`bc_epochs`, `demo_fraction` and `bc_weight`; `start_fraction` is for every algorithm but bc\n"
+         "`bc_epochs`, `demo_fraction` and `bc_weight`; `start_fraction` and `start_file` are for every algorithm but bc\n"
          "(`include/rdsim/algorithms/demonstrations.hpp` says what each algorithm does with them).\n\n" +
          table(config::document_fields(DemonstrationsConfig{}));
   doc += "\n## `her`\n\n"

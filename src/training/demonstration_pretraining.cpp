@@ -22,6 +22,16 @@ DemoFile read_demonstrations(const TrainConfig& config) {
   }
 }
 
+std::shared_ptr<const DemoFile> starting_demonstrations(const TrainConfig& config, std::shared_ptr<const DemoFile> demos) {
+  const auto& dc = config.algorithm.demonstrations;
+  if (!dc || dc->start_file.empty()) return demos;
+  try {
+    return std::make_shared<const DemoFile>(read_demo_file(dc->start_file));
+  } catch (const Error& e) {
+    throw Error(config.source + ": demonstrations.start_file: " + e.what());
+  }
+}
+
 void learn_from_demonstrations(const TrainConfig& config, const DemoFile& demos, Algorithm& algo, const Spec& spec,
                                bool resume, const std::filesystem::path& dir, bool quiet) {
   const DemonstrationsConfig& dc = *config.algorithm.demonstrations;

@@ -1,5 +1,6 @@
 #pragma once
 #include <filesystem>
+#include <memory>
 
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/demos/demo_file.hpp"
@@ -9,6 +10,11 @@ namespace rdsim {
 
 // The file of the config's "demonstrations", read (errors name the config and its key).
 DemoFile read_demonstrations(const TrainConfig& config);
+
+// The demonstrations whose states start training episodes (start_fraction): `demos` (the
+// config's file, read by read_demonstrations), or demonstrations.start_file read when the config
+// names one (errors name that key).
+std::shared_ptr<const DemoFile> starting_demonstrations(const TrainConfig& config, std::shared_ptr<const DemoFile> demos);
 
 // The demonstrations checked against the env, then handed to the algorithm (pre-training on a
 // fresh run; `dir`/pretrain.csv gets one row per epoch; `dir` is empty on MPI ranks other than 0,

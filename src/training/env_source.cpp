@@ -1,6 +1,9 @@
 #include "rdsim/training/env_source.hpp"
 
+#include <string>
+
 #include "rdsim/core/assert.hpp"
+#include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
@@ -20,10 +23,14 @@ std::vector<std::unique_ptr<Env>> open_envs(TrainConfig& config, const std::shar
   const auto& dc = config.algorithm.demonstrations;
   if (!dc || dc->start_fraction <= 0.0) return envs;
   RDSIM_ASSERT(demos != nullptr, "the demonstrations are read before the envs that start from them");
-  check_demos_fit(*demos, to_json(config.env), envs.front()->spec());  // before any replay
-  for (auto& env : envs)
-    env = start_from_demonstrations(std::move(env), demos, dc->start_fraction,
-                                    config.source + ": demonstrations.start_fraction");
+  const bool own_file = !dc->start_file.empty();
+  try {
+    check_demos_fit(*demos, to_json(config.env), envs.front()->spec());  // before any replay
+  } catch (const Error& e) {
+    throw Error(config.source + (own_file ? ": demonstrations.start_file: " : ": demonstrations.file: ") + e.what());
+  }
+  const std::string where = config.source + (own_file ? ": demonstrations.start_file" : ": demonstrations.start_fraction");
+  for (auto& env : envs) env = start_from_demonstrations(std::move(env), demos, dc->start_fraction, where);
   return envs;
 }
 

@@ -134,8 +134,11 @@ void resolve_file_paths(TrainConfig& c, const nlohmann::json& file, const std::s
   const nlohmann::json& env = file.contains("env") ? file["env"] : nlohmann::json();
   if (!written(env, "server_key").empty()) c.remote.server_key = path_from(folder, written(env, "server_key"));
   if (!written(env, "client_key").empty()) c.remote.client_key = path_from(folder, written(env, "client_key"));
-  if (c.algorithm.demonstrations && file.contains("demonstrations"))
+  if (c.algorithm.demonstrations && file.contains("demonstrations")) {
     c.algorithm.demonstrations->file = path_from(folder, written(file["demonstrations"], "file"));
+    if (!written(file["demonstrations"], "start_file").empty())
+      c.algorithm.demonstrations->start_file = path_from(folder, written(file["demonstrations"], "start_file"));
+  }
   const bool log_dir_given = std::any_of(overrides.begin(), overrides.end(), [](const ConfigOverride& o) { return o.key == "log_dir"; });
   if (!log_dir_given && !written(file, "log_dir").empty()) c.log_dir = path_from(folder, written(file, "log_dir"));
 }

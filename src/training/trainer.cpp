@@ -242,11 +242,11 @@ void Trainer::start() {
   r.resume = !settings_.resume_dir.empty();
 
   const std::uint64_t seed = rank_seed(config.seed, comm.rank());
-  std::shared_ptr<const DemoFile> demos;  // read once: the pre-training's and the envs' demonstration starts
+  std::shared_ptr<const DemoFile> demos;  // read once: the pre-training's and (without start_file) the envs' starts
   on_every_rank(comm, [&] {  // an env or algorithm that refuses the config: one message
     const nn::GemmBackend backend = resolve_gemm(config);
     if (config.algorithm.demonstrations) demos = std::make_shared<const DemoFile>(read_demonstrations(config));
-    r.vec = std::make_unique<VecEnv>(open_envs(config, demos), seed, config.stats_window,
+    r.vec = std::make_unique<VecEnv>(open_envs(config, starting_demonstrations(config, demos)), seed, config.stats_window,
                                      resolve_num_threads(config, comm.local_size()), resolve_env_workers(config));
     r.vec->set_groups(std::min(config.env_groups, r.vec->size()));
     // The env workers wait while the learner updates, so it may use as many threads (the results

@@ -187,3 +187,49 @@ TEST_CASE("her: episodes that start from the demonstrations' states give the sam
                                          demo + R"(", "start_fraction": 1.5}})",
                                      "demonstrations.start_fraction"}});
 }
+
+TEST_CASE("her: demonstrations.start_file starts the episodes from another file's states, relative to the config's folder, "
+          "and misuse is one clear error each",
+          "[cli][her][demos]") {
+  ScratchDir dir("her_start_file");
+  for (const std::string seed : {"1000", "5000"}) {
+    const auto r = run_rdsim("demos record --quiet --expert --env push -n 4 --seed " + seed + " --out " + (dir / ("s" + seed + ".demo")), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  const auto r0 = run_rdsim("demos record --quiet --expert --env pick_and_place -n 2 --out " + (dir / "pick.demo"), dir);
+  REQUIRE(r0.exit_code == 0);
+  // Every episode starts from a state of the demonstrations: which file they come from shows in episodes.csv.
+  const auto config = [&](const std::string& name, const std::string& starts) {
+    const std::string path = dir / (name + ".json");
+    rltest::spit(path, R"({"algorithm": "sac", "env": {"name": "push"}, "seed": 5, "total_timesteps": 600, "num_envs": 2,
+      "network": {"hidden_sizes": [16, 16]}, "sac": {"learning_starts": 200, "batch_size": 32, "buffer_size": 2000}, "her": {},
+      "demonstrations": {"file": "s1000.demo", "bc_epochs": 2, "start_fraction": 1)" + starts + "}}");
+    return path;
+  };
+  const auto train = [&](const std::string& path, const std::string& run) {
+    const auto r = run_rdsim("train --quiet --config " + path + " --log-dir " + (dir / run), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  };
+  train(config("own", ""), "own");
+  train(config("same", R"(, "start_file": "s1000.demo")"), "same");
+  train(config("other", R"(, "start_file": "s5000.demo")"), "other");
+  CHECK(run_logs(dir / "same") == run_logs(dir / "own"));  // the same states: the same run
+  CHECK(rltest::slurp(dir / "other/episodes.csv") != rltest::slurp(dir / "own/episodes.csv"));
+  const auto recorded = nlohmann::json::parse(rltest::slurp(dir / "other/config.json"));
+  CHECK(recorded["demonstrations"]["start_file"] == (dir / "s5000.demo"));  // absolute, for --resume from anywhere
+  CHECK(recorded["demonstrations"]["file"] == (dir / "s1000.demo"));
+
+  const std::string a = dir / "s1000.demo";
+  const std::string head = R"({"algorithm": "sac", "env": {"name": "push"}, "her": {}, "demonstrations": {"file": ")" + a + R"(", )";
+  rltest::check_config_errors(
+      dir, {{head + R"("start_fraction": 0.5, "start_file": ")" + (dir / "pick.demo") + R"("}})",
+             "demonstrations.start_file: " + (dir / "pick.demo") + ": these demonstrations do not fit the env"},
+            {head + R"("start_fraction": 0.5, "start_file": ")" + (dir / "none.demo") + R"("}})",
+             "demonstrations.start_file: " + (dir / "none.demo")},
+            {head + R"("start_file": ")" + a + R"("}})", "demonstrations.start_file: has no effect without start_fraction above 0"},
+            {R"({"algorithm": "bc", "env": {"name": "push"}, "demonstrations": {"file": ")" + a + R"(", "start_file": ")" + a +
+                 R"("}})",
+             "demonstrations.start_file: has no effect with \"algorithm\": \"bc\""}});
+}

@@ -31,6 +31,12 @@
 #   stack_missed           stack_half_most with demonstrations of which half start with a missed
 #                          grasp (demos record --missed-grasps 0.5 --only-successes, into
 #                          $OUT/stack_missed.demo)
+#   stack_missed_starts    stack_half_most with 50 expert episodes split in two: 25 plain ones
+#                          (seeds 1025-1049, $OUT/stack_plain25.demo) fill the demonstration buffer
+#                          and the cloning term, and they with 25 that start with a missed grasp
+#                          (seeds 1000-1024, --missed-grasps 1) are the episodes' start states
+#                          (demonstrations.start_file $OUT/stack_starts50.demo): the way back from a
+#                          miss is met by RL, not cloned
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -185,12 +191,23 @@ for task in "${tasks[@]}"; do
         record_demos stack
       fi
       learn "$task" "$out/$task.json" 0.6 ;;
+    stack_missed_starts)
+      if [ ! -f "$out/stack_starts50.demo" ]; then
+        "$bin" demos record --quiet --expert --env stack -n 25 --seed 1025 --only-successes --out "$out/stack_plain25.demo"
+        cp "$out/stack_plain25.demo" "$out/stack_starts50.demo.part"
+        "$bin" demos record --quiet --expert --env stack -n 25 --seed 1000 --missed-grasps 1 --only-successes --append \
+          --out "$out/stack_starts50.demo.part"
+        mv "$out/stack_starts50.demo.part" "$out/stack_starts50.demo"
+      fi
+      edited_config configs/jaka_stack_demos.json "$normalized; c['demonstrations'].update(demo_fraction=0.5, start_fraction=0.8, file='$out/stack_plain25.demo', start_file='$out/stack_starts50.demo')${EDIT:+; $EDIT}" \
+        "$out/stack_missed_starts.json"
+      learn stack_missed_starts "$out/stack_missed_starts.json" 0.6 ;;
     stack_her)
       edited_config configs/jaka_stack_demos.json "del c['demonstrations']" "$out/stack_her.json"
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
     compare_alone) compare_alone ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial stack_missed compare compare_alone)" >&2
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial stack_missed stack_missed_starts compare compare_alone)" >&2
        exit 2 ;;
   esac
 done

@@ -24,7 +24,8 @@
 //            bc_weight x mean |pi(s) - a_demo|^2 over the demonstrated transitions whose action the
 //            critic values above the policy's (demonstration_replay.hpp, off_policy.hpp).
 // Every algorithm that steps envs can also start a share of its training episodes from states of
-// the demonstrations (start_fraction; training/demonstration_starts.hpp).
+// the demonstrations (start_fraction; training/demonstration_starts.hpp), or of another file of the
+// same task (start_file).
 // The actor fits hold out whole episodes (validation_fraction) and stop early: after `patience`
 // epochs without a better validation loss they restore the best epoch's weights.
 namespace rdsim {
@@ -41,6 +42,7 @@ struct DemonstrationsConfig {
   double bc_weight_decay = 0.95;
   double demo_fraction = 0.25;
   double start_fraction = 0.0;
+  std::string start_file;  // empty: `file`
   bool large_margin = false;
   double margin = 0.8;
   double margin_weight = 1.0;
@@ -69,6 +71,10 @@ void describe(V& v, C& c) {
   v.field("start_fraction", c.start_fraction, config::Range{0.0, 1.0},
           "share of the training episodes that start from a demonstration's state: a demonstrated episode and a "
           "step along it drawn uniformly, replayed from its seed (Nair et al. 2018); every algorithm but bc");
+  v.field("start_file", c.start_file,
+          "demonstration file whose states start those episodes, when not `file` (e.g. episodes that show a "
+          "recovery the cloned ones should not); empty = `file`");
+  v.check(c.start_file.empty() || c.start_fraction > 0.0, "start_file", "has no effect without start_fraction above 0");
   v.field("large_margin", c.large_margin, "dqn: DQfD's large-margin loss on demonstrated actions");
   v.field("margin", c.margin, config::Range{0.0, 1e6}, "dqn: the margin by which a demonstrated action's Q must lead");
   v.field("margin_weight", c.margin_weight, config::Range{0.0, 1e6}, "dqn: weight of the large-margin loss");

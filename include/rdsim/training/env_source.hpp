@@ -16,7 +16,7 @@ std::unique_ptr<Env> open_env(const EnvConfig& env, const RemoteEnvConfig& remot
 // The config.num_envs envs of a run. For remote envs, config.env becomes the env config the
 // server resolved, so config.json and model.bin record the values the env really uses. With
 // demonstrations.start_fraction, each env starts that share of its episodes from states of `demos`
-// (the config's demonstrations; demonstration_starts.hpp).
+// (the config's demonstrations, or its start_file's; demonstration_starts.hpp).
 std::vector<std::unique_ptr<Env>> open_envs(TrainConfig& config, const std::shared_ptr<const DemoFile>& demos = nullptr);
 
 }  // namespace rdsim
