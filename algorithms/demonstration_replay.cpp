@@ -1,5 +1,6 @@
 #include "rdsim/algorithms/demonstration_replay.hpp"
 
+#include "rdsim/core/assert.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/demos/demo_file.hpp"
 
@@ -15,9 +16,28 @@ long long count_steps(const DemoFile& demos) {
 
 }  // namespace
 
+std::vector<int> planar_position_rows(const Spec& spec) {
+  std::vector<int> rows;
+  const ObservationSpace& space = spec.observation;
+  if (!spec.goal.active() || space.type != ObsType::Float32 || space.part("joint_positions").second > 0) return rows;
+  int at = 0;
+  for (const ObservationPart& p : space.parts) {
+    const bool points = (p.size == 3 && p.name.ends_with("_position")) || p.name == "achieved_goal" ||
+                        p.name == "desired_goal";
+    if (points)
+      for (int k = 0; k + 2 < p.size; k += 3) rows.push_back(at + k);
+    at += p.size;
+  }
+  return rows;
+}
+
 DemonstrationReplay::DemonstrationReplay(const DemoFile& demos, const Spec& spec, const std::optional<HerConfig>& her,
-                                         const std::function<Eigen::VectorXf(const Action&)>& normalize)
-    : buffer_(count_steps(demos), spec.observation, spec.action.dim()) {
+                                         const std::function<Eigen::VectorXf(const Action&)>& normalize, double shift)
+    : buffer_(count_steps(demos), spec.observation, spec.action.dim()), shift_(static_cast<float>(shift)) {
+  if (shift_ > 0.0f) {
+    shift_rows_ = planar_position_rows(spec);
+    RDSIM_ASSERT(!shift_rows_.empty(), "demonstrations.shift is checked against the env before the buffer is built");
+  }
   if (her) her_.emplace(*her, spec.goal, buffer_.capacity());
   for (const DemoEpisode& e : demos.episodes) {
     for (int t = 0; t < e.steps(); ++t) {
@@ -32,11 +52,24 @@ DemonstrationReplay::DemonstrationReplay(const DemoFile& demos, const Spec& spec
 }
 
 void DemonstrationReplay::sample_into(int first, int count, Rng& rng, ReplayBatch& out) const {
-  if (her_) {
+  if (her_)
     her_->sample_into(buffer_, first, count, rng, out);
-    return;
+  else
+    buffer_.sample_into(first, count, rng, out);
+  if (shift_ > 0.0f) shift_into(first, count, rng, out);
+}
+
+void DemonstrationReplay::shift_into(int first, int count, Rng& rng, ReplayBatch& out) const {
+  for (int j = first; j < first + count; ++j) {
+    const auto dx = static_cast<float>(rng.uniform(-shift_, shift_));
+    const auto dy = static_cast<float>(rng.uniform(-shift_, shift_));
+    for (const int r : shift_rows_) {
+      out.observations(r, j) += dx;
+      out.observations(r + 1, j) += dy;
+      out.next_observations(r, j) += dx;
+      out.next_observations(r + 1, j) += dy;
+    }
   }
-  buffer_.sample_into(first, count, rng, out);
 }
 
 }  // namespace rdsim

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/algorithms/demonstration_replay.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
@@ -35,6 +36,10 @@ std::shared_ptr<const DemoFile> starting_demonstrations(const TrainConfig& confi
 void learn_from_demonstrations(const TrainConfig& config, const DemoFile& demos, Algorithm& algo, const Spec& spec,
                                bool resume, const std::filesystem::path& dir, bool quiet) {
   const DemonstrationsConfig& dc = *config.algorithm.demonstrations;
+  if (dc.shift > 0.0 && planar_position_rows(spec).empty())
+    throw Error(config.source + ": demonstrations.shift: env \"" + spec.env_name +
+                "\" has no world positions to shift (a goal env with Cartesian actions: push, pick_and_place, stack, "
+                "reach_goal; not with control \"joints\")");
   check_demos_fit(demos, to_json(config.env), spec);
   if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
   Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);

@@ -2,10 +2,13 @@
 // on the toy sign env, whose expert is known (discrete: action 1 when s > 0; continuous: 0.5 s).
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <optional>
+#include <set>
 #include <sstream>
 
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/behavior_cloning.hpp"
+#include "rdsim/algorithms/demonstration_replay.hpp"
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
@@ -277,5 +280,107 @@ TEST_CASE("SAC and TD3 pre-train on demonstrations, keep a share of every miniba
     // Resuming rebuilds the buffer without pre-training.
     auto resumed = make_algorithm(c, 2, f.spec);
     CHECK(resumed->learn_from_demonstrations(f, demos, rng, false).empty());
+  }
+}
+
+namespace {
+
+// A goal env's spec as the manipulation tasks name it (one cube): rows 0-2 the effector, 3-5 its
+// velocity, 6 the fingers, 7-9 the cube, 10-12 cube - effector, 13-15 achieved, 16-18 desired.
+Spec cube_goal_spec() {
+  Spec s;
+  s.env_name = "cube";
+  s.observation.shape = {19};
+  s.observation.parts = {{"effector_position", 3}, {"effector_velocity", 3}, {"finger_opening", 1},
+                         {"cube1_position", 3},    {"cube1_from_effector", 3}, {"achieved_goal", 3},
+                         {"desired_goal", 3}};
+  s.action = ActionSpace{.discrete = false, .n = 0, .low = Eigen::VectorXf::Constant(4, -1.0f),
+                         .high = Eigen::VectorXf::Constant(4, 1.0f)};
+  s.goal = GoalLayout{.observation = 13, .points = 1, .distance_threshold = 0.05f, .reward = GoalReward::Sparse};
+  return s;
+}
+
+// One demonstrated step of `spec`: every value distinct, the cube 0.1 m from its goal.
+DemoFile one_step(const Spec& spec) {
+  DemoFile f;
+  f.path = "cube.demo";
+  f.spec = spec;
+  DemoEpisode e;
+  Observation first{Eigen::VectorXf::LinSpaced(19, 0.0f, 1.8f), {}}, next = first;
+  next.values.array() += 0.01f;
+  first.values.segment(13, 3) = first.values.segment(7, 3);
+  next.values.segment(13, 3) = next.values.segment(7, 3);
+  first.values.segment(16, 3) = first.values.segment(13, 3);
+  first.values[16] += 0.1f;
+  next.values.segment(16, 3) = first.values.segment(16, 3);
+  e.start(first);
+  StepResult r{.observation = next, .reward = -1.0f, .terminated = false, .truncated = true, .info = {}};
+  e.add(Action::continuous(Eigen::Vector4f(0.2f, -0.3f, 0.1f, 1.0f)), r);
+  f.episodes.push_back(std::move(e));
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("demonstrations.shift moves every world position of a drawn transition by one planar offset", "[demos][sac]") {
+  const Spec spec = cube_goal_spec();
+  CHECK(planar_position_rows(spec) == std::vector<int>{0, 7, 13, 16});
+  Spec joints = spec;  // control "joints": the actions are per joint, a shift does not carry them over
+  joints.observation.parts.insert(joints.observation.parts.begin() + 3, {"joint_positions", 6});
+  CHECK(planar_position_rows(joints).empty());
+  Spec no_goal = spec;
+  no_goal.goal = GoalLayout{};
+  CHECK(planar_position_rows(no_goal).empty());
+
+  const DemoFile f = one_step(spec);
+  const auto identity = [](const Action& a) -> Eigen::VectorXf { return a.values; };
+  const DemoEpisode& e = f.episodes.front();
+  const int batch = 64;
+  const auto draw = [&](double shift, const std::optional<HerConfig>& her) {
+    DemonstrationReplay replay(f, spec, her, identity, shift);
+    ReplayBatch out;
+    replay.buffer().shape_batch(batch, out);
+    Rng rng(3);
+    replay.sample_into(0, batch, rng, out);
+    return out;
+  };
+  const ReplayBatch plain = draw(0.0, std::nullopt);
+  for (int j = 0; j < batch; ++j) {
+    CHECK(plain.observations.col(j) == e.observations[0].values);
+    CHECK(plain.next_observations.col(j) == e.observations[1].values);
+  }
+  for (const bool her : {false, true}) {
+    INFO("her " << her);
+    const ReplayBatch moved = draw(0.1, her ? std::optional<HerConfig>(HerConfig{}) : std::nullopt);
+    std::set<float> offsets;
+    for (int j = 0; j < batch; ++j) {
+      const Eigen::VectorXf d = moved.observations.col(j) - e.observations[0].values;
+      const Eigen::VectorXf dn = moved.next_observations.col(j) - e.observations[1].values;
+      const float dx = d[0], dy = d[1];
+      CHECK(std::abs(dx) <= 0.1f);
+      CHECK(std::abs(dy) <= 0.1f);
+      offsets.insert(dx);
+      for (const int r : {0, 7}) {  // the effector and the cube, before and after, by the same offset
+        CHECK(d[r] == Approx(dx).margin(1e-6));
+        CHECK(d[r + 1] == Approx(dy).margin(1e-6));
+        CHECK(dn[r] == Approx(dx).margin(1e-6));
+        CHECK(dn[r + 1] == Approx(dy).margin(1e-6));
+      }
+      for (const int r : {2, 3, 4, 5, 6, 9, 10, 11, 12, 15}) {  // heights, velocities, fingers, relative
+        CHECK(d[r] == Approx(0.0f).margin(1e-6));
+        CHECK(dn[r] == Approx(0.0f).margin(1e-6));
+      }
+      // The goals move with the scene (relabelled ones too): the reward and the action stay.
+      const Eigen::VectorXf o = moved.next_observations.col(j);
+      const Eigen::VectorXf& recorded = e.observations[1].values;
+      const auto gap = [&](const float* v, int axis) { return v[16 + axis] - v[13 + axis]; };  // desired - achieved
+      const bool as_recorded = std::abs(gap(o.data(), 0) - gap(recorded.data(), 0)) < 1e-5f &&
+                               std::abs(gap(o.data(), 1) - gap(recorded.data(), 1)) < 1e-5f;
+      const bool relabelled = std::abs(gap(o.data(), 0)) < 1e-5f && std::abs(gap(o.data(), 1)) < 1e-5f;
+      CHECK((as_recorded || (her && relabelled)));
+      CHECK(moved.rewards[j] == spec.goal.reward_of(o.data() + 13, o.data() + 16));
+      CHECK(moved.action_values.col(j) == e.actions[0].values);
+    }
+    CHECK(offsets.size() > batch / 2);  // each transition its own offset
   }
 }

@@ -35,6 +35,18 @@ std::string small_config(const ScratchDir& dir, const std::string& name, const s
 
 using rltest::run_logs;
 
+// A short SAC + HER run on push (2 envs, networks of 16 x 16) with the "demonstrations" object's
+// keys `demos` (JSON without braces), in dir/run (its config beside it as run.json).
+void train_push_with_demos(const ScratchDir& dir, const std::string& run, const std::string& demos, int timesteps) {
+  const std::string path = dir / (run + ".json");
+  rltest::spit(path, R"({"algorithm": "sac", "env": {"name": "push"}, "seed": 5, "total_timesteps": )" +
+                         std::to_string(timesteps) + R"(, "num_envs": 2, "network": {"hidden_sizes": [16, 16]},
+    "sac": {"learning_starts": 200, "batch_size": 32, "buffer_size": 2000}, "her": {}, "demonstrations": {)" + demos + "}}");
+  const auto r = run_rdsim("train --quiet --config " + path + " --log-dir " + (dir / run), dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+}
+
 // Success over the last `window` episodes of episodes.csv.
 double final_success(const std::string& run, std::size_t window) {
   const auto rows = rltest::lines(rltest::slurp(run + "/episodes.csv"));
@@ -200,21 +212,10 @@ TEST_CASE("her: demonstrations.start_file starts the episodes from another file'
   const auto r0 = run_rdsim("demos record --quiet --expert --env pick_and_place -n 2 --out " + (dir / "pick.demo"), dir);
   REQUIRE(r0.exit_code == 0);
   // Every episode starts from a state of the demonstrations: which file they come from shows in episodes.csv.
-  const auto config = [&](const std::string& name, const std::string& starts) {
-    const std::string path = dir / (name + ".json");
-    rltest::spit(path, R"({"algorithm": "sac", "env": {"name": "push"}, "seed": 5, "total_timesteps": 600, "num_envs": 2,
-      "network": {"hidden_sizes": [16, 16]}, "sac": {"learning_starts": 200, "batch_size": 32, "buffer_size": 2000}, "her": {},
-      "demonstrations": {"file": "s1000.demo", "bc_epochs": 2, "start_fraction": 1)" + starts + "}}");
-    return path;
-  };
-  const auto train = [&](const std::string& path, const std::string& run) {
-    const auto r = run_rdsim("train --quiet --config " + path + " --log-dir " + (dir / run), dir);
-    INFO(r.err);
-    REQUIRE(r.exit_code == 0);
-  };
-  train(config("own", ""), "own");
-  train(config("same", R"(, "start_file": "s1000.demo")"), "same");
-  train(config("other", R"(, "start_file": "s5000.demo")"), "other");
+  const std::string starts = R"("file": "s1000.demo", "bc_epochs": 2, "start_fraction": 1)";
+  train_push_with_demos(dir, "own", starts, 600);
+  train_push_with_demos(dir, "same", starts + R"(, "start_file": "s1000.demo")", 600);
+  train_push_with_demos(dir, "other", starts + R"(, "start_file": "s5000.demo")", 600);
   CHECK(run_logs(dir / "same") == run_logs(dir / "own"));  // the same states: the same run
   CHECK(rltest::slurp(dir / "other/episodes.csv") != rltest::slurp(dir / "own/episodes.csv"));
   const auto recorded = nlohmann::json::parse(rltest::slurp(dir / "other/config.json"));
@@ -232,4 +233,30 @@ TEST_CASE("her: demonstrations.start_file starts the episodes from another file'
             {R"({"algorithm": "bc", "env": {"name": "push"}, "demonstrations": {"file": ")" + a + R"(", "start_file": ")" + a +
                  R"("}})",
              "demonstrations.start_file: has no effect with \"algorithm\": \"bc\""}});
+}
+
+TEST_CASE("her: demonstrations.shift trains on moved demonstrations, the same run for the same seed, and misuse is one "
+          "clear error each",
+          "[cli][her][demos]") {
+  ScratchDir dir("her_shift");
+  const auto r0 = run_rdsim("demos record --quiet --expert --env push -n 4 --out " + (dir / "push.demo"), dir);
+  INFO(r0.err);
+  REQUIRE(r0.exit_code == 0);
+  const std::string demos = R"("file": "push.demo", "bc_epochs": 2, "demo_fraction": 0.5)";
+  train_push_with_demos(dir, "plain", demos, 400);
+  train_push_with_demos(dir, "shift1", demos + R"(, "shift": 0.05)", 400);
+  train_push_with_demos(dir, "shift2", demos + R"(, "shift": 0.05)", 400);
+  CHECK(run_logs(dir / "shift1") == run_logs(dir / "shift2"));
+  // The pre-training's losses already differ: its minibatches hold moved transitions.
+  CHECK(rltest::slurp(dir / "shift1/pretrain.csv") != rltest::slurp(dir / "plain/pretrain.csv"));
+
+  const std::string file = dir / "push.demo";
+  rltest::check_config_errors(
+      dir, {{R"({"algorithm": "sac", "env": {"name": "push", "control": "joints"}, "her": {}, "demonstrations": {"file": ")" + file +
+                 R"(", "shift": 0.05}})",
+             "demonstrations.shift: env \"push\" has no world positions to shift"},
+            {R"({"algorithm": "ppo", "env": {"name": "push"}, "demonstrations": {"file": ")" + file + R"(", "shift": 0.05}})",
+             "demonstrations.shift: has no effect with \"algorithm\": \"ppo\""},
+            {R"({"algorithm": "sac", "env": {"name": "push"}, "demonstrations": {"file": ")" + file + R"(", "shift": 2}})",
+             "demonstrations.shift"}});
 }

@@ -37,6 +37,9 @@
 #                          (seeds 1000-1024, --missed-grasps 1) are the episodes' start states
 #                          (demonstrations.start_file $OUT/stack_starts50.demo): the way back from a
 #                          miss is met by RL, not cloned
+#   stack_shift            stack_half_most with demonstrations.shift 0.05: each demonstrated
+#                          transition drawn into a minibatch moved on the table by up to 5 cm in x
+#                          and y, the whole scene together (the 50 layouts are not memorised)
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -167,7 +170,7 @@ for task in "${tasks[@]}"; do
       record_demos stack
       edited_config configs/jaka_stack_demos.json "$normalized${EDIT:+; $EDIT}" "$out/stack_normalized.json"
       learn stack_normalized "$out/stack_normalized.json" 0.6 ;;
-    stack_demo_half|stack_starts_most|stack_half_most|stack_partial|stack_missed)
+    stack_demo_half|stack_starts_most|stack_half_most|stack_partial|stack_missed|stack_shift)
       # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), with
       # four in five episodes started from the demonstrations' states, or with both (and the
       # partial reward).
@@ -176,6 +179,7 @@ for task in "${tasks[@]}"; do
         stack_demo_half) edit="$normalized; $half" ;;
         stack_starts_most) edit="$normalized; $most" ;;
         stack_half_most) edit="$normalized; $half; $most" ;;
+        stack_shift) edit="$normalized; $half; $most; c['demonstrations']['shift'] = 0.05" ;;
         stack_missed) edit="$normalized; $half; $most; c['demonstrations']['file'] = '$out/stack_missed.demo'" ;;
         *) edit="$normalized; $half; $most; c['env']['reward_type'] = 'partial'; c['demonstrations']['file'] = '$out/stack_partial.demo'" ;;
       esac
@@ -207,7 +211,7 @@ for task in "${tasks[@]}"; do
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
     compare_alone) compare_alone ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial stack_missed stack_missed_starts compare compare_alone)" >&2
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial stack_missed stack_missed_starts stack_shift compare compare_alone)" >&2
        exit 2 ;;
   esac
 done

@@ -22,7 +22,9 @@
 //            bc_epochs passes of the algorithm's own gradient steps on the demonstrations alone,
 //            and with bc_weight > 0 a Q-filtered cloning term in the actor's loss (Nair et al. 2018):
 //            bc_weight x mean |pi(s) - a_demo|^2 over the demonstrated transitions whose action the
-//            critic values above the policy's (demonstration_replay.hpp, off_policy.hpp).
+//            critic values above the policy's (demonstration_replay.hpp, off_policy.hpp); on goal
+//            envs with Cartesian actions, `shift` moves each drawn demonstrated transition on the
+//            table (a data augmentation: the same actions from other positions).
 // Every algorithm that steps envs can also start a share of its training episodes from states of
 // the demonstrations (start_fraction; training/demonstration_starts.hpp), or of another file of the
 // same task (start_file).
@@ -43,6 +45,7 @@ struct DemonstrationsConfig {
   double demo_fraction = 0.25;
   double start_fraction = 0.0;
   std::string start_file;  // empty: `file`
+  double shift = 0.0;      // m: sac/td3/ddpg on goal envs, the planar shift of demonstrated transitions
   bool large_margin = false;
   double margin = 0.8;
   double margin_weight = 1.0;
@@ -75,6 +78,11 @@ void describe(V& v, C& c) {
           "demonstration file whose states start those episodes, when not `file` (e.g. episodes that show a "
           "recovery the cloned ones should not); empty = `file`");
   v.check(c.start_file.empty() || c.start_fraction > 0.0, "start_file", "has no effect without start_fraction above 0");
+  v.field("shift", c.shift, config::Range{0.0, 1.0},
+          "sac/td3/ddpg on goal envs with Cartesian actions: each demonstrated transition drawn into a minibatch is "
+          "moved on the table by an offset drawn uniformly in [-shift, shift] m on x and on y, every world position "
+          "of its observations (effector, objects, goals) together, so that 50 demonstrations cover other layouts "
+          "(demonstration_replay.hpp); 0 = none");
   v.field("large_margin", c.large_margin, "dqn: DQfD's large-margin loss on demonstrated actions");
   v.field("margin", c.margin, config::Range{0.0, 1e6}, "dqn: the margin by which a demonstrated action's Q must lead");
   v.field("margin_weight", c.margin_weight, config::Range{0.0, 1e6}, "dqn: weight of the large-margin loss");
