@@ -39,7 +39,8 @@
 #                          miss is met by RL, not cloned
 #   stack_shift            stack_half_most with demonstrations.shift 0.05: each demonstrated
 #                          transition drawn into a minibatch moved on the table by up to 5 cm in x
-#                          and y, the whole scene together (the 50 layouts are not memorised)
+#                          and y, the whole scene together (against memorising the 50 layouts;
+#                          docs/results.md: the gap to new layouts stays)
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core

@@ -53,10 +53,13 @@ def main() -> None:
     p.add_argument("model")
     p.add_argument("--episodes", type=int, default=50)
     p.add_argument("--seed", type=int, default=10_000,
-                   help="episode k starts from reset(seed + k); the expert's demonstrations use 1000 + k")
+                   help="episode k starts from reset(seed + k); the expert's 50 demonstrated layouts are "
+                        "--seed 1000 --episodes 50 (seeds 1000-1049)")
     args = p.parse_args()
     if args.episodes < 1:
         p.error("--episodes: expected 1 or more")
+    if args.seed < 0:
+        p.error("--seed: expected 0 or more")
     model = rdsim.load_model(args.model)
     env = rdsim.make("stack")
     demonstrated = np.array([layout(env.reset(seed=1000 + k)[0]) for k in range(50)])
