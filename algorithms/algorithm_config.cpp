@@ -29,7 +29,7 @@ std::string known_names() {
 
 // Whether `algorithm` uses the "demonstrations" key `key` (demonstrations.hpp says who uses what).
 bool uses_demonstrations_key(const std::string& algorithm, const std::string& key) {
-  if (key == "start_fraction" || key == "start_file") return algorithm != "bc";  // the training envs' starts (demonstration_starts.hpp)
+  if (key == "start_fraction" || key == "start_file" || key == "start_redraw") return algorithm != "bc";  // the training envs' starts (demonstration_starts.hpp)
   if (takes_her(algorithm))  // sac, td3, ddpg (off_policy.hpp)
     return key == "file" || key == "bc_epochs" || key == "demo_fraction" || key == "bc_weight" || key == "shift";
   if (key == "demo_fraction" || key == "large_margin" || key == "margin" || key == "margin_weight") return algorithm == "dqn";

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "rdsim/core/assert.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/envs/arm_options.hpp"
@@ -261,10 +262,77 @@ void ManipulationEnv::place(const Placement& placement) {
   for (int k = 0; k < task_.cubes; ++k)
     physics.set_static_pose(world_->static_body(first_cube_index + k),
                             Eigen::Isometry3f(Eigen::Translation3f(placement.cubes[static_cast<size_t>(k)])));
+  placed_ = placement.cubes;
   goals_ = placement.goals;
+  show_goals();
+}
+
+void ManipulationEnv::show_goals() {
   const int first_marker = first_cube_index + task_.cubes;
   for (size_t p = 0; p < goals_.size(); ++p)
-    physics.set_static_pose(world_->static_body(first_marker + static_cast<int>(p)), Eigen::Isometry3f(Eigen::Translation3f(goals_[p])));
+    world_->world().set_static_pose(world_->static_body(first_marker + static_cast<int>(p)),
+                                    Eigen::Isometry3f(Eigen::Translation3f(goals_[p])));
+}
+
+Placement ManipulationEnv::draw_placement(Rng& rng) const {
+  Placement placement = task_.draw(area_, rng);
+  for (Eigen::Vector3f& cube : placement.cubes) cube += randomizer_->placement(0);
+  for (Eigen::Vector3f& goal : placement.goals) goal += randomizer_->placement(1);
+  return placement;
+}
+
+bool ManipulationEnv::redraw_unmoved(Rng& rng, ObservationOut out) {
+  RDSIM_ASSERT(!done_, "redraw_unmoved within an episode");
+  constexpr float kUnmoved = 1e-3f;                     // m: a resting cube settles by less
+  constexpr float kApart = 1.5f * TaskArea::cube_size;  // m between cube centres in x and y (draw_cubes')
+  constexpr float kClear = 0.10f;                       // m from the effector in x and y: clear of the open fingers
+  constexpr int kTries = 100;
+  const auto planar = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return (a - b).head<2>().norm(); };
+  std::vector<Eigen::Vector3f> cubes;
+  std::vector<bool> unmoved;
+  for (int k = 0; k < task_.cubes; ++k) {
+    cubes.push_back(cube_position(k));
+    unmoved.push_back(placed_.size() == static_cast<size_t>(task_.cubes) &&
+                      (cubes.back() - placed_[static_cast<size_t>(k)]).norm() < kUnmoved);
+  }
+  // The goal stays where a point of it is reached: what the demonstrator has done.
+  std::vector<float> achieved(static_cast<size_t>(spec_.goal.goal_size()));
+  achieved_goal(achieved.data());
+  bool keep_goal = false;
+  for (size_t p = 0; p < goals_.size(); ++p)
+    keep_goal = keep_goal || (Eigen::Map<const Eigen::Vector3f>(&achieved[3 * p]) - goals_[p]).norm() < spec_.goal.distance_threshold;
+  if (keep_goal && std::find(unmoved.begin(), unmoved.end(), true) == unmoved.end()) {
+    observe(out);
+    return false;
+  }
+  const Eigen::Vector3f ee = world_->ee_position();
+  for (int t = 0; t < kTries; ++t) {
+    const Placement fresh = draw_placement(rng);
+    std::vector<Eigen::Vector3f> next = cubes;
+    for (size_t k = 0; k < next.size(); ++k)
+      if (unmoved[k]) next[k] = fresh.cubes[k];
+    bool clear = true;
+    for (size_t k = 0; k < next.size(); ++k) {
+      if (!unmoved[k]) continue;
+      clear = clear && planar(next[k], ee) >= kClear;
+      for (size_t j = 0; j < next.size(); ++j) clear = clear && (j == k || planar(next[k], next[j]) >= kApart);
+    }
+    if (!clear) continue;
+    for (size_t k = 0; k < next.size(); ++k) {
+      if (!unmoved[k]) continue;
+      world_->world().set_static_pose(world_->static_body(first_cube_index + static_cast<int>(k)),
+                                      Eigen::Isometry3f(Eigen::Translation3f(next[k])));
+      placed_[k] = next[k];  // still unmoved
+    }
+    if (!keep_goal) {
+      goals_ = fresh.goals;
+      show_goals();
+    }
+    observe(out);
+    return true;
+  }
+  observe(out);  // no clear layout in kTries draws: everything stays
+  return false;
 }
 
 Observation ManipulationEnv::reset(std::optional<std::uint64_t> seed) { return reset_through_into(*this, seed); }
@@ -276,10 +344,7 @@ void ManipulationEnv::reset_into(ObservationOut out, std::optional<std::uint64_t
   randomizer_->reset(seed);
   if (pixels_) randomizer_->apply(*pixels_);
   world_->reset(rng_, false);
-  Placement placement = task_.draw(area_, rng_);
-  for (Eigen::Vector3f& cube : placement.cubes) cube += randomizer_->placement(0);
-  for (Eigen::Vector3f& goal : placement.goals) goal += randomizer_->placement(1);
-  place(placement);
+  place(draw_placement(rng_));
   steps_ = 0;
   done_ = false;
   observe(out);
@@ -390,10 +455,8 @@ void ManipulationEnv::load_state(const std::string& bytes, const std::string& so
   steps_ = header.steps;
   done_ = header.done;
   goals_ = placement.goals;
-  const int first_marker = first_cube_index + task_.cubes;
-  for (size_t p = 0; p < goals_.size(); ++p)
-    world_->world().set_static_pose(world_->static_body(first_marker + static_cast<int>(p)),
-                                    Eigen::Isometry3f(Eigen::Translation3f(goals_[p])));
+  placed_.clear();
+  show_goals();
 }
 
 }  // namespace rdsim

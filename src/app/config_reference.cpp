@@ -137,7 +137,8 @@ std::string config_reference() {
          "Absent by default. `file` (a `.demo` file of the config's env) is required; a key the algorithm\n"
          "does not use is an error: `fit_critic`, `bc_weight` and `bc_weight_decay` are for ppo and a2c,\n"
          "`demo_fraction`, `large_margin`, `margin` and `margin_weight` for dqn; sac, td3 and ddpg read `file`,\n"
-         "`bc_epochs`, `demo_fraction`, `bc_weight` and `shift`; `start_fraction` and `start_file` are for every algorithm but bc\n"
+         "`bc_epochs`, `demo_fraction`, `bc_weight` and `shift`; `start_fraction`, `start_file` and `start_redraw` are for every\n"
+         "algorithm but bc\n"
          "(`include/rdsim/algorithms/demonstrations.hpp` says what each algorithm does with them).\n\n" +
          table(config::document_fields(DemonstrationsConfig{}));
   doc += "\n## `her`\n\n"

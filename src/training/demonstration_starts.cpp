@@ -6,11 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "rdsim/core/assert.hpp"
 #include "rdsim/core/binary_io.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/core/rng_bytes.hpp"
+#include "rdsim/core/scene_redraw.hpp"
 
 namespace rdsim {
 namespace {
@@ -34,9 +36,11 @@ double replay_difference(const ObservationSpace& space, ObservationOut out, cons
 
 class DemonstrationStartEnv : public Env {
 public:
-  DemonstrationStartEnv(std::unique_ptr<Env> inner, std::shared_ptr<const DemoFile> demos, double fraction,
+  DemonstrationStartEnv(std::unique_ptr<Env> inner, std::shared_ptr<const DemoFile> demos, double fraction, double redraw,
                         std::string where)
-      : inner_(std::move(inner)), demos_(std::move(demos)), fraction_(fraction), where_(std::move(where)) {
+      : inner_(std::move(inner)), demos_(std::move(demos)), fraction_(fraction), redraw_(redraw), where_(std::move(where)) {
+    RDSIM_ASSERT(redraw_ <= 0.0 || dynamic_cast<SceneRedraw*>(inner_.get()) != nullptr,
+                 "start_redraw is checked against the env before (env_source.cpp)");
     for (std::size_t e = 0; e < demos_->episodes.size(); ++e)
       if (demos_->episodes[e].seed && demos_->episodes[e].steps() > 0) replayable_.push_back(e);
     if (replayable_.empty())
@@ -58,6 +62,8 @@ public:
       const int limit = spec().max_episode_steps;
       const int steps = limit > 0 ? std::clamp(limit - 1, 1, e.steps()) : e.steps();
       replay(e, static_cast<int>(rng_.below(static_cast<std::uint64_t>(steps))), out);
+      // Drawn only with start_redraw, so that runs without it keep their draws.
+      if (redraw_ > 0.0 && rng_.uniform() < redraw_) dynamic_cast<SceneRedraw&>(*inner_).redraw_unmoved(rng_, out);
       return;
     }
     inner_->reset_into(out, rng_.next_u64());
@@ -113,6 +119,7 @@ private:
   std::unique_ptr<Env> inner_;
   std::shared_ptr<const DemoFile> demos_;
   double fraction_;
+  double redraw_;  // the share of those starts whose unmoved objects are drawn again
   std::string where_;
   std::vector<std::size_t> replayable_;  // episodes with a reset seed and at least one step
   Rng rng_ = Rng::derive(0, rng_stream::demonstration_starts);
@@ -136,10 +143,10 @@ public:
 }  // namespace
 
 std::unique_ptr<Env> start_from_demonstrations(std::unique_ptr<Env> env, std::shared_ptr<const DemoFile> demos,
-                                               double fraction, const std::string& where) {
+                                               double fraction, const std::string& where, double redraw) {
   if (dynamic_cast<EnvState*>(env.get()))
-    return std::make_unique<DemonstrationStartStateEnv>(std::move(env), std::move(demos), fraction, where);
-  return std::make_unique<DemonstrationStartCachesEnv>(std::move(env), std::move(demos), fraction, where);
+    return std::make_unique<DemonstrationStartStateEnv>(std::move(env), std::move(demos), fraction, redraw, where);
+  return std::make_unique<DemonstrationStartCachesEnv>(std::move(env), std::move(demos), fraction, redraw, where);
 }
 
 }  // namespace rdsim

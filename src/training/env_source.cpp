@@ -4,6 +4,7 @@
 
 #include "rdsim/core/assert.hpp"
 #include "rdsim/core/error.hpp"
+#include "rdsim/core/scene_redraw.hpp"
 #include "rdsim/demos/demo_fit.hpp"
 #include "rdsim/envs/registry.hpp"
 #include "rdsim/remote/remote_env.hpp"
@@ -30,7 +31,11 @@ std::vector<std::unique_ptr<Env>> open_envs(TrainConfig& config, const std::shar
     throw Error(config.source + (own_file ? ": demonstrations.start_file: " : ": demonstrations.file: ") + e.what());
   }
   const std::string where = config.source + (own_file ? ": demonstrations.start_file" : ": demonstrations.start_fraction");
-  for (auto& env : envs) env = start_from_demonstrations(std::move(env), demos, dc->start_fraction, where);
+  if (dc->start_redraw > 0.0 && !dynamic_cast<const SceneRedraw*>(envs.front().get()))
+    throw Error(config.source + ": demonstrations.start_redraw: " + config.env.name +
+                " cannot draw its layout again mid-episode (the manipulation tasks can, run here without per-step "
+                "randomization); expected 0");
+  for (auto& env : envs) env = start_from_demonstrations(std::move(env), demos, dc->start_fraction, where, dc->start_redraw);
   return envs;
 }
 

@@ -260,3 +260,36 @@ TEST_CASE("her: demonstrations.shift trains on moved demonstrations, the same ru
             {R"({"algorithm": "sac", "env": {"name": "push"}, "demonstrations": {"file": ")" + file + R"(", "shift": 2}})",
              "demonstrations.shift"}});
 }
+
+TEST_CASE("her: demonstrations.start_redraw starts episodes in new layouts, the same run for the same seed, and misuse is "
+          "one clear error each",
+          "[cli][her][demos]") {
+  ScratchDir dir("her_start_redraw");
+  for (const std::string env : {"push", "reach"}) {
+    const auto r = run_rdsim("demos record --quiet --expert --env " + env + " -n 4 --out " + (dir / (env + ".demo")), dir);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+  }
+  const std::string starts = R"("file": "push.demo", "bc_epochs": 2, "start_fraction": 1)";
+  train_push_with_demos(dir, "plain", starts, 600);
+  train_push_with_demos(dir, "redraw1", starts + R"(, "start_redraw": 1)", 600);
+  train_push_with_demos(dir, "redraw2", starts + R"(, "start_redraw": 1)", 600);
+  CHECK(run_logs(dir / "redraw1") == run_logs(dir / "redraw2"));
+  // The same demonstrated states, in other layouts: other episodes.
+  CHECK(rltest::slurp(dir / "redraw1/episodes.csv") != rltest::slurp(dir / "plain/episodes.csv"));
+  CHECK_THAT(rltest::slurp(dir / "redraw1/config.json"), Contains("\"start_redraw\": 1"));
+
+  const std::string push = dir / "push.demo", reach = dir / "reach.demo";
+  rltest::check_config_errors(
+      dir, {{R"({"algorithm": "sac", "env": {"name": "reach"}, "demonstrations": {"file": ")" + reach +
+                 R"(", "start_fraction": 0.5, "start_redraw": 1}})",
+             "demonstrations.start_redraw: reach cannot draw its layout again mid-episode"},
+            {R"({"algorithm": "sac", "env": {"name": "push"}, "her": {}, "demonstrations": {"file": ")" + push +
+                 R"(", "start_redraw": 1}})",
+             "demonstrations.start_redraw: has no effect without start_fraction above 0"},
+            {R"({"algorithm": "bc", "env": {"name": "push"}, "demonstrations": {"file": ")" + push + R"(", "start_redraw": 1}})",
+             "demonstrations.start_redraw: has no effect with \"algorithm\": \"bc\""},
+            {R"({"algorithm": "sac", "env": {"name": "push"}, "her": {}, "demonstrations": {"file": ")" + push +
+                 R"(", "start_fraction": 0.5, "start_redraw": 1.5}})",
+             "demonstrations.start_redraw"}});
+}

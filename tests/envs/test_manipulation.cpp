@@ -186,6 +186,75 @@ TEST_CASE("The scripted expert recovers from a missed first grasp", "[envs][mani
                     Catch::Matchers::Contains("only a task that grasps a cube (pick_and_place, stack) has a grasp to miss"));
 }
 
+TEST_CASE("redraw_unmoved: new places for the cubes not moved yet and the goal not reached, the rest kept, the expert "
+          "still stacks",
+          "[envs][manipulation][redraw]") {
+  auto env = make_env(default_env_config("stack"));
+  auto& m = dynamic_cast<ManipulationEnv&>(*env);
+  ManipulationExpert expert(*env);
+  int successes = 0, held_kept = 0, goal_kept = 0, redrawn = 0;
+  const int episodes = 20;
+  for (int e = 0; e < episodes; ++e) {
+    // The expert's episode from this seed, then the same again to a step along it (the first to
+    // the last): before the first grasp, the first cube held, on its goal, the second one held.
+    int length = 0;
+    for (bool ended = (env->reset(static_cast<std::uint64_t>(3000 + e)), expert.reset(), false); !ended; ++length) {
+      const StepResult r = env->step(expert.act());
+      ended = r.terminated || r.truncated;
+    }
+    Observation obs = env->reset(static_cast<std::uint64_t>(3000 + e));
+    expert.reset();
+    const std::vector<Eigen::Vector3f> start = {m.cube_position(0), m.cube_position(1)};
+    for (int t = 0; t < e * (length - 1) / episodes; ++t) obs = env->step(expert.act()).observation;
+    const std::vector<Eigen::Vector3f> before = {m.cube_position(0), m.cube_position(1)};
+    const std::vector<Eigen::Vector3f> goals = m.goals();
+    bool reached = false;
+    for (int k = 0; k < 2; ++k) reached = reached || (before[k] - goals[k]).norm() < 0.05f;
+    Rng rng(static_cast<std::uint64_t>(e));
+    const bool moved = m.redraw_unmoved(rng, observation_out(obs));
+    const Eigen::Vector3f ee = m.world().ee_position();
+    for (int k = 0; k < 2; ++k) {
+      const Eigen::Vector3f now = m.cube_position(k);
+      INFO("episode " << e << ", cube " << k);
+      if ((before[k] - start[k]).norm() > 1e-3f) {
+        CHECK(now == before[k]);  // moved by the expert: it stays (in the gripper, on its goal)
+        held_kept += k == 0;
+      } else {
+        CHECK((now - before[k]).norm() > 1e-3f);  // a new place, clear of the effector and the other cube
+        CHECK((now - ee).head<2>().norm() >= 0.1f);
+        CHECK((now - m.cube_position(1 - k)).head<2>().norm() >= 0.06f - 1e-6f);
+        CHECK(now.z() == Approx(TaskArea::cube_size / 2).margin(1e-3));
+      }
+      CHECK(obs.values.segment<3>(7 + 16 * k) == now);  // the observation is the new state's
+    }
+    CHECK((m.goals() == goals) == reached);
+    CHECK(obs.values.tail<6>().head<3>() == m.goals()[0]);
+    goal_kept += reached;
+    redrawn += moved;
+    StepResult r;
+    do r = env->step(expert.act());
+    while (!r.terminated && !r.truncated);
+    successes += r.info.success;
+  }
+  INFO("succeeded " << successes << ", first cube kept " << held_kept << ", goal kept " << goal_kept << ", redrawn "
+                    << redrawn << " of " << episodes);
+  CHECK(held_kept >= 5);
+  CHECK(goal_kept >= 3);
+  CHECK(redrawn >= episodes - 2);
+  CHECK(successes >= episodes - 3);
+
+  // After load_state nothing counts as unmoved: only the goal can be drawn again.
+  env->reset(5);
+  const std::string saved = m.save_state();
+  m.load_state(saved, "state");
+  const Eigen::Vector3f cube = m.cube_position(0);
+  Observation obs = env->reset(5);
+  m.load_state(saved, "state");
+  Rng rng(1);
+  m.redraw_unmoved(rng, observation_out(obs));
+  CHECK(m.cube_position(0) == cube);
+}
+
 TEST_CASE("The scripted expert solves every manipulation task with pybullet_data's Panda", "[envs][manipulation][expert][pybullet_data]") {
   if (pybullet_data().empty()) {
     WARN("skipped: pybullet_data not found");

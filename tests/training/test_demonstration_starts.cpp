@@ -1,5 +1,6 @@
 // Episodes that start from the demonstrations' states (demonstration_starts.hpp): where they start,
-// that the rest of the episode follows the env, the draws' determinism and saved state, the errors.
+// that the rest of the episode follows the env, the draws' determinism and saved state, the errors,
+// and start_redraw's new layouts around the demonstrated arm.
 #include <catch2/catch.hpp>
 
 #include <set>
@@ -129,4 +130,41 @@ TEST_CASE("demonstration starts: an env with a shorter step limit than the demon
     const StepResult r = env->step(demos->episodes[static_cast<std::size_t>(e)].actions[static_cast<std::size_t>(t)]);
     CHECK(!r.truncated);  // at most step 3 of 4
   }
+}
+
+TEST_CASE("demonstration starts: start_redraw keeps the demonstrated arm, draws a new layout, the same for the same seed and "
+          "saved with the env's state",
+          "[demonstration_starts]") {
+  const auto demos = expert_demos(3);
+  const auto redrawing = [&] {
+    return start_from_demonstrations(make_env(default_env_config("push")), demos, 1.0, "c.json: demonstrations.start_fraction", 1.0);
+  };
+  auto a = redrawing(), b = redrawing();
+  a->reset(4);
+  b->reset(4);
+  int new_layouts = 0;
+  for (int k = 0; k < 12; ++k) {
+    const Observation obs = a->reset();
+    CHECK(b->reset().values == obs.values);
+    // The effector's position and velocity are a recorded step's; the rest of the observation
+    // (the cube unless pushed yet, the goal unless reached) is new in most starts.
+    bool arm_recorded = false, same_layout = false;
+    for (const DemoEpisode& e : demos->episodes)
+      for (const Observation& recorded : e.observations) {
+        arm_recorded = arm_recorded || recorded.values.head<6>() == obs.values.head<6>();
+        same_layout = same_layout || recorded.values == obs.values;
+      }
+    CHECK(arm_recorded);
+    new_layouts += !same_layout;
+  }
+  CHECK(new_layouts >= 6);
+
+  const Action still = Action::continuous(Eigen::VectorXf::Zero(a->spec().action.dim()));
+  a->step(still);
+  dynamic_cast<EnvState&>(*a).drop_caches();
+  auto c = redrawing();
+  c->reset(99);
+  dynamic_cast<EnvState&>(*c).load_state(dynamic_cast<EnvState&>(*a).save_state(), "state");
+  CHECK(c->step(still).observation.values == a->step(still).observation.values);
+  for (int k = 0; k < 6; ++k) CHECK(c->reset().values == a->reset().values);
 }

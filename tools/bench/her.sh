@@ -41,6 +41,10 @@
 #                          transition drawn into a minibatch moved on the table by up to 5 cm in x
 #                          and y, the whole scene together (against memorising the 50 layouts;
 #                          docs/results.md: the gap to new layouts stays)
+#   stack_redraw           stack_shift with demonstrations.start_redraw 1: every episode that starts
+#                          from a demonstrated state gets a new layout for what the expert has not
+#                          moved yet (the cubes still where the reset put them, the goal unless a
+#                          cube is on it), so that the starts leave the 50 demonstrated layouts
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -171,7 +175,7 @@ for task in "${tasks[@]}"; do
       record_demos stack
       edited_config configs/jaka_stack_demos.json "$normalized${EDIT:+; $EDIT}" "$out/stack_normalized.json"
       learn stack_normalized "$out/stack_normalized.json" 0.6 ;;
-    stack_demo_half|stack_starts_most|stack_half_most|stack_partial|stack_missed|stack_shift)
+    stack_demo_half|stack_starts_most|stack_half_most|stack_partial|stack_missed|stack_shift|stack_redraw)
       # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), with
       # four in five episodes started from the demonstrations' states, or with both (and the
       # partial reward).
@@ -181,6 +185,7 @@ for task in "${tasks[@]}"; do
         stack_starts_most) edit="$normalized; $most" ;;
         stack_half_most) edit="$normalized; $half; $most" ;;
         stack_shift) edit="$normalized; $half; $most; c['demonstrations']['shift'] = 0.05" ;;
+        stack_redraw) edit="$normalized; $half; $most; c['demonstrations'].update(shift=0.05, start_redraw=1.0)" ;;
         stack_missed) edit="$normalized; $half; $most; c['demonstrations']['file'] = '$out/stack_missed.demo'" ;;
         *) edit="$normalized; $half; $most; c['env']['reward_type'] = 'partial'; c['demonstrations']['file'] = '$out/stack_partial.demo'" ;;
       esac

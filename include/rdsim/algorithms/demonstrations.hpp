@@ -27,7 +27,8 @@
 //            table (a data augmentation: the same actions from other positions).
 // Every algorithm that steps envs can also start a share of its training episodes from states of
 // the demonstrations (start_fraction; training/demonstration_starts.hpp), or of another file of the
-// same task (start_file).
+// same task (start_file), and in manipulation tasks draw a new layout around those states
+// (start_redraw).
 // The actor fits hold out whole episodes (validation_fraction) and stop early: after `patience`
 // epochs without a better validation loss they restore the best epoch's weights.
 namespace rdsim {
@@ -45,6 +46,7 @@ struct DemonstrationsConfig {
   double demo_fraction = 0.25;
   double start_fraction = 0.0;
   std::string start_file;  // empty: `file`
+  double start_redraw = 0.0;  // the share of those starts with a new layout
   double shift = 0.0;      // m: sac/td3/ddpg on goal envs, the planar shift of demonstrated transitions
   bool large_margin = false;
   double margin = 0.8;
@@ -78,6 +80,12 @@ void describe(V& v, C& c) {
           "demonstration file whose states start those episodes, when not `file` (e.g. episodes that show a "
           "recovery the cloned ones should not); empty = `file`");
   v.check(c.start_file.empty() || c.start_fraction > 0.0, "start_file", "has no effect without start_fraction above 0");
+  v.field("start_redraw", c.start_redraw, config::Range{0.0, 1.0},
+          "share of those starts in which what the demonstrator has not moved yet is drawn again: the arm and what "
+          "it has done stay (a cube in the gripper, a cube on its goal), the cubes still where the reset put them "
+          "and the goal (unless a cube is on it) get new places, so that a few demonstrations start episodes in "
+          "new layouts; manipulation tasks; 0 = none");
+  v.check(c.start_redraw == 0.0 || c.start_fraction > 0.0, "start_redraw", "has no effect without start_fraction above 0");
   v.field("shift", c.shift, config::Range{0.0, 1.0},
           "sac/td3/ddpg on goal envs with Cartesian actions: each demonstrated transition drawn into a minibatch is "
           "moved on the table by an offset drawn uniformly in [-shift, shift] m on x and on y, every world position "

@@ -8,6 +8,7 @@
 #include "rdsim/core/env_config.hpp"
 #include "rdsim/core/env_state.hpp"
 #include "rdsim/core/robot_control.hpp"
+#include "rdsim/core/scene_redraw.hpp"
 #include "rdsim/core/rng.hpp"
 #include "rdsim/envs/manipulation/manipulation_options.hpp"
 #include "rdsim/envs/manipulation/manipulation_task.hpp"
@@ -53,9 +54,12 @@
 // RobotControl (core/robot_control.hpp), as the reaching envs: move_effector (IK holding the gripper's
 // orientation; the fingers keep their targets), set_joint_targets (every joint, the fingers too: the
 // gripper by hand), the "scene" camera; robot_state's target is the first goal.
+// SceneRedraw (core/scene_redraw.hpp): the cubes still where the reset put them, and the goal unless
+// a cube (reach_goal: the effector) is on its point, drawn again as the task's reset draws them,
+// each cube at least 1.5 cube edges from the others and 10 cm from the effector (in x and y).
 namespace rdsim {
 
-class ManipulationEnv : public Env, public EnvState, public RobotControl {
+class ManipulationEnv : public Env, public EnvState, public RobotControl, public SceneRedraw {
 public:
   // rdsim::Error naming the URDF file and key for a robot that does not fit (see gripper_arm.hpp).
   ManipulationEnv(const ManipulationTask& task, const EnvConfig& config);
@@ -79,6 +83,8 @@ public:
   std::string save_state() const override;
   void load_state(const std::string& bytes, const std::string& source) override;
   void drop_caches() override { world_->drop_caches(); }
+
+  bool redraw_unmoved(Rng& rng, ObservationOut out) override;
 
   // For the scripted expert and tests: privileged state.
   const ManipulationTask& task() const { return task_; }
@@ -109,6 +115,9 @@ private:
   void achieved_goal(float* out) const;
   void judge(const float* observation, StepOutcome& r) const;
   void place(const Placement& placement);
+  void show_goals();  // the goal markers to goals_
+  // This episode's placement drawn from `rng` as the reset draws it (with the randomizer's offsets).
+  Placement draw_placement(Rng& rng) const;
   void set_opening(float opening);  // finger targets for this opening (m)
 
   const ManipulationTask& task_;
@@ -132,6 +141,9 @@ private:
   ArmControl control_ = ArmControl::Effector;
   float joint_step_ = 0.05f;
   std::vector<Eigen::Vector3f> goals_;
+  // Where the cubes stood after the reset (redraw_unmoved's "not moved"); empty after load_state,
+  // which does not record it (nothing counts as unmoved then).
+  std::vector<Eigen::Vector3f> placed_;
   Rng rng_;
   int steps_ = 0;
   bool done_ = true;
