@@ -45,6 +45,7 @@
 #                          from a demonstrated state gets a new layout for what the expert has not
 #                          moved yet (the cubes still where the reset put them, the goal unless a
 #                          cube is on it), so that the starts leave the 50 demonstrated layouts
+#                          (docs/results.md: the gap to new layouts stays)
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
