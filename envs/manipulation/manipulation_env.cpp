@@ -281,30 +281,37 @@ Placement ManipulationEnv::draw_placement(Rng& rng) const {
   return placement;
 }
 
+std::vector<bool> ManipulationEnv::unmoved_cubes() const {
+  constexpr float kUnmoved = 1e-3f;  // m: a resting cube settles by less
+  std::vector<bool> unmoved;
+  for (int k = 0; k < task_.cubes; ++k)
+    unmoved.push_back(placed_.size() == static_cast<size_t>(task_.cubes) &&
+                      (cube_position(k) - placed_[static_cast<size_t>(k)]).norm() < kUnmoved);
+  return unmoved;
+}
+
+bool ManipulationEnv::goal_point_reached() const {
+  std::vector<float> achieved(static_cast<size_t>(spec_.goal.goal_size()));
+  achieved_goal(achieved.data());
+  for (size_t p = 0; p < goals_.size(); ++p)
+    if ((Eigen::Map<const Eigen::Vector3f>(&achieved[3 * p]) - goals_[p]).norm() < spec_.goal.distance_threshold) return true;
+  return false;
+}
+
 bool ManipulationEnv::redraw_unmoved(Rng& rng, ObservationOut out) {
   RDSIM_ASSERT(!done_, "redraw_unmoved within an episode");
-  constexpr float kUnmoved = 1e-3f;                     // m: a resting cube settles by less
   constexpr float kApart = 1.5f * TaskArea::cube_size;  // m between cube centres in x and y (draw_cubes')
   constexpr float kClear = 0.10f;                       // m from the effector in x and y: clear of the open fingers
   constexpr int kTries = 100;
   const auto planar = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return (a - b).head<2>().norm(); };
-  std::vector<Eigen::Vector3f> cubes;
-  std::vector<bool> unmoved;
-  for (int k = 0; k < task_.cubes; ++k) {
-    cubes.push_back(cube_position(k));
-    unmoved.push_back(placed_.size() == static_cast<size_t>(task_.cubes) &&
-                      (cubes.back() - placed_[static_cast<size_t>(k)]).norm() < kUnmoved);
-  }
-  // The goal stays where a point of it is reached: what the demonstrator has done.
-  std::vector<float> achieved(static_cast<size_t>(spec_.goal.goal_size()));
-  achieved_goal(achieved.data());
-  bool keep_goal = false;
-  for (size_t p = 0; p < goals_.size(); ++p)
-    keep_goal = keep_goal || (Eigen::Map<const Eigen::Vector3f>(&achieved[3 * p]) - goals_[p]).norm() < spec_.goal.distance_threshold;
+  const std::vector<bool> unmoved = unmoved_cubes();
+  const bool keep_goal = goal_point_reached();  // what the demonstrator has done stays
   if (keep_goal && std::find(unmoved.begin(), unmoved.end(), true) == unmoved.end()) {
     observe(out);
     return false;
   }
+  std::vector<Eigen::Vector3f> cubes;
+  for (int k = 0; k < task_.cubes; ++k) cubes.push_back(cube_position(k));
   const Eigen::Vector3f ee = world_->ee_position();
   for (int t = 0; t < kTries; ++t) {
     const Placement fresh = draw_placement(rng);

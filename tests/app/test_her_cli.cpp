@@ -47,6 +47,15 @@ void train_push_with_demos(const ScratchDir& dir, const std::string& run, const 
   REQUIRE(r.exit_code == 0);
 }
 
+// `n` episodes of `env`'s scripted expert into DIR/ENV.demo.
+void record_expert(const ScratchDir& dir, const std::string& env, int n) {
+  const auto r = run_rdsim("demos record --quiet --expert --env " + env + " -n " + std::to_string(n) + " --out " +
+                               (dir / (env + ".demo")),
+                           dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+}
+
 // Success over the last `window` episodes of episodes.csv.
 double final_success(const std::string& run, std::size_t window) {
   const auto rows = rltest::lines(rltest::slurp(run + "/episodes.csv"));
@@ -239,9 +248,7 @@ TEST_CASE("her: demonstrations.shift trains on moved demonstrations, the same ru
           "clear error each",
           "[cli][her][demos]") {
   ScratchDir dir("her_shift");
-  const auto r0 = run_rdsim("demos record --quiet --expert --env push -n 4 --out " + (dir / "push.demo"), dir);
-  INFO(r0.err);
-  REQUIRE(r0.exit_code == 0);
+  record_expert(dir, "push", 4);
   const std::string demos = R"("file": "push.demo", "bc_epochs": 2, "demo_fraction": 0.5)";
   train_push_with_demos(dir, "plain", demos, 400);
   train_push_with_demos(dir, "shift1", demos + R"(, "shift": 0.05)", 400);
@@ -265,11 +272,8 @@ TEST_CASE("her: demonstrations.start_redraw starts episodes in new layouts, the 
           "one clear error each",
           "[cli][her][demos]") {
   ScratchDir dir("her_start_redraw");
-  for (const std::string env : {"push", "reach"}) {
-    const auto r = run_rdsim("demos record --quiet --expert --env " + env + " -n 4 --out " + (dir / (env + ".demo")), dir);
-    INFO(r.err);
-    REQUIRE(r.exit_code == 0);
-  }
+  record_expert(dir, "push", 4);
+  record_expert(dir, "reach", 4);
   const std::string starts = R"("file": "push.demo", "bc_epochs": 2, "start_fraction": 1)";
   train_push_with_demos(dir, "plain", starts, 600);
   train_push_with_demos(dir, "redraw1", starts + R"(, "start_redraw": 1)", 600);

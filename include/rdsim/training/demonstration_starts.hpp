@@ -26,10 +26,11 @@
 namespace rdsim {
 
 // `env` with `fraction` (in (0, 1]) of its resets starting from `demos`' states, `redraw` (in [0, 1])
-// of those with a new layout. `where` names the key in errors. rdsim::Error when no episode of `demos` has a reset seed (a person's episodes recorded
-// after a continued reset carry none) or when a replay does not reproduce the recorded observations
-// (a file recorded by another build of rdsim, or with other env options). A `redraw` above 0 needs an
-// env that is a SceneRedraw (training/env_source.cpp says so to the user).
+// of those with a new layout. `where` names the key in errors. rdsim::Error when no episode of
+// `demos` has a reset seed (a person's episodes recorded after a continued reset carry none) or when
+// a replay does not reproduce the recorded observations (a file recorded by another build of rdsim,
+// or with other env options). A `redraw` above 0 needs an env that is a SceneRedraw
+// (training/env_source.cpp says so to the user).
 std::unique_ptr<Env> start_from_demonstrations(std::unique_ptr<Env> env, std::shared_ptr<const DemoFile> demos,
                                                double fraction, const std::string& where, double redraw = 0.0);
 

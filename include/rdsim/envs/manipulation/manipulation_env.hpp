@@ -116,6 +116,8 @@ private:
   void judge(const float* observation, StepOutcome& r) const;
   void place(const Placement& placement);
   void show_goals();  // the goal markers to goals_
+  std::vector<bool> unmoved_cubes() const;  // per cube: still where the reset put it (to 1 mm)
+  bool goal_point_reached() const;          // some goal point within distance_threshold
   // This episode's placement drawn from `rng` as the reset draws it (with the randomizer's offsets).
   Placement draw_placement(Rng& rng) const;
   void set_opening(float opening);  // finger targets for this opening (m)
