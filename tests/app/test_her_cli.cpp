@@ -56,6 +56,16 @@ void record_expert(const ScratchDir& dir, const std::string& env, int n) {
   REQUIRE(r.exit_code == 0);
 }
 
+// A demonstrations key's runs: "plain" with `demos`, then NAME1 and NAME2 with `demos` + `extra`,
+// which must give the same CSVs (the same seed).
+void train_plain_and_twice(const ScratchDir& dir, const std::string& name, const std::string& demos, const std::string& extra,
+                           int timesteps) {
+  train_push_with_demos(dir, "plain", demos, timesteps);
+  train_push_with_demos(dir, name + "1", demos + extra, timesteps);
+  train_push_with_demos(dir, name + "2", demos + extra, timesteps);
+  CHECK(run_logs(dir / (name + "1")) == run_logs(dir / (name + "2")));
+}
+
 // Success over the last `window` episodes of episodes.csv.
 double final_success(const std::string& run, std::size_t window) {
   const auto rows = rltest::lines(rltest::slurp(run + "/episodes.csv"));
@@ -250,10 +260,7 @@ TEST_CASE("her: demonstrations.shift trains on moved demonstrations, the same ru
   ScratchDir dir("her_shift");
   record_expert(dir, "push", 4);
   const std::string demos = R"("file": "push.demo", "bc_epochs": 2, "demo_fraction": 0.5)";
-  train_push_with_demos(dir, "plain", demos, 400);
-  train_push_with_demos(dir, "shift1", demos + R"(, "shift": 0.05)", 400);
-  train_push_with_demos(dir, "shift2", demos + R"(, "shift": 0.05)", 400);
-  CHECK(run_logs(dir / "shift1") == run_logs(dir / "shift2"));
+  train_plain_and_twice(dir, "shift", demos, R"(, "shift": 0.05)", 400);
   // The pre-training's losses already differ: its minibatches hold moved transitions.
   CHECK(rltest::slurp(dir / "shift1/pretrain.csv") != rltest::slurp(dir / "plain/pretrain.csv"));
 
@@ -275,10 +282,7 @@ TEST_CASE("her: demonstrations.start_redraw starts episodes in new layouts, the 
   record_expert(dir, "push", 4);
   record_expert(dir, "reach", 4);
   const std::string starts = R"("file": "push.demo", "bc_epochs": 2, "start_fraction": 1)";
-  train_push_with_demos(dir, "plain", starts, 600);
-  train_push_with_demos(dir, "redraw1", starts + R"(, "start_redraw": 1)", 600);
-  train_push_with_demos(dir, "redraw2", starts + R"(, "start_redraw": 1)", 600);
-  CHECK(run_logs(dir / "redraw1") == run_logs(dir / "redraw2"));
+  train_plain_and_twice(dir, "redraw", starts, R"(, "start_redraw": 1)", 600);
   // The same demonstrated states, in other layouts: other episodes.
   CHECK(rltest::slurp(dir / "redraw1/episodes.csv") != rltest::slurp(dir / "plain/episodes.csv"));
   CHECK_THAT(rltest::slurp(dir / "redraw1/config.json"), Contains("\"start_redraw\": 1"));
