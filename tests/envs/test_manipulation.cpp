@@ -212,6 +212,9 @@ TEST_CASE("redraw_unmoved: new places for the cubes not moved yet and the goal n
     for (int k = 0; k < 2; ++k) reached = reached || (before[k] - goals[k]).norm() < 0.05f;
     Rng rng(static_cast<std::uint64_t>(e));
     const bool moved = m.redraw_unmoved(rng, observation_out(obs));
+    bool any_unmoved = false;
+    for (int k = 0; k < 2; ++k) any_unmoved = any_unmoved || (before[k] - start[k]).norm() <= 1e-3f;
+    CHECK(moved == (any_unmoved || !reached));  // nothing left to draw only once both cubes moved and the goal is met
     const Eigen::Vector3f ee = m.world().ee_position();
     for (int k = 0; k < 2; ++k) {
       const Eigen::Vector3f now = m.cube_position(k);
@@ -240,7 +243,7 @@ TEST_CASE("redraw_unmoved: new places for the cubes not moved yet and the goal n
                     << redrawn << " of " << episodes);
   CHECK(held_kept >= 5);
   CHECK(goal_kept >= 3);
-  CHECK(redrawn >= episodes - 2);
+  CHECK(redrawn >= episodes / 2);
   CHECK(successes >= episodes - 3);
 
   // After load_state nothing counts as unmoved: only the goal can be drawn again.
