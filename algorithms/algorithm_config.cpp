@@ -31,10 +31,11 @@ std::string known_names() {
 bool uses_demonstrations_key(const std::string& algorithm, const std::string& key) {
   if (key == "start_fraction" || key == "start_file" || key == "start_redraw") return algorithm != "bc";  // the training envs' starts (demonstration_starts.hpp)
   if (takes_her(algorithm))  // sac, td3, ddpg (off_policy.hpp)
-    return key == "file" || key == "bc_epochs" || key == "demo_fraction" || key == "bc_weight" || key == "shift";
+    return key == "file" || key == "bc_epochs" || key == "demo_fraction" || key == "bc_weight" || key == "shift" ||
+           key == "scatter" || key == "scatter_goal";
   if (key == "demo_fraction" || key == "large_margin" || key == "margin" || key == "margin_weight") return algorithm == "dqn";
   if (key == "fit_critic" || key == "bc_weight" || key == "bc_weight_decay") return algorithm != "dqn" && algorithm != "bc";
-  return key != "shift";
+  return key != "shift" && key != "scatter" && key != "scatter_goal";
 }
 
 // "demonstrations": read when present; keys the algorithm would ignore are errors.

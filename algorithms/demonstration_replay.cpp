@@ -32,8 +32,10 @@ std::vector<int> planar_position_rows(const Spec& spec) {
 }
 
 DemonstrationReplay::DemonstrationReplay(const DemoFile& demos, const Spec& spec, const std::optional<HerConfig>& her,
-                                         const std::function<Eigen::VectorXf(const Action&)>& normalize, double shift)
-    : buffer_(count_steps(demos), spec.observation, spec.action.dim()), shift_(static_cast<float>(shift)) {
+                                         const std::function<Eigen::VectorXf(const Action&)>& normalize, double shift,
+                                         double scatter, bool scatter_goal)
+    : buffer_(count_steps(demos), spec.observation, spec.action.dim()), shift_(static_cast<float>(shift)), scatter_(scatter) {
+  if (scatter_ > 0.0) scatter_by_.emplace(demos, spec, scatter_goal);
   if (shift_ > 0.0f) {
     shift_rows_ = planar_position_rows(spec);
     RDSIM_ASSERT(!shift_rows_.empty(), "demonstrations.shift is checked against the env before the buffer is built");
@@ -52,10 +54,16 @@ DemonstrationReplay::DemonstrationReplay(const DemoFile& demos, const Spec& spec
 }
 
 void DemonstrationReplay::sample_into(int first, int count, Rng& rng, ReplayBatch& out) const {
+  std::vector<long long> drawn(scatter_by_ ? static_cast<std::size_t>(count) : 0);  // the slots, for the scatter
+  long long* slots = scatter_by_ ? drawn.data() : nullptr;
   if (her_)
-    her_->sample_into(buffer_, first, count, rng, out);
+    her_->sample_into(buffer_, first, count, rng, out, slots);
   else
-    buffer_.sample_into(first, count, rng, out);
+    buffer_.sample_into(first, count, rng, out, slots);
+  if (scatter_by_)
+    for (int j = first; j < first + count; ++j)
+      // A draw decides only for a share below 1, so that scatter 1 scatters every transition.
+      if (scatter_ >= 1.0 || rng.uniform() < scatter_) scatter_by_->apply(slots[j - first], j, rng, out);
   if (shift_ > 0.0f) shift_into(first, count, rng, out);
 }
 

@@ -82,12 +82,17 @@ void HindsightReplay::sample(const ReplayBuffer& buffer, int batch_size, Rng& rn
   sample_into(buffer, 0, batch_size, rng, out);
 }
 
-void HindsightReplay::sample_into(const ReplayBuffer& buffer, int first, int count, Rng& rng, ReplayBatch& out) const {
+void HindsightReplay::sample_into(const ReplayBuffer& buffer, int first, int count, Rng& rng, ReplayBatch& out,
+                                  long long* slots) const {
   if (buffer.size() == 0) throw Error("ReplayBuffer::sample: the buffer is empty");
   const int relabelled = relabelable_ > 0 ? static_cast<int>(std::lround(config_.relabel_fraction() * count)) : 0;
   const auto size = static_cast<std::uint64_t>(buffer.size());
   const int end = first + count;
-  for (int j = first; j < end - relabelled; ++j) buffer.copy_to(static_cast<long long>(rng.below(size)), j, out);
+  for (int j = first; j < end - relabelled; ++j) {
+    const auto slot = static_cast<long long>(rng.below(size));
+    buffer.copy_to(slot, j, out);
+    if (slots) slots[j - first] = slot;
+  }
   for (int j = end - relabelled; j < end; ++j) {
     // Uniform over the relabelable transitions: the others are the running episodes and at most
     // one cut episode per env, so few draws are rejected once a few episodes are stored.
@@ -95,6 +100,7 @@ void HindsightReplay::sample_into(const ReplayBuffer& buffer, int first, int cou
     do slot = static_cast<long long>(rng.below(size));
     while (length_[static_cast<std::size_t>(slot)] == 0);
     relabel(buffer, slot, j, rng, out);
+    if (slots) slots[j - first] = slot;
   }
 }
 

@@ -102,7 +102,7 @@ std::vector<Metrics> OffPolicy::learn_from_demonstrations(const DemoFile& demos,
   demos_ = std::make_unique<DemonstrationReplay>(demos, spec_, her_config_, [&](const Action& a) -> Eigen::VectorXf {
     // The inverse of env_action: the env's Box to the networks' [-1, 1].
     return (2.0f * (a.values.array() - low) / (high - low) - 1.0f).cwiseMax(-1.0f).cwiseMin(1.0f).matrix();
-  }, config.shift);
+  }, config.shift, config.scatter, config.scatter_goal);
   std::vector<Metrics> rows;
   // A resumed run's checkpoint holds the statistics, the demonstrations' included.
   if (!pretrain) return rows;

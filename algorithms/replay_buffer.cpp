@@ -183,10 +183,13 @@ void ReplayBuffer::sample(int batch_size, Rng& rng, ReplayBatch& out) const {
   sample_into(0, batch_size, rng, out);
 }
 
-void ReplayBuffer::sample_into(int first, int count, Rng& rng, ReplayBatch& out) const {
+void ReplayBuffer::sample_into(int first, int count, Rng& rng, ReplayBatch& out, long long* slots) const {
   if (size_ == 0) throw Error("ReplayBuffer::sample: the buffer is empty");
-  for (int j = first; j < first + count; ++j)
-    copy_to(static_cast<long long>(rng.below(static_cast<std::uint64_t>(size_))), j, out);
+  for (int j = first; j < first + count; ++j) {
+    const auto slot = static_cast<long long>(rng.below(static_cast<std::uint64_t>(size_)));
+    copy_to(slot, j, out);
+    if (slots) slots[j - first] = slot;
+  }
 }
 
 void ReplayBuffer::save(std::ostream& out) const {

@@ -11,9 +11,10 @@
 
 namespace rdsim {
 
-RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column) {
+RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column,
+                        std::size_t piece_bytes) {
   const std::string path = (std::filesystem::path(dir) / progress_csv_name).string();
-  const CsvRows table = read_csv_rows(path);
+  CsvRows table = read_csv_rows(path, 0, piece_bytes);
   const int xi = csv_column(table.columns, x_column);
   const int yi = csv_column(table.columns, y_column);
   for (const auto& [index, name] : {std::pair{xi, x_column}, std::pair{yi, y_column}}) {
@@ -24,14 +25,17 @@ RunCurve read_run_curve(const std::string& dir, const std::string& x_column, con
   }
   RunCurve run;
   run.info = read_run_info(dir);
-  for (const auto& row : table.rows) {
-    const double x = row[static_cast<std::size_t>(xi)], y = row[static_cast<std::size_t>(yi)];
-    if (std::isfinite(x) && std::isfinite(y)) {
-      run.x.push_back(x);
-      run.y.push_back(y);
+  for (;;) {
+    for (const auto& row : table.rows) {
+      const double x = row[static_cast<std::size_t>(xi)], y = row[static_cast<std::size_t>(yi)];
+      if (std::isfinite(x) && std::isfinite(y)) {
+        run.x.push_back(x);
+        run.y.push_back(y);
+      }
     }
+    if (!table.more) return run;
+    table = read_csv_rows(path, table.next, piece_bytes);
   }
-  return run;
 }
 
 double interpolate(const RunCurve& run, double x) {

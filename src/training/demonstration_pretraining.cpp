@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "rdsim/algorithms/demonstration_replay.hpp"
+#include "rdsim/algorithms/demonstration_scatter.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/rng.hpp"
@@ -40,6 +41,9 @@ void learn_from_demonstrations(const TrainConfig& config, const DemoFile& demos,
     throw Error(config.source + ": demonstrations.shift: env \"" + spec.env_name +
                 "\" has no world positions to shift (a goal env with Cartesian actions: push, pick_and_place, stack, "
                 "reach_goal; not with control \"joints\")");
+  if (dc.scatter > 0.0 && !DemonstrationScatter::supported(spec))
+    throw Error(config.source + ": demonstrations.scatter: env \"" + spec.env_name +
+                "\" has no objects to scatter (a goal env with objects: push, pick_and_place, stack)");
   check_demos_fit(demos, to_json(config.env), spec);
   if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
   Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);

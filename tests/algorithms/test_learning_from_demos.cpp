@@ -9,6 +9,7 @@
 #include "rdsim/algorithms/algorithm_config.hpp"
 #include "rdsim/algorithms/behavior_cloning.hpp"
 #include "rdsim/algorithms/demonstration_replay.hpp"
+#include "rdsim/algorithms/demonstration_scatter.hpp"
 #include "rdsim/algorithms/dqn.hpp"
 #include "rdsim/vecenv/vec_env.hpp"
 #include "rdsim/core/error.hpp"
@@ -382,5 +383,137 @@ TEST_CASE("demonstrations.shift moves every world position of a drawn transition
       CHECK(moved.action_values.col(j) == e.actions[0].values);
     }
     CHECK(offsets.size() > batch / 2);  // each transition its own offset
+  }
+}
+namespace {
+
+// stack's observation in short (two cubes): rows 0-2 the effector, 3-5 cube 1, 6-8 cube 1 - effector,
+// 9-11 cube 2, 12-14 cube 2 - effector, 15-20 achieved (the cubes), 21-26 desired (goal 2 above goal 1).
+Spec two_cube_spec() {
+  Spec s;
+  s.env_name = "two_cubes";
+  s.observation.shape = {27};
+  s.observation.parts = {{"effector_position", 3}, {"cube1_position", 3}, {"cube1_from_effector", 3},
+                         {"cube2_position", 3},    {"cube2_from_effector", 3}, {"achieved_goal", 6},
+                         {"desired_goal", 6}};
+  s.action = ActionSpace{.discrete = false, .n = 0, .low = Eigen::VectorXf::Constant(4, -1.0f),
+                         .high = Eigen::VectorXf::Constant(4, 1.0f)};
+  s.goal = GoalLayout{.observation = 15, .points = 2, .distance_threshold = 0.05f, .reward = GoalReward::Sparse};
+  return s;
+}
+
+// Eight steps of stacking, cubes starting at `a` and `b`, the goal at `g` (x, y): cube 1 lifted in
+// observations 3-4 and put on the goal from 5 on, cube 2 lifted from 7 on. The effector's x is
+// 0.01 m x the observation's index (which step a drawn transition is).
+DemoEpisode stacking(const Eigen::Vector2f& a, const Eigen::Vector2f& b, const Eigen::Vector2f& g) {
+  const auto observe = [&](int t) {
+    const Eigen::Vector3f ee(0.01f * static_cast<float>(t), 0.0f, 0.3f);
+    const Eigen::Vector3f goal(g.x(), g.y(), 0.02f), cube1 = t < 3   ? Eigen::Vector3f(a.x(), a.y(), 0.02f)
+                                                        : t < 5   ? Eigen::Vector3f(a.x(), a.y(), 0.05f * static_cast<float>(t - 2))
+                                                                  : goal;
+    const Eigen::Vector3f cube2 = t < 7 ? Eigen::Vector3f(b.x(), b.y(), 0.02f) : Eigen::Vector3f(b.x(), b.y(), 0.1f);
+    const Eigen::Vector3f parts[] = {ee, cube1, cube1 - ee, cube2, cube2 - ee, cube1, cube2, goal, goal + Eigen::Vector3f(0.0f, 0.0f, 0.04f)};
+    Eigen::VectorXf v(27);
+    for (int p = 0; p < 9; ++p)
+      for (int i = 0; i < 3; ++i) v[3 * p + i] = parts[p][i];
+    return Observation{v, {}};
+  };
+  DemoEpisode e;
+  e.start(observe(0));
+  for (int t = 1; t <= 8; ++t) {
+    StepResult r{.observation = observe(t), .reward = -1.0f, .terminated = false, .truncated = t == 8, .info = {}};
+    e.add(Action::continuous(Eigen::Vector4f(0.1f, 0.0f, 0.0f, static_cast<float>(t))), r);
+  }
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("demonstrations.scatter moves the cubes and the goal a demonstrated step does not depend on", "[demos][sac]") {
+  const Spec spec = two_cube_spec();
+  CHECK(DemonstrationScatter::supported(spec));
+  CHECK(DemonstrationScatter::supported(cube_goal_spec()));  // push, pick_and_place: one cube
+  Spec reach;  // no object but the effector
+  reach.observation.shape = {9};
+  reach.observation.parts = {{"effector_position", 3}, {"achieved_goal", 3}, {"desired_goal", 3}};
+  reach.goal = GoalLayout{.observation = 3, .points = 1};
+  CHECK_FALSE(DemonstrationScatter::supported(reach));
+
+  DemoFile f;
+  f.path = "stack.demo";
+  f.spec = spec;
+  f.episodes = {stacking({0.15f, -0.15f}, {-0.15f, 0.15f}, {0.0f, 0.1f}), stacking({-0.1f, -0.1f}, {0.1f, 0.15f}, {0.1f, -0.15f})};
+  // Cube 2 is idle until cube 1 is on its goal (observation 5), the goal until cube 1 moves (3).
+  const DemonstrationScatter idle(f, spec, true);
+  for (int slot = 0; slot < 16; ++slot) {
+    const int t = slot % 8;
+    INFO("step " << t);
+    CHECK(idle.idle(slot) == ((t < 4 ? 0x02 : 0) | (t < 2 ? DemonstrationScatter::kGoalBit : 0)));
+  }
+  CHECK(DemonstrationScatter(f, spec, false).idle(0) == 0x02);
+
+  const auto identity = [](const Action& a) -> Eigen::VectorXf { return a.values; };
+  const int batch = 256;
+  for (const bool her : {false, true}) {
+    INFO("her " << her);
+    const std::optional<HerConfig> h = her ? std::optional<HerConfig>(HerConfig{}) : std::nullopt;
+    const auto draw = [&](double scatter) {
+      DemonstrationReplay replay(f, spec, h, identity, 0.0, scatter, true);
+      ReplayBatch out;
+      replay.buffer().shape_batch(batch, out);
+      Rng rng(7);
+      replay.sample_into(0, batch, rng, out);
+      return out;
+    };
+    const ReplayBatch plain = draw(0.0), moved = draw(1.0), again = draw(1.0);
+    CHECK(moved.observations == again.observations);  // the same draws for the same stream
+    int cubes_moved = 0, goals_moved = 0;
+    for (int j = 0; j < batch; ++j) {
+      const int t = static_cast<int>(std::lround(plain.observations(0, j) / 0.01f));
+      INFO("column " << j << ", step " << t);
+      const Eigen::VectorXf o = moved.observations.col(j), n = moved.next_observations.col(j);
+      const Eigen::VectorXf d = o - plain.observations.col(j), dn = n - plain.next_observations.col(j);
+      const Eigen::Vector2f by = d.segment<2>(9), goal_by = d.segment<2>(21);  // cube 2's offset, the goal's
+      const bool cube = by.norm() > 1e-6f, goal = goal_by.norm() > 1e-6f;
+      cubes_moved += cube;
+      goals_moved += goal;
+      CHECK((!cube || t < 4));
+      CHECK((!goal || t < 2));
+      for (const int r : {9, 12, 18}) {  // cube 2, from the effector, its achieved point: one offset, both observations
+        CHECK(d.segment<2>(r).isApprox(by, 1e-5f));
+        CHECK(dn.segment<2>(r).isApprox(by, 1e-5f));
+      }
+      for (const int r : {0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 14, 15, 16, 17, 20, 23, 26}) {  // the effector, cube 1, heights
+        CHECK(d[r] == 0.0f);
+        CHECK(dn[r] == 0.0f);
+      }
+      CHECK(dn.segment<6>(21) == d.segment<6>(21));
+      // The second desired point is cube 2's: one it meets where it lies (a hindsight goal) moves
+      // with it, any other with the goal.
+      const bool tied = (plain.observations.col(j).segment<3>(9) - plain.observations.col(j).segment<3>(24)).norm() < 0.05f;
+      CHECK(d.segment<2>(24).isApprox(tied ? by : goal_by, 1e-5f));
+      if (cube) {  // clear of the effector, cube 1 and the goals it does not meet, where the demonstrations' cubes started
+        const Eigen::Vector2f at = o.segment<2>(9);
+        CHECK((at - o.head<2>()).norm() >= 0.1f);
+        CHECK((at - n.head<2>()).norm() >= 0.1f);
+        CHECK((at - o.segment<2>(3)).norm() >= 0.06f);
+        CHECK((at.array() >= -0.15f - 1e-6f).all());
+        CHECK((at.array() <= 0.15f + 1e-6f).all());
+        CHECK((at - o.segment<2>(21)).norm() >= 0.06f);
+        if (!tied) CHECK((at - o.segment<2>(24)).norm() >= 0.06f);
+      }
+      if (goal) {  // where the demonstrations' goals were, clear of the cubes
+        CHECK(o[21] >= 0.0f - 1e-6f);
+        CHECK(o[21] <= 0.1f + 1e-6f);
+        CHECK(o[22] >= -0.15f - 1e-6f);
+        CHECK(o[22] <= 0.1f + 1e-6f);
+        CHECK((o.segment<2>(21) - o.segment<2>(3)).norm() >= 0.06f);
+      }
+      CHECK(moved.rewards[j] == spec.goal.reward_of(n.data() + 15, n.data() + 21));
+      CHECK(moved.terminated[j] == (spec.goal.is_success(n.data() + 15, n.data() + 21) ? 1.0f : 0.0f));
+      CHECK(moved.action_values.col(j) == plain.action_values.col(j));
+    }
+    CHECK(cubes_moved > batch / 4);  // half the steps have cube 2 idle
+    CHECK(goals_moved > batch / 16);  // a quarter have the goal idle
   }
 }

@@ -66,6 +66,16 @@ void train_plain_and_twice(const ScratchDir& dir, const std::string& name, const
   CHECK(run_logs(dir / (name + "1")) == run_logs(dir / (name + "2")));
 }
 
+// A demonstrations key that changes the demonstrated transitions drawn into minibatches: push's
+// expert (4 episodes) trained on plain and twice with `extra`; the pre-training's losses already
+// differ from the plain run's.
+void train_on_changed_batches(const ScratchDir& dir, const std::string& name, const std::string& extra) {
+  record_expert(dir, "push", 4);
+  const std::string demos = R"("file": "push.demo", "bc_epochs": 2, "demo_fraction": 0.5)";
+  train_plain_and_twice(dir, name, demos, extra, 400);
+  CHECK(rltest::slurp(dir / (name + "1/pretrain.csv")) != rltest::slurp(dir / "plain/pretrain.csv"));
+}
+
 // Success over the last `window` episodes of episodes.csv.
 double final_success(const std::string& run, std::size_t window) {
   const auto rows = rltest::lines(rltest::slurp(run + "/episodes.csv"));
@@ -258,11 +268,7 @@ TEST_CASE("her: demonstrations.shift trains on moved demonstrations, the same ru
           "clear error each",
           "[cli][her][demos]") {
   ScratchDir dir("her_shift");
-  record_expert(dir, "push", 4);
-  const std::string demos = R"("file": "push.demo", "bc_epochs": 2, "demo_fraction": 0.5)";
-  train_plain_and_twice(dir, "shift", demos, R"(, "shift": 0.05)", 400);
-  // The pre-training's losses already differ: its minibatches hold moved transitions.
-  CHECK(rltest::slurp(dir / "shift1/pretrain.csv") != rltest::slurp(dir / "plain/pretrain.csv"));
+  train_on_changed_batches(dir, "shift", R"(, "shift": 0.05)");
 
   const std::string file = dir / "push.demo";
   rltest::check_config_errors(
@@ -300,4 +306,24 @@ TEST_CASE("her: demonstrations.start_redraw starts episodes in new layouts, the 
             {R"({"algorithm": "sac", "env": {"name": "push"}, "her": {}, "demonstrations": {"file": ")" + push +
                  R"(", "start_fraction": 0.5, "start_redraw": 1.5}})",
              "demonstrations.start_redraw"}});
+}
+
+TEST_CASE("her: demonstrations.scatter trains on demonstrations with idle objects and goals moved, the same run for the "
+          "same seed, and misuse is one clear error each",
+          "[cli][her][demos]") {
+  ScratchDir dir("her_scatter");
+  // push's one cube is never idle: only the goal moves, before the cube does.
+  train_on_changed_batches(dir, "scatter", R"(, "scatter": 1, "scatter_goal": true)");
+
+  const std::string file = dir / "push.demo";
+  rltest::check_config_errors(
+      dir, {{R"({"algorithm": "sac", "env": {"name": "reach_goal"}, "her": {}, "demonstrations": {"file": ")" + file +
+                 R"(", "scatter": 1}})",
+             "demonstrations.scatter: env \"reach_goal\" has no objects to scatter"},
+            {R"({"algorithm": "ppo", "env": {"name": "push"}, "demonstrations": {"file": ")" + file + R"(", "scatter": 1}})",
+             "demonstrations.scatter: has no effect with \"algorithm\": \"ppo\""},
+            {R"({"algorithm": "sac", "env": {"name": "push"}, "demonstrations": {"file": ")" + file + R"(", "scatter_goal": true}})",
+             "demonstrations.scatter_goal: has no effect without scatter above 0"},
+            {R"({"algorithm": "sac", "env": {"name": "push"}, "demonstrations": {"file": ")" + file + R"(", "scatter": 2}})",
+             "demonstrations.scatter"}});
 }

@@ -90,6 +90,21 @@ TEST_CASE("learning curves: a run's curve from progress.csv, skipping empty and 
   CHECK_THROWS_AS(rdsim::read_run_curve((dir / "absent").string(), "timesteps", "success_rate"), rdsim::Error);
 }
 
+TEST_CASE("learning curves: a progress.csv larger than one piece is read to its end", "[plot]") {
+  const fs::path dir = scratch_dir("curve_pieces");
+  std::ofstream(dir / "config.json") << R"({"algorithm": "sac", "env": {"name": "stack"}, "seed": 1})";
+  {
+    std::ofstream out(dir / "progress.csv");
+    out << "timesteps,success_rate\n";
+    for (int t = 1; t <= 1000; ++t) out << t << "," << t / 1000.0 << "\n";
+  }
+  const rdsim::RunCurve c = rdsim::read_run_curve(dir.string(), "timesteps", "success_rate", 256);  // ~20 pieces
+  REQUIRE(c.x.size() == 1000);
+  CHECK(c.x.back() == 1000);
+  CHECK(c.y.back() == 1.0);
+  CHECK(rdsim::read_run_curve(dir.string(), "timesteps", "success_rate").x == c.x);
+}
+
 TEST_CASE("learning curves: runs are grouped by env, never averaged across envs", "[plot]") {
   auto on = [](rdsim::RunCurve c, const std::string& env) {
     c.info.env = env;

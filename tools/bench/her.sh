@@ -15,9 +15,12 @@
 #                          Franka Panda by options (tools/setup.sh links pybullet's robots at
 #                          .venv/pybullet_data; never copied)
 #   stack_demos            configs/jaka_stack_demos.json with 50 episodes of the scripted expert
-#                          (recorded into $OUT/stack.demo), target 0.6
+#                          (recorded into $OUT/stack.demo), target 0.6: stack_scatter's settings
 #   stack_her              the same config without demonstrations (HER alone), target 0.6
-#   stack_starts           stack_demos with half the training episodes starting from the
+#   stack_first            jaka_stack_demos.json's first settings, from which the variants below
+#                          start: network.input_scale 5, no normalize_observations, no eval, and
+#                          demonstrations with bc_epochs 200, demo_fraction 0.2, bc_weight 20 only
+#   stack_starts           stack_first with half the training episodes starting from the
 #                          demonstrations' states (demonstrations.start_fraction 0.5) and an
 #                          evaluation of 50 episodes every 50k steps (eval.csv: the training
 #                          window counts the episodes that start part-way)
@@ -46,6 +49,11 @@
 #                          moved yet (the cubes still where the reset put them, the goal unless a
 #                          cube is on it), so that the starts leave the 50 demonstrated layouts
 #                          (docs/results.md: the gap to new layouts stays)
+#   stack_scatter          stack_redraw with demonstrations.scatter 1 and scatter_goal: in every
+#                          demonstrated transition drawn into a minibatch, the second cube gets a new
+#                          place while the expert fetches and places the first, and the goal one
+#                          while no cube has moved yet (what the expert's action there does not
+#                          depend on); the same config as stack_demos
 #   compare                rdsim's configs/jaka_push.json and Stable-Baselines3 2.9 SAC +
 #                          HerReplayBuffer with the same settings (examples/sb3_her.py, torch on CPU)
 #                          on rdsim/JakaPush-v0, seed by seed side by side, each pinned to one core
@@ -53,8 +61,8 @@
 #   compare_alone          the same pair one after the other, each with the whole machine: rdsim
 #                          with RDSIM_GEMM=onednn on every core, SB3 with torch on every core.
 # Settings: OUT (default a new /tmp folder), SEEDS, JOBS, TIMESTEPS, RDSIM_BIN (as learning.sh),
-# SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps), EDIT (stack_normalized
-# and the variants after it: a further Python edit of the config c, e.g.
+# SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps), EDIT (stack_first,
+# stack_normalized and the variants after it: a further Python edit of the config c, e.g.
 # "c['demonstrations']['start_fraction'] = 0.95" or "c['sac']['gamma'] = 0.98").
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -148,8 +156,10 @@ compare_alone() {
   done
 }
 
-# stack_normalized's edit of configs/jaka_stack_demos.json (the demonstrations recorded into $out).
-normalized="c['demonstrations'].update(file='$out/stack.demo', start_fraction=0.5); c['eval'] = {'every': 100000, 'episodes': 50}; del c['network']['input_scale']; c['normalize_observations'] = True"
+# The first settings of configs/jaka_stack_demos.json, and stack_normalized's edit of them (the
+# demonstrations recorded into $out).
+first="c['network']['input_scale'] = 5; c.pop('normalize_observations'); c.pop('eval'); c['demonstrations'] = {'file': '$out/stack.demo', 'bc_epochs': 200, 'demo_fraction': 0.2, 'bc_weight': 20}"
+normalized="$first; c['demonstrations']['start_fraction'] = 0.5; c['eval'] = {'every': 100000, 'episodes': 50}; del c['network']['input_scale']; c['normalize_observations'] = True"
 
 for task in "${tasks[@]}"; do
   case "$task" in
@@ -167,16 +177,20 @@ for task in "${tasks[@]}"; do
       record_demos stack
       edited_config configs/jaka_stack_demos.json "c['demonstrations']['file'] = '$out/stack.demo'" "$out/stack_demos.json"
       learn stack_demos "$out/stack_demos.json" 0.6 ;;
+    stack_first)
+      record_demos stack
+      edited_config configs/jaka_stack_demos.json "$first${EDIT:+; $EDIT}" "$out/stack_first.json"
+      learn stack_first "$out/stack_first.json" 0.6 ;;
     stack_starts)
       record_demos stack
-      edited_config configs/jaka_stack_demos.json "c['demonstrations'].update(file='$out/stack.demo', start_fraction=0.5); c['eval'] = {'every': 50000, 'episodes': 50}" \
+      edited_config configs/jaka_stack_demos.json "$first; c['demonstrations']['start_fraction'] = 0.5; c['eval'] = {'every': 50000, 'episodes': 50}" \
         "$out/stack_starts.json"
       learn stack_starts "$out/stack_starts.json" 0.6 ;;
     stack_normalized)
       record_demos stack
       edited_config configs/jaka_stack_demos.json "$normalized${EDIT:+; $EDIT}" "$out/stack_normalized.json"
       learn stack_normalized "$out/stack_normalized.json" 0.6 ;;
-    stack_demo_half|stack_starts_most|stack_half_most|stack_partial|stack_missed|stack_shift|stack_redraw)
+    stack_demo_half|stack_starts_most|stack_half_most|stack_partial|stack_missed|stack_shift|stack_redraw|stack_scatter)
       # stack_normalized with half of every batch demonstrated (RLPD's symmetric sampling), with
       # four in five episodes started from the demonstrations' states, or with both (and the
       # partial reward).
@@ -187,6 +201,7 @@ for task in "${tasks[@]}"; do
         stack_half_most) edit="$normalized; $half; $most" ;;
         stack_shift) edit="$normalized; $half; $most; c['demonstrations']['shift'] = 0.05" ;;
         stack_redraw) edit="$normalized; $half; $most; c['demonstrations'].update(shift=0.05, start_redraw=1.0)" ;;
+        stack_scatter) edit="$normalized; $half; $most; c['demonstrations'].update(shift=0.05, start_redraw=1.0, scatter=1.0, scatter_goal=True)" ;;
         stack_missed) edit="$normalized; $half; $most; c['demonstrations']['file'] = '$out/stack_missed.demo'" ;;
         *) edit="$normalized; $half; $most; c['env']['reward_type'] = 'partial'; c['demonstrations']['file'] = '$out/stack_partial.demo'" ;;
       esac
@@ -218,7 +233,7 @@ for task in "${tasks[@]}"; do
       learn stack_her "$out/stack_her.json" 0.6 ;;
     compare) compare ;;
     compare_alone) compare_alone ;;
-    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial stack_missed stack_missed_starts stack_shift compare compare_alone)" >&2
+    *) echo "her.sh: unknown task $task (push pick_and_place pick_and_place_her panda_push stack_demos stack_her stack_first stack_starts stack_normalized stack_demo_half stack_starts_most stack_half_most stack_partial stack_missed stack_missed_starts stack_shift stack_redraw stack_scatter compare compare_alone)" >&2
        exit 2 ;;
   esac
 done

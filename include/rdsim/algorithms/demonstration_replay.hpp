@@ -3,6 +3,7 @@
 #include <optional>
 #include <vector>
 
+#include "rdsim/algorithms/demonstration_scatter.hpp"
 #include "rdsim/algorithms/her.hpp"
 #include "rdsim/algorithms/hindsight_replay.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
@@ -22,6 +23,10 @@
 // action and the reward (a distance between goals, both moved) stay. Each drawn transition gets its
 // own offset, uniform in [-shift, shift] m on x and on y, after any hindsight relabelling. It is an
 // approximation near the workspace's edges and the arm's reach, where the real env clips.
+//
+// Scatter (demonstrations.scatter > 0; demonstration_scatter.hpp): that share of the drawn
+// transitions get new places for the objects (and with scatter_goal the goal) the demonstrated step
+// does not depend on, after any hindsight relabelling and before the shift.
 namespace rdsim {
 
 struct DemoFile;  // demos/demo_file.hpp
@@ -35,16 +40,18 @@ std::vector<int> planar_position_rows(const Spec& spec);
 class DemonstrationReplay {
 public:
   // Box actions are stored as the algorithm acts: `normalize` maps an env action to the
-  // networks' [-1, 1]. `shift` (m; > 0 needs planar_position_rows(spec), checked by the caller).
+  // networks' [-1, 1]. `shift` (m; > 0 needs planar_position_rows(spec)) and `scatter` (a share;
+  // > 0 needs DemonstrationScatter::supported(spec)) are checked by the caller.
   // Throws rdsim::Error naming the file when it holds no step.
   DemonstrationReplay(const DemoFile& demos, const Spec& spec, const std::optional<HerConfig>& her,
-                      const std::function<Eigen::VectorXf(const Action&)>& normalize, double shift = 0.0);
+                      const std::function<Eigen::VectorXf(const Action&)>& normalize, double shift = 0.0,
+                      double scatter = 0.0, bool scatter_goal = false);
 
   long long transitions() const { return buffer_.size(); }
   const ReplayBuffer& buffer() const { return buffer_; }
 
   // `count` transitions into columns [first, first + count) of `out` (shaped by the caller), each
-  // shifted when `shift` > 0 (its offsets drawn from `rng` after the transitions).
+  // scattered (that share) and shifted when asked (the draws from `rng` after the transitions).
   void sample_into(int first, int count, Rng& rng, ReplayBatch& out) const;
 
 private:
@@ -54,6 +61,8 @@ private:
   std::optional<HindsightReplay> her_;
   float shift_ = 0.0f;            // m
   std::vector<int> shift_rows_;   // planar_position_rows when shift_ > 0
+  double scatter_ = 0.0;          // share of the drawn transitions scattered
+  std::optional<DemonstrationScatter> scatter_by_;  // when scatter_ > 0
 };
 
 }  // namespace rdsim

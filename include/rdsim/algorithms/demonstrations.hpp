@@ -24,7 +24,8 @@
 //            bc_weight x mean |pi(s) - a_demo|^2 over the demonstrated transitions whose action the
 //            critic values above the policy's (demonstration_replay.hpp, off_policy.hpp); on goal
 //            envs with Cartesian actions, `shift` moves each drawn demonstrated transition on the
-//            table (a data augmentation: the same actions from other positions).
+//            table (a data augmentation: the same actions from other positions), and `scatter`
+//            moves the objects a demonstrated step does not depend on to other places.
 // Every algorithm that steps envs can also start a share of its training episodes from states of
 // the demonstrations (start_fraction; training/demonstration_starts.hpp), or of another file of the
 // same task (start_file), and in manipulation tasks draw a new layout around those states
@@ -48,6 +49,8 @@ struct DemonstrationsConfig {
   std::string start_file;  // empty: `file`
   double start_redraw = 0.0;  // the share of those starts with a new layout
   double shift = 0.0;      // m: sac/td3/ddpg on goal envs, the planar shift of demonstrated transitions
+  double scatter = 0.0;       // sac/td3/ddpg on goal envs with objects: the share of them scattered
+  bool scatter_goal = false;  // and the goal too, before the first object moves
   bool large_margin = false;
   double margin = 0.8;
   double margin_weight = 1.0;
@@ -91,6 +94,16 @@ void describe(V& v, C& c) {
           "moved on the table by an offset drawn uniformly in [-shift, shift] m on x and on y, every world position "
           "of its observations (effector, objects, goals) together, so that 50 demonstrations cover other layouts "
           "(demonstration_replay.hpp); 0 = none");
+  v.field("scatter", c.scatter, config::Range{0.0, 1.0},
+          "sac/td3/ddpg on goal envs with objects: the share of the demonstrated transitions drawn into a minibatch "
+          "whose idle objects (not moved yet and not the next one the demonstrator moves: stack's second cube while "
+          "the first is fetched and placed) get new places on the table, where the demonstrations' objects started "
+          "and clear of the effector and the rest (demonstration_scatter.hpp); 0 = none");
+  v.field("scatter_goal", c.scatter_goal,
+          "with scatter: the goal too gets a new place while no object has moved yet; right for demonstrators "
+          "whose way to the first object does not depend on the goal (the scripted expert's pick_and_place and "
+          "stack, not push)");
+  v.check(!c.scatter_goal || c.scatter > 0.0, "scatter_goal", "has no effect without scatter above 0");
   v.field("large_margin", c.large_margin, "dqn: DQfD's large-margin loss on demonstrated actions");
   v.field("margin", c.margin, config::Range{0.0, 1e6}, "dqn: the margin by which a demonstrated action's Q must lead");
   v.field("margin_weight", c.margin_weight, config::Range{0.0, 1e6}, "dqn: weight of the large-margin loss");

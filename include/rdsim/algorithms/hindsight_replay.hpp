@@ -35,7 +35,9 @@ public:
   // drawn uniformly, then the relabelled ones (none before an episode has finished).
   void sample(const ReplayBuffer& buffer, int batch_size, Rng& rng, ReplayBatch& out) const;
   // The same for columns [first, first + count) of `out`, already shaped (ReplayBuffer::shape_batch).
-  void sample_into(const ReplayBuffer& buffer, int first, int count, Rng& rng, ReplayBatch& out) const;
+  // `slots` (when given, `count` of them): the slot of each column's transition.
+  void sample_into(const ReplayBuffer& buffer, int first, int count, Rng& rng, ReplayBatch& out,
+                   long long* slots = nullptr) const;
 
   // Transitions that can be relabelled now (in finished, whole episodes).
   long long relabelable() const { return relabelable_; }

@@ -69,7 +69,8 @@ public:
   // only when its shape changes. Throws rdsim::Error when the buffer is empty.
   void sample(int batch_size, Rng& rng, ReplayBatch& out) const;
   // The same draws into columns [first, first + count) of `out`, already shaped (shape_batch).
-  void sample_into(int first, int count, Rng& rng, ReplayBatch& out) const;
+  // `slots` (when given, `count` of them): the slot each column was drawn from.
+  void sample_into(int first, int count, Rng& rng, ReplayBatch& out, long long* slots = nullptr) const;
 
   // The pieces of sample() for samplers of their own (hindsight_replay.hpp): the slot the latest
   // add() wrote, `out` shaped for `batch_size` transitions (resized only when its shape changes),

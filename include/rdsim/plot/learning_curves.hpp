@@ -1,4 +1,5 @@
 #pragma once
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -14,9 +15,11 @@ struct RunCurve {
   std::vector<double> x, y;
 };
 
-// Reads <dir>/progress.csv. Throws rdsim::Error naming the file when it cannot be read, or naming the
+// Reads <dir>/progress.csv, the whole of it in pieces of about `piece_bytes` (a 1M-step SAC run
+// logs some 80 MB). Throws rdsim::Error naming the file when it cannot be read, or naming the
 // column (and listing those there are) when it has no such column.
-RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column);
+RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column,
+                        std::size_t piece_bytes = 64 * 1024 * 1024);
 
 enum class Band { StdDev, MinMax };
 
