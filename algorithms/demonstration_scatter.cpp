@@ -30,9 +30,10 @@ Eigen::Vector2f draw_in(const Eigen::Vector2f& low, const Eigen::Vector2f& high,
 
 bool DemonstrationScatter::supported(const Spec& spec) {
   if (!spec.goal.active() || spec.observation.type != ObsType::Float32) return false;
-  return std::any_of(spec.observation.parts.begin(), spec.observation.parts.end(), [](const ObservationPart& p) {
+  const auto objects = std::count_if(spec.observation.parts.begin(), spec.observation.parts.end(), [](const ObservationPart& p) {
     return p.size == 3 && p.name.ends_with("_position") && p.name != "effector_position";
   });
+  return objects > 0 && objects < 8;  // an idle mask holds seven objects and the goal
 }
 
 DemonstrationScatter::DemonstrationScatter(const DemoFile& demos, const Spec& spec, bool goal)

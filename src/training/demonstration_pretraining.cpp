@@ -43,7 +43,7 @@ void learn_from_demonstrations(const TrainConfig& config, const DemoFile& demos,
                 "reach_goal; not with control \"joints\")");
   if (dc.scatter > 0.0 && !DemonstrationScatter::supported(spec))
     throw Error(config.source + ": demonstrations.scatter: env \"" + spec.env_name +
-                "\" has no objects to scatter (a goal env with objects: push, pick_and_place, stack)");
+                "\" has no objects to scatter (a goal env with one to seven objects in its observation: push, pick_and_place, stack)");
   check_demos_fit(demos, to_json(config.env), spec);
   if (demos.episodes.empty()) throw Error(dc.file + ": holds no episode to learn from");
   Rng rng = Rng::derive(config.seed, rng_stream::demonstrations);

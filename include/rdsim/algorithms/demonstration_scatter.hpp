@@ -37,7 +37,7 @@ public:
   // caller). `goal`: scatter an idle goal too.
   DemonstrationScatter(const DemoFile& demos, const Spec& spec, bool goal);
 
-  // A goal env with at least one object position in its observation.
+  // A goal env with one to seven object positions in its (Float32) observation.
   static bool supported(const Spec& spec);
 
   // Scatters the idle objects and goal of the demonstrated transition in `slot`, already copied
