@@ -7,13 +7,13 @@
 #include "rdsim/core/csv_reader.hpp"
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
+#include "../scratch_dir.hpp"
 
 namespace {
 
 std::string scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("rdsim_csv_reader_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  static const rdsim::test::ScratchDir root("csv_reader");  // removed when the test program exits
+  return root / name;
 }
 
 void write(const std::string& path, const std::string& text, bool append = false) {

@@ -8,6 +8,7 @@
 
 #include "rdsim/core/csv_writer.hpp"
 #include "rdsim/core/error.hpp"
+#include "../scratch_dir.hpp"
 
 namespace {
 
@@ -19,9 +20,8 @@ std::string read_text(const std::string& path) {
 }
 
 std::string scratch(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("rdsim_csv_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
+  static const rdsim::test::ScratchDir root("csv");  // removed when the test program exits
+  return root / name;
 }
 
 }  // namespace

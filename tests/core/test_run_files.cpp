@@ -6,13 +6,15 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/core/run_files.hpp"
+#include "../scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
 fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rdsim_run_files_" + std::to_string(::getpid())) / name;
+  static const rdsim::test::ScratchDir root("run_files");  // removed when the test program exits
+  const fs::path dir = root.path / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <string>
 
+#include "../scratch_dir.hpp"
+
 // Helpers shared by the dashboard tests: scratch run folders and a raw HTTP client that sends
 // exactly the bytes given (httplib's client would tidy a malicious request up).
 namespace dashboard_test {
@@ -17,7 +19,8 @@ namespace dashboard_test {
 namespace fs = std::filesystem;
 
 inline fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rdsim_dashboard_" + std::to_string(::getpid())) / name;
+  static const rdsim::test::ScratchDir root("dashboard");  // removed when the test program exits
+  const fs::path dir = root.path / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

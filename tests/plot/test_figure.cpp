@@ -9,15 +9,15 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/plot/figure.hpp"
+#include "../scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
 std::string scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rdsim_figure_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return (dir / name).string();
+  static const rdsim::test::ScratchDir root("figure");  // removed when the test program exits
+  return root / name;
 }
 
 std::vector<rdsim::CurveBand> two_algorithms() {

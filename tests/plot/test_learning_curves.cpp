@@ -6,13 +6,15 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/plot/learning_curves.hpp"
+#include "../scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
 fs::path scratch_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rdsim_plot_" + std::to_string(::getpid())) / name;
+  static const rdsim::test::ScratchDir root("plot");  // removed when the test program exits
+  const fs::path dir = root.path / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -2,6 +2,7 @@
 import os
 import pathlib
 import sys
+import tempfile
 
 import pytest
 
@@ -17,6 +18,20 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "slow" in item.keywords:
             item.add_marker(skip)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def sb3_log_folder():
+    """Stable-Baselines3 makes a folder tempdir/SB3-<date-time> at every learn() without a logger:
+    the session's SB3 runs (in this process and the examples it starts) share one, removed at the end."""
+    with tempfile.TemporaryDirectory(prefix="rdsim_tests_sb3_") as folder:
+        before = os.environ.get("SB3_LOGDIR")
+        os.environ["SB3_LOGDIR"] = folder
+        yield folder
+        if before is None:
+            del os.environ["SB3_LOGDIR"]
+        else:
+            os.environ["SB3_LOGDIR"] = before
 
 
 def rdsim_binary() -> pathlib.Path:

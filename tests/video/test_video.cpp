@@ -11,6 +11,7 @@
 #include "rdsim/core/error.hpp"
 #include "rdsim/video/overlay.hpp"
 #include "rdsim/video/video_writer.hpp"
+#include "../scratch_dir.hpp"
 
 #ifdef RDSIM_HAVE_FFMPEG
 extern "C" {
@@ -24,9 +25,8 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rdsim_video_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return (dir / name).string();
+  static const rdsim::test::ScratchDir root("video");  // removed when the test program exits
+  return root / name;
 }
 
 // A still gradient with a red square that moves right by 4 pixels a frame.
