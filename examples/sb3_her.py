@@ -1,7 +1,7 @@
 """Stable-Baselines3 SAC + HerReplayBuffer on an rdsim goal task (CPU torch).
 
     python examples/sb3_her.py                                   # rdsim/JakaPush-v0, configs/jaka_push.json
-    python examples/sb3_her.py --env rdsim/JakaReachGoal-v0 --timesteps 20000 --csv runs/sb3_reach.csv
+    python examples/sb3_her.py --env rdsim/JakaReachGoal-v0 --timesteps 20000 --log-dir runs/sb3_reach
 
 The same task as rdsim's own SAC + HER config (configs/jaka_push.json): the same networks, batch,
 learning rate, discount, Polyak factor, warm-up, gradient steps per env step and HER settings, read
@@ -9,7 +9,9 @@ from --config, so the two can be compared (tools/bench/her.sh). Trains on a C++ 
 (rdsim.make_vec, adapted by rdsim.sb3.SB3VecEnv, whose env_method("compute_reward") is the env's
 batched goal reward), then evaluates the deterministic policy over --eval-episodes episodes.
 --csv writes every training episode as rdsim's episodes.csv does (episode, timesteps, return,
-length, success, wall_time), so tools/bench/learning.sh's statistics apply to both.
+length, success, wall_time), so tools/bench/learning.sh's statistics apply to both; --log-dir makes a
+run folder of it (episodes.csv and a config.json naming the algorithm "sb3_sac", the env and the
+seed) that `rdsim plot` draws beside rdsim's runs, e.g. against wall-clock (--x wall_time).
 """
 from __future__ import annotations
 
@@ -22,6 +24,14 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
+
+
+def write_episodes(path: Path, rows: list) -> None:
+    """Training episodes in rdsim's episodes.csv columns (tools/bench/her.sh and `rdsim plot` read both)."""
+    with open(path, "w", newline="") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(["episode", "timesteps", "return", "length", "success", "wall_time"])
+        writer.writerows(rows)
 
 
 def evaluate(predict, env_id: str, episodes: int, seed: int, options: dict) -> float:
@@ -50,6 +60,7 @@ def main(argv=None) -> dict:
     parser.add_argument("--eval-episodes", type=int, default=100)
     parser.add_argument("--target", type=float, default=0.9, help="success rate whose first time is reported")
     parser.add_argument("--csv", help="write every training episode here")
+    parser.add_argument("--log-dir", help="write a run folder here for `rdsim plot`: episodes.csv and config.json")
     args = parser.parse_args(argv)
 
     import torch
@@ -106,11 +117,17 @@ def main(argv=None) -> dict:
     model.learn(total_timesteps=timesteps, callback=log)
     seconds = time.perf_counter() - start
     venv.close()
+    if args.log_dir:
+        folder = Path(args.log_dir)
+        folder.mkdir(parents=True, exist_ok=True)
+        write_episodes(folder / "episodes.csv", log.rows)
+        # What `rdsim plot` reads of a run's config.json (algorithm, env name, seed), and where it came from.
+        run = {"algorithm": "sb3_sac", "env": {"name": rdsim.IDS.get(args.env, args.env), **options}, "seed": args.seed,
+               "total_timesteps": timesteps, "written_by": "examples/sb3_her.py: Stable-Baselines3 SAC + HerReplayBuffer "
+               f"with {Path(args.config).name}'s settings (not an rdsim config)"}
+        (folder / "config.json").write_text(json.dumps(run, indent=2) + "\n")
     if args.csv:
-        with open(args.csv, "w", newline="") as f:
-            writer = csv.writer(f, lineterminator="\n")  # as rdsim's episodes.csv (tools/bench/her.sh reads both)
-            writer.writerow(["episode", "timesteps", "return", "length", "success", "wall_time"])
-            writer.writerows(log.rows)
+        write_episodes(Path(args.csv), log.rows)
     success = evaluate(lambda obs: model.predict(obs, deterministic=True)[0], args.env, args.eval_episodes,
                        args.seed + 1000, options)
     reached = (f"success of the last 100 episodes first >= {args.target} at {log.steps_to_target} steps, "

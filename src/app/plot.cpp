@@ -20,17 +20,34 @@ namespace {
 
 struct Metric {
   std::string column, label;
+  std::string episodes_column;  // the per-episode column it is the mean of in episodes.csv; "" when none
 };
 
 // Short names for the common metrics; any other name is a progress.csv column.
 Metric metric_named(const std::string& name) {
-  if (name == "success") return {"success_rate", "success rate"};
-  if (name == "return") return {"mean_return", "mean return"};
-  if (name == "length") return {"mean_length", "episode length"};
-  if (name == "kl") return {"approx_kl", "approximate KL"};
+  if (name == "success") return {"success_rate", "success rate", "success"};
+  if (name == "return") return {"mean_return", "mean return", "return"};
+  if (name == "length") return {"mean_length", "episode length", "length"};
+  if (name == "kl") return {"approx_kl", "approximate KL", ""};
   std::string label = name;
   for (char& c : label) c = c == '_' ? ' ' : c;
-  return {name, label};
+  return {name, label, ""};
+}
+
+// A run's curve from its progress.csv, or where it has none (a run of another program, e.g.
+// examples/sb3_her.py --log-dir) from its episodes.csv: the metric over the last `window` episodes.
+RunCurve read_curve(const std::string& dir, const PlotOptions& o, const Metric& metric) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::exists(fs::path(dir) / progress_csv_name, ec) || !fs::exists(fs::path(dir) / episodes_csv_name, ec))
+    return read_run_curve(dir, o.x, metric.column);
+  if (metric.episodes_column.empty()) {
+    throw Error(dir + ": no progress.csv, and its episodes.csv gives --metric success, return or length only, not \"" +
+                o.metric + "\"");
+  }
+  if (o.x == "updates")
+    throw Error(dir + ": no progress.csv, and its episodes.csv has no --x updates (timesteps, episodes or wall_time)");
+  return read_episode_curve(dir, o.x == "episodes" ? "episode" : o.x, metric.episodes_column, o.window);
 }
 
 std::string x_label(const std::string& x) { return x == "wall_time" ? "wall time (s)" : metric_named(x).label; }
@@ -50,13 +67,13 @@ int plot_command(const PlotOptions& o) {
   std::vector<std::string> dirs;
   for (const auto& path : o.runs) {
     const auto found = find_run_folders(path);
-    if (found.empty()) throw Error(path + ": no run folder (a folder holding progress.csv) at or below it");
+    if (found.empty()) throw Error(path + ": no run folder (a folder holding progress.csv or config.json) at or below it");
     dirs.insert(dirs.end(), found.begin(), found.end());
   }
   const Metric metric = metric_named(o.metric);
   std::vector<RunCurve> curves;
   for (const auto& dir : dirs) {
-    curves.push_back(read_run_curve(dir, o.x, metric.column));
+    curves.push_back(read_curve(dir, o, metric));
     if (o.x_max > 0) curves.back() = crop_run_curve(curves.back(), o.x_max);
   }
 
@@ -98,7 +115,7 @@ int plot_command(const PlotOptions& o) {
 
 Command plot_command_entry() {
   return {"plot", "Draw the learning curves of runs (mean and band over each algorithm's runs) from their "
-          "progress.csv, as PNG or SVG",
+          "progress.csv (or, for another program's runs, episodes.csv), as PNG or SVG",
           [](CLI::App& cmd) -> std::function<int()> {
             auto o = std::make_shared<PlotOptions>();
             cmd.add_option("runs", o->runs, "Run folders, or folders holding run folders")->required();
@@ -112,6 +129,11 @@ Command plot_command_entry() {
             cmd.add_option("--x-max", o->x_max,
                            "Draw x up to this value only (e.g. 1e6 timesteps), cutting longer runs there; default: all")
                 ->check(CLI::PositiveNumber);
+            cmd.add_option("--window", o->window,
+                           "Runs without progress.csv (another program's, e.g. examples/sb3_her.py --log-dir): the "
+                           "metric over this many last episodes of their episodes.csv")
+                ->check(CLI::Range(1, 1000000))
+                ->capture_default_str();
             cmd.add_option("--width", o->width, "Width in pixels")->check(CLI::Range(200, 8000))->capture_default_str();
             cmd.add_option("--height", o->height, "Height in pixels")->check(CLI::Range(150, 8000))->capture_default_str();
             return [o] { return plot_command(*o); };

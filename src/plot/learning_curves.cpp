@@ -1,6 +1,7 @@
 #include "rdsim/plot/learning_curves.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,9 +12,13 @@
 
 namespace rdsim {
 
-RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column,
-                        std::size_t piece_bytes) {
-  const std::string path = (std::filesystem::path(dir) / progress_csv_name).string();
+namespace {
+
+// Calls row(x, y) for every row of the CSV file with a finite value in both columns, in file order,
+// reading it in pieces of about `piece_bytes`.
+template <class Row>
+void for_each_row(const std::string& path, const std::string& x_column, const std::string& y_column, std::size_t piece_bytes,
+                  Row row) {
   CsvRows table = read_csv_rows(path, 0, piece_bytes);
   const int xi = csv_column(table.columns, x_column);
   const int yi = csv_column(table.columns, y_column);
@@ -23,19 +28,53 @@ RunCurve read_run_curve(const std::string& dir, const std::string& x_column, con
     for (const auto& c : table.columns) known += (known.empty() ? "" : ", ") + c;
     throw Error(path + ": no column \"" + name + "\" (it has: " + known + ")");
   }
-  RunCurve run;
-  run.info = read_run_info(dir);
   for (;;) {
-    for (const auto& row : table.rows) {
-      const double x = row[static_cast<std::size_t>(xi)], y = row[static_cast<std::size_t>(yi)];
-      if (std::isfinite(x) && std::isfinite(y)) {
-        run.x.push_back(x);
-        run.y.push_back(y);
-      }
+    for (const auto& r : table.rows) {
+      const double x = r[static_cast<std::size_t>(xi)], y = r[static_cast<std::size_t>(yi)];
+      if (std::isfinite(x) && std::isfinite(y)) row(x, y);
     }
-    if (!table.more) return run;
+    if (!table.more) return;
     table = read_csv_rows(path, table.next, piece_bytes);
   }
+}
+
+}  // namespace
+
+RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column,
+                        std::size_t piece_bytes) {
+  RunCurve run;
+  run.info = read_run_info(dir);
+  for_each_row((std::filesystem::path(dir) / progress_csv_name).string(), x_column, y_column, piece_bytes,
+               [&](double x, double y) {
+                 run.x.push_back(x);
+                 run.y.push_back(y);
+               });
+  return run;
+}
+
+RunCurve read_episode_curve(const std::string& dir, const std::string& x_column, const std::string& y_column, int window,
+                            std::size_t piece_bytes) {
+  assert(window >= 1);
+  RunCurve run;
+  run.info = read_run_info(dir);
+  std::vector<double> last(static_cast<std::size_t>(window));  // the last `window` values, a ring
+  std::size_t count = 0;
+  double sum = 0;  // of the values in the ring; recomputed each lap so that rounding never piles up
+  for_each_row((std::filesystem::path(dir) / episodes_csv_name).string(), x_column, y_column, piece_bytes,
+               [&](double x, double y) {
+                 const std::size_t slot = count % last.size();
+                 if (slot == 0 && count > 0) {
+                   sum = 0;
+                   for (double v : last) sum += v;
+                 }
+                 if (count >= last.size()) sum -= last[slot];
+                 last[slot] = y;
+                 sum += y;
+                 ++count;
+                 run.x.push_back(x);
+                 run.y.push_back(sum / static_cast<double>(std::min(count, last.size())));
+               });
+  return run;
 }
 
 double interpolate(const RunCurve& run, double x) {
@@ -52,7 +91,7 @@ RunCurve crop_run_curve(const RunCurve& run, double x_max) {
   if (run.x.empty() || run.x.front() > x_max) {
     char limit[32];
     std::snprintf(limit, sizeof limit, "%g", x_max);
-    throw Error(run.info.dir + ": progress.csv has no row at or below x = " + limit + " (--x-max cuts every curve there)");
+    throw Error(run.info.dir + ": no row at or below x = " + limit + " (--x-max cuts every curve there)");
   }
   RunCurve out;
   out.info = run.info;
@@ -76,7 +115,7 @@ std::vector<std::pair<std::string, std::vector<RunCurve>>> runs_by_env(const std
 std::vector<CurveBand> mean_over_runs(const std::vector<RunCurve>& runs, Band band, int points) {
   std::map<std::string, std::vector<const RunCurve*>> groups;
   for (const auto& run : runs) {
-    if (run.x.empty()) throw Error(run.info.dir + ": progress.csv has no row with both values yet");
+    if (run.x.empty()) throw Error(run.info.dir + ": no row with both values yet");
     if (run.info.env != runs.front().info.env) {
       throw Error(run.info.dir + ": its env (" + run.info.env + ") differs from " + runs.front().info.dir + "'s (" +
                   runs.front().info.env + "): runs of different envs are never averaged together");

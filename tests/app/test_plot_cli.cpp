@@ -43,6 +43,31 @@ TEST_CASE("plot: a learning-curve figure from run folders, one band per algorith
   CHECK(svg.out.find("mean return at updates 50: 5.000 (band 0.000 to 10.000)") != std::string::npos);
 }
 
+TEST_CASE("plot: another program's runs (config.json and episodes.csv) beside rdsim's, against wall-clock", "[cli][plot]") {
+  rltest::ScratchDir dir("plot_cli_episodes");
+  fake_run(dir.path / "runs" / "sac_1", "sac", 1, 1.0);
+  // As examples/sb3_her.py --log-dir writes them: ten episodes a second, every other one a success.
+  const fs::path other = dir.path / "runs" / "sb3_1";
+  fs::create_directories(other);
+  rltest::spit((other / "config.json").string(), R"({"algorithm": "sb3_sac", "env": {"name": "jaka_button"}, "seed": 1})");
+  std::string csv = "episode,timesteps,return,length,success,wall_time\n";
+  for (int e = 1; e <= 300; ++e) csv += std::to_string(e) + "," + std::to_string(50 * e) + ",-10,50," + std::to_string(e % 2) + "," + std::to_string(0.1 * e) + "\n";
+  rltest::spit((other / "episodes.csv").string(), csv);
+  auto r = rltest::run_rdsim("plot " + dir / "runs" + " --out " + dir / "wall.png --x wall_time --window 50", dir);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("sac (1 run): success rate at wall_time 0.625") != std::string::npos);
+  CHECK(r.out.find("sb3_sac (1 run): success rate at wall_time 30: 0.500") != std::string::npos);
+  // What episodes.csv cannot give is one message naming the run.
+  r = rltest::run_rdsim("plot " + other.string() + " --out " + dir / "x.png --metric kl", dir);
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("sb3_1: no progress.csv, and its episodes.csv gives --metric success, return or length only, not \"kl\"") !=
+        std::string::npos);
+  r = rltest::run_rdsim("plot " + other.string() + " --out " + dir / "x.png --x updates", dir);
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("has no --x updates") != std::string::npos);
+}
+
 TEST_CASE("plot: missing runs, columns and bad file names fail with one message", "[cli][plot]") {
   rltest::ScratchDir dir("plot_cli_errors");
   fake_run(dir.path / "run", "ppo", 1, 1.0);

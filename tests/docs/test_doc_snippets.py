@@ -100,6 +100,9 @@ def run(command, scratch, timeout):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1", MPLBACKEND="Agg")
     env.pop("RDSIM_ROOT", None)  # as a user runs them: the binary finds the assets itself
+    # Stable-Baselines3's logger would make a folder tempdir/SB3-<date-time> per learn(): in the
+    # page's scratch folder instead, removed with it.
+    env["SB3_LOGDIR"] = str(pathlib.Path(scratch) / "sb3_logs")
     start = time.monotonic()
     with tempfile.TemporaryFile(mode="w+") as out:
         proc = subprocess.Popen(command, cwd=scratch, env=env, stdout=out, stderr=subprocess.STDOUT, text=True,

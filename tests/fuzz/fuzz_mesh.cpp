@@ -11,16 +11,13 @@
 
 #include "rdsim/core/error.hpp"
 #include "rdsim/sim/mesh_file.hpp"
+#include "../scratch_dir.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1 || size - 1 > rdsim::max_mesh_bytes) return 0;  // larger files are refused unread
   static const char* const kExtensions[] = {".stl", ".obj", ".dae"};
-  static const std::filesystem::path dir = [] {
-    auto d = std::filesystem::temp_directory_path() / ("rdsim_fuzz_mesh_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
-  const std::string file = (dir / (std::string("input") + kExtensions[data[0] % 3])).string();
+  static const rdsim::test::ScratchDir dir("fuzz_mesh");  // removed when the fuzzer exits
+  const std::string file = dir / (std::string("input") + kExtensions[data[0] % 3]);
   std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
   try {
     const rdsim::TriangleMesh mesh = rdsim::read_mesh_file(file, Eigen::Vector3d(0.5, -1.0, 2.0));

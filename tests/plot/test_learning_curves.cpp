@@ -107,6 +107,43 @@ TEST_CASE("learning curves: a progress.csv larger than one piece is read to its 
   CHECK(rdsim::read_run_curve(dir.string(), "timesteps", "success_rate").x == c.x);
 }
 
+TEST_CASE("learning curves: another program's run from its episodes.csv, a mean over the last episodes", "[plot]") {
+  const fs::path dir = scratch_dir("episodes");
+  std::ofstream(dir / "config.json") << R"({"algorithm": "sb3_sac", "env": {"name": "push"}, "seed": 2})";
+  {
+    std::ofstream out(dir / "episodes.csv");
+    out << "episode,timesteps,return,length,success,wall_time\n";
+    const int success[] = {0, 1, 1, 0, 1, 1, 1};
+    for (int e = 1; e <= 7; ++e) out << e << "," << 50 * e << ",-" << e << ",50," << success[e - 1] << "," << 0.5 * e << "\n";
+    out << "8,400,-8,50,,4\n";  // no success value: skipped
+  }
+  // Window 3: the mean over the episodes so far until there are 3, then over the last 3.
+  const rdsim::RunCurve c = rdsim::read_episode_curve(dir.string(), "wall_time", "success", 3);
+  CHECK(c.info.algorithm == "sb3_sac");
+  CHECK(c.info.env == "push");
+  CHECK(c.x == std::vector<double>{0.5, 1, 1.5, 2, 2.5, 3, 3.5});
+  const std::vector<double> expected = {0, 0.5, 2 / 3.0, 2 / 3.0, 2 / 3.0, 2 / 3.0, 1};
+  REQUIRE(c.y.size() == expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) CHECK(c.y[i] == Approx(expected[i]));
+  // Read in pieces, with a window longer than the run: the mean of all so far.
+  const rdsim::RunCurve all = rdsim::read_episode_curve(dir.string(), "episode", "return", 100, 64);
+  CHECK(all.x.size() == 8);
+  CHECK(all.y.back() == Approx(-4.5));
+  CHECK_THROWS_WITH(rdsim::read_episode_curve(dir.string(), "updates", "success", 3),
+                    Catch::Contains("episodes.csv: no column \"updates\" (it has: episode, timesteps, return"));
+  // A long run: the running sum is exact after many laps of the window.
+  const fs::path long_dir = scratch_dir("episodes_long");
+  {
+    std::ofstream out(long_dir / "episodes.csv");
+    out << "episode,timesteps,return,length,success,wall_time\n";
+    for (int e = 1; e <= 10000; ++e) out << e << "," << e << "," << 0.1 * (e % 7) << ",1," << e % 2 << "," << e << "\n";
+  }
+  const rdsim::RunCurve long_run = rdsim::read_episode_curve(long_dir.string(), "timesteps", "return", 100);
+  double last100 = 0;
+  for (int e = 9901; e <= 10000; ++e) last100 += 0.1 * (e % 7);
+  CHECK(long_run.y.back() == Approx(last100 / 100).epsilon(1e-12));
+}
+
 TEST_CASE("learning curves: runs are grouped by env, never averaged across envs", "[plot]") {
   auto on = [](rdsim::RunCurve c, const std::string& env) {
     c.info.env = env;

@@ -60,6 +60,8 @@
 #                          (taskset; torch one thread): env steps and seconds to 0.9, final success.
 #   compare_alone          the same pair one after the other, each with the whole machine: rdsim
 #                          with RDSIM_GEMM=onednn on every core, SB3 with torch on every core.
+#                          Both leave run folders (OUT/compare*/rdsim_seedN, sb3_seedN): `rdsim plot
+#                          OUT/compare_alone --x wall_time -o F.png` draws success against seconds.
 # Settings: OUT (default a new /tmp folder), SEEDS, JOBS, TIMESTEPS, RDSIM_BIN (as learning.sh),
 # SB3_TIMESTEPS (compare: SB3's budget, default the config's total_timesteps), EDIT (stack_first,
 # stack_normalized and the variants after it: a further Python edit of the config c, e.g.
@@ -130,9 +132,8 @@ compare() {
     local r="$out/compare/rdsim_seed$seed" s="$out/compare/sb3_seed$seed"
     taskset -c 0 "$bin" train --quiet --overwrite --config configs/jaka_push.json --seed "$seed" --log-dir "$r" \
       >"$r.log" 2>&1 &
-    mkdir -p "$s"
     taskset -c 1 "$py" examples/sb3_her.py --config configs/jaka_push.json --seed "$seed" --timesteps "$sb3_steps" \
-      --torch-threads 1 --csv "$s/episodes.csv" >"$s.log" 2>&1 &
+      --torch-threads 1 --log-dir "$s" >"$s.log" 2>&1 &
     wait
     pair_row "$seed" "$r" "$s"
   done
@@ -149,9 +150,8 @@ compare_alone() {
     local r="$out/compare_alone/rdsim_seed$seed" s="$out/compare_alone/sb3_seed$seed"
     RDSIM_GEMM=onednn "$bin" train --quiet --overwrite --config configs/jaka_push.json --seed "$seed" --log-dir "$r" \
       >"$r.log" 2>&1
-    mkdir -p "$s"
     "$py" examples/sb3_her.py --config configs/jaka_push.json --seed "$seed" --timesteps "$sb3_steps" \
-      --torch-threads "$cores" --csv "$s/episodes.csv" >"$s.log" 2>&1
+      --torch-threads "$cores" --log-dir "$s" >"$s.log" 2>&1
     pair_row "$seed" "$r" "$s"
   done
 }

@@ -14,6 +14,7 @@ struct PlotOptions {
   std::string band = "std";        // std (mean ± 1 standard deviation) or minmax
   std::string title;               // default: "<env>: <metric>"
   double x_max = 0;                // > 0: draw only x <= x_max (every curve cut there)
+  int window = 100;                // runs read from episodes.csv: the metric over this many last episodes
   int width = 800, height = 480;
 };
 int plot_command(const PlotOptions& options);

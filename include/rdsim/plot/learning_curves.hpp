@@ -5,8 +5,8 @@
 
 #include "rdsim/core/run_files.hpp"
 
-// The data of a learning-curve figure, from the runs' progress.csv alone: each run's metric
-// against an x column, and per algorithm the mean and a band over its runs (its seeds).
+// The data of a learning-curve figure, from the runs' progress.csv (or, for other programs' runs,
+// episodes.csv): each run's metric against an x column, and per algorithm the mean and a band over its runs (its seeds).
 namespace rdsim {
 
 // One run's curve: the rows where both columns have a value, in file order.
@@ -20,6 +20,13 @@ struct RunCurve {
 // column (and listing those there are) when it has no such column.
 RunCurve read_run_curve(const std::string& dir, const std::string& x_column, const std::string& y_column,
                         std::size_t piece_bytes = 64 * 1024 * 1024);
+
+// A run of another program that writes only an episodes.csv in rdsim's columns (episode, timesteps,
+// return, length, success, wall_time: examples/sb3_her.py --log-dir): after each episode, the mean
+// of y_column over the last `window` episodes (over those there are, before the first `window`, as
+// progress.csv's statistics), against that row's x_column. Errors as read_run_curve's.
+RunCurve read_episode_curve(const std::string& dir, const std::string& x_column, const std::string& y_column, int window,
+                            std::size_t piece_bytes = 64 * 1024 * 1024);
 
 enum class Band { StdDev, MinMax };
 
