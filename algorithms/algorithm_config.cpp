@@ -30,7 +30,7 @@ std::string known_names() {
 // Whether `algorithm` uses the "demonstrations" key `key` (demonstrations.hpp says who uses what).
 bool uses_demonstrations_key(const std::string& algorithm, const std::string& key) {
   if (key == "start_fraction" || key == "start_file" || key == "start_redraw") return algorithm != "bc";  // the training envs' starts (demonstration_starts.hpp)
-  if (takes_her(algorithm))  // sac, td3, ddpg (off_policy.hpp)
+  if (is_off_policy_actor_critic(algorithm))  // sac, td3, ddpg (off_policy.hpp)
     return key == "file" || key == "bc_epochs" || key == "demo_fraction" || key == "bc_weight" || key == "shift" ||
            key == "scatter" || key == "scatter_goal";
   if (key == "demo_fraction" || key == "large_margin" || key == "margin" || key == "margin_weight") return algorithm == "dqn";
@@ -60,7 +60,7 @@ void read_her(ConfigReader& r, const std::string& name, AlgorithmConfig& c) {
   if (!r.has("her")) return;
   if (!takes_her(name))
     r.fail("her", "has no effect with \"algorithm\": \"" + name +
-                      "\" (hindsight experience replay relabels a replay buffer: sac, td3 or ddpg)");
+                      "\" (hindsight experience replay relabels a replay buffer: sac, td3, ddpg or dqn)");
   ConfigReader section = r.child("her");
   HerConfig her;
   config::read_fields(section, her);
@@ -69,10 +69,15 @@ void read_her(ConfigReader& r, const std::string& name, AlgorithmConfig& c) {
 
 }  // namespace
 
-bool takes_her(const std::string& algorithm) { return algorithm == "sac" || algorithm == "td3" || algorithm == "ddpg"; }
+bool is_off_policy_actor_critic(const std::string& algorithm) {
+  return algorithm == "sac" || algorithm == "td3" || algorithm == "ddpg";
+}
+
+bool takes_her(const std::string& algorithm) { return is_off_policy_actor_critic(algorithm) || algorithm == "dqn"; }
 
 bool takes_observation_normalization(const std::string& algorithm) {
-  return algorithm == "ppo" || algorithm == "a2c" || algorithm == "trpo" || algorithm == "dqn" || takes_her(algorithm);
+  return algorithm == "ppo" || algorithm == "a2c" || algorithm == "trpo" || algorithm == "dqn" ||
+         is_off_policy_actor_critic(algorithm);
 }
 
 std::string AlgorithmConfig::name() const { return kNames[params.index()]; }
@@ -147,7 +152,7 @@ std::unique_ptr<Algorithm> make_algorithm(const AlgorithmConfig& c, std::uint64_
     const Spec& spec;
     std::unique_ptr<Algorithm> operator()(const PpoConfig& p) const { return make_ppo(p, c.network, seed, spec, c.source); }
     std::unique_ptr<Algorithm> operator()(const A2cConfig& p) const { return make_a2c(p, c.network, seed, spec, c.source); }
-    std::unique_ptr<Algorithm> operator()(const DqnConfig& p) const { return make_dqn(p, c.network, seed, spec, c.source); }
+    std::unique_ptr<Algorithm> operator()(const DqnConfig& p) const { return make_dqn(p, c.network, seed, spec, c.source, c.her); }
     std::unique_ptr<Algorithm> operator()(const SacConfig& p) const { return make_sac(p, c.network, seed, spec, c.source, c.her); }
     std::unique_ptr<Algorithm> operator()(const Td3Config& p) const { return make_td3(p, c.network, seed, spec, c.source, c.her); }
     std::unique_ptr<Algorithm> operator()(const DdpgConfig& p) const { return make_ddpg(p, c.network, seed, spec, c.source, c.her); }

@@ -17,6 +17,7 @@
 #include "rdsim/algorithms/algorithm.hpp"
 #include "rdsim/algorithms/demonstrations.hpp"
 #include "rdsim/algorithms/gradient_averaging.hpp"
+#include "rdsim/algorithms/hindsight_replay.hpp"
 #include "rdsim/algorithms/n_step_returns.hpp"
 #include "rdsim/algorithms/observation_normalizer.hpp"
 #include "rdsim/policy/policy_program.hpp"
@@ -107,10 +108,16 @@ double epsilon_at(long long timesteps, long long total_timesteps, double fractio
 
 namespace {
 
-int checked_num_actions(const DqnConfig&, const Spec& spec, const std::string& where) {
+int checked_num_actions(const DqnConfig& config, const Spec& spec, const std::string& where, bool her) {
+  if (her) require_goal_env(spec, where);
   if (!spec.action.discrete || spec.action.n <= 0)
     throw Error(where + ": algorithm: \"dqn\" needs a discrete action space, env \"" + spec.env_name +
-                "\" has continuous actions (set env.is_discrete to true or use ppo/a2c)");
+                "\" has continuous actions (set env.is_discrete to true" +
+                (her ? std::string(": reach_goal and push have Discrete(6) effector moves") : " or use ppo/a2c") + ")");
+  // A hindsight goal relabels one stored transition; an n-step one would need its n rewards again.
+  if (her && config.n_step > 1)
+    throw Error(where + ": dqn.n_step: expected 1 with \"her\" (hindsight goals relabel one-step transitions), got " +
+                std::to_string(config.n_step));
   return spec.action.n;
 }
 
@@ -182,10 +189,10 @@ private:
 class Dqn final : public Algorithm {
 public:
   Dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed, const Spec& spec,
-      const std::string& where)
+      const std::string& where, const std::optional<HerConfig>& her)
       : cfg_(config),
         spec_(spec),
-        num_actions_(checked_num_actions(config, spec, where)),
+        num_actions_(checked_num_actions(config, spec, where, her.has_value())),
         buffer_(config.buffer_size, spec.observation),
         n_step_(config.n_step, config.gamma, spec.observation),
         explore_rng_(Rng::derive(seed, rng_stream::exploration)),
@@ -196,6 +203,7 @@ public:
     nn::AdamConfig adam;
     adam.lr = static_cast<float>(cfg_.learning_rate);
     optimizer_ = std::make_unique<nn::Adam>(q_.params(), adam);
+    if (her) her_.emplace(*her, spec.goal, config.buffer_size);
   }
 
   std::string name() const override { return "dqn"; }
@@ -233,6 +241,8 @@ private:
   void collect_step(VecEnv& envs, double epsilon, bool warmup);
   // A minibatch from the replay buffer (and the demonstration buffer, if any), then train_on().
   void gradient_step(StepStats& stats);
+  // `count` transitions of the env's replay buffer into batch_: with hindsight goals under "her".
+  void sample_env(int count);
   // One gradient step on batch_, whose first `demo_count` columns are demonstrated transitions.
   void train_on(int demo_count, StepStats& stats);
 
@@ -243,6 +253,7 @@ private:
   QNet q_, target_;
   std::unique_ptr<nn::Adam> optimizer_;
   ReplayBuffer buffer_;
+  std::optional<HindsightReplay> her_;  // with a "her" config: which episode each stored transition is in
   NStepReturns n_step_;  // each env's last n_step - 1 steps, until their return is known
   Rng explore_rng_, replay_rng_;
   long long env_calls_ = 0;       // VecEnv::step calls: the clock of target updates
@@ -281,6 +292,7 @@ void Dqn::collect_step(VecEnv& envs, double epsilon, bool warmup) {
                    [&](int i, const Observation& obs, const EnvStep& s, const Observation& next) {
                      n_step_.add(i, obs, actions_[static_cast<std::size_t>(i)].index, s.reward, next, s.terminated,
                                  s.done(), buffer_);
+                     if (her_) her_->added(buffer_.last_slot(), i, n, s.done());  // one-step: added just now
                    });
   ++env_calls_;
   const long long interval = std::max<long long>(cfg_.target_update_interval / n, 1);
@@ -297,13 +309,13 @@ void Dqn::gradient_step(StepStats& stats) {
   const int demo_count =
       demo_buffer_ ? (buffer_.size() == 0 ? b : static_cast<int>(std::lround(demo_cfg_.demo_fraction * b))) : 0;
   if (demo_count == 0) {
-    buffer_.sample(b, replay_rng_, batch_);
+    sample_env(b);
     train_on(0, stats);
     return;
   }
   // Demonstrated transitions first, then the env's: one batch.
   demo_buffer_->sample(demo_count, replay_rng_, demo_batch_);
-  if (demo_count < b) buffer_.sample(b - demo_count, replay_rng_, batch_);
+  if (demo_count < b) sample_env(b - demo_count);
   const int env_count = b - demo_count;
   auto join = [&](Eigen::MatrixXf& env_part, const Eigen::MatrixXf& demo_part) {
     Eigen::MatrixXf joined(demo_part.rows(), b);
@@ -324,6 +336,13 @@ void Dqn::gradient_step(StepStats& stats) {
   join_vector(batch_.terminated, demo_batch_.terminated);
   join_vector(batch_.steps, demo_batch_.steps);
   train_on(demo_count, stats);
+}
+
+void Dqn::sample_env(int count) {
+  if (her_)
+    her_->sample(buffer_, count, replay_rng_, batch_);
+  else
+    buffer_.sample(count, replay_rng_, batch_);
 }
 
 void Dqn::train_on(int demo_count, StepStats& stats) {
@@ -419,6 +438,7 @@ Metrics Dqn::update(VecEnv& envs, const TrainProgress& progress) {
           {"learning_rate", lr},
           {"gradient_steps", static_cast<double>(gradient_steps_)},
           {"buffer_size", static_cast<double>(buffer_.size())}};
+  if (her_) metrics.push_back({"her_relabelable", static_cast<double>(her_->relabelable())});
   if (demo_buffer_ && demo_cfg_.large_margin) metrics.push_back({"margin_loss", stats.margin / m});
   // The next update's inputs: the statistics with this one's observations.
   if (normalizer_.enabled()) normalizer_.refresh(communicator());
@@ -447,6 +467,7 @@ void Dqn::save(std::ostream& out, bool training_state) const {
   write_u64(out, static_cast<std::uint64_t>(gradient_steps_));
   buffer_.save(out);
   if (cfg_.n_step > 1) n_step_.save(out);  // absent with one-step returns: older checkpoints load
+  if (her_) her_->save(out, buffer_.size());
 }
 
 void Dqn::load(std::istream& in, bool training_state, const std::string& source) {
@@ -467,6 +488,7 @@ void Dqn::load(std::istream& in, bool training_state, const std::string& source)
   gradient_steps_ = static_cast<long long>(gradient_steps);
   buffer_.load(in, source);
   if (cfg_.n_step > 1) n_step_.load(in, source);
+  if (her_) her_->load(in, buffer_.size(), source);
   if (buffer_.size() > 0 && buffer_.largest_action() >= num_actions_)
     throw Error(source + ": replay buffer holds an action outside the env's " + std::to_string(num_actions_) +
                 " (damaged file?)");
@@ -475,8 +497,8 @@ void Dqn::load(std::istream& in, bool training_state, const std::string& source)
 }  // namespace
 
 std::unique_ptr<Algorithm> make_dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed,
-                                    const Spec& spec, const std::string& where) {
-  return std::make_unique<Dqn>(config, network, seed, spec, where);
+                                    const Spec& spec, const std::string& where, const std::optional<HerConfig>& her) {
+  return std::make_unique<Dqn>(config, network, seed, spec, where, her);
 }
 
 // Online and target Q networks with Adam state, the replay buffer (pixels as bytes), training passes.

@@ -13,6 +13,13 @@ constexpr std::uint32_t kHerTag = 0x52454852;  // "RHER"
 constexpr int kMaxStreams = 1'000'000;
 }  // namespace
 
+void require_goal_env(const Spec& spec, const std::string& where) {
+  if (!spec.goal.active())
+    throw Error(where + ": her: env \"" + spec.env_name +
+                "\" is not goal-conditioned (hindsight experience replay needs goals: push, pick_and_place, stack, "
+                "reach_goal)");
+}
+
 HindsightReplay::HindsightReplay(const HerConfig& config, const GoalLayout& goal, long long capacity)
     : config_(config),
       goal_(goal),

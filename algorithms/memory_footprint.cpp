@@ -137,7 +137,7 @@ void estimate_algorithm_memory(const AlgorithmConfig& c, const Spec& spec, int n
   if (c.her)
     std::visit(
         [&](const auto& params) {
-          if constexpr (std::is_base_of_v<OffPolicyConfig, std::decay_t<decltype(params)>>)
+          if constexpr (requires { params.buffer_size; })  // the replay-buffer algorithms
             e.add("hindsight replay bookkeeping (her)", 3.0 * 12.0 * static_cast<double>(params.buffer_size));
         },
         c.params);

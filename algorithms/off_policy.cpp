@@ -21,10 +21,7 @@ constexpr double kMaxReplayBytes = 16.0 * 1024 * 1024 * 1024;
 
 const Spec& checked_spec(const Spec& spec, const OffPolicyConfig& settings, const std::string& algorithm,
                          const std::string& where, bool her) {
-  if (her && !spec.goal.active())
-    throw Error(where + ": her: env \"" + spec.env_name +
-                "\" is not goal-conditioned (hindsight experience replay needs goals: push, pick_and_place, stack, "
-                "reach_goal)");
+  if (her) require_goal_env(spec, where);
   if (spec.action.discrete)
     throw Error(where + ": algorithm: \"" + algorithm + "\" needs a continuous (Box) action space, env \"" +
                 spec.env_name + "\" has discrete actions (set env.is_discrete to false, or use dqn/ppo/a2c)");

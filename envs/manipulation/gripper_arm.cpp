@@ -177,7 +177,7 @@ GripperArmScene gripper_arm_scene(const EnvConfig& config, const ManipulationTas
   for (int k = 0; k < std::max(task.cubes, 1); ++k)
     s.statics.push_back({assets + "/objects/goal_marker_" + colours[k] + ".urdf", Eigen::Isometry3f::Identity()});
 
-  s.discrete = false;
+  s.discrete = config.is_discrete;  // ManipulationEnv allows it with the gripper blocked and effector control
   s.step = static_cast<float>(o.effector_step);
   s.move_noise = 0.0f;
   s.workspace_bounds = true;

@@ -107,9 +107,11 @@ EnvConfig manipulation_env_config(const std::string& name, ManipulationOptions o
 }
 
 ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& config) : task_(task) {
-  if (config.is_discrete)
-    throw Error("env.is_discrete: " + config.name + " has Box actions only (effector moves and the fingers' opening): expected false");
   const ManipulationOptions& o = config.get<ManipulationOptions>();
+  if (config.is_discrete && (!o.block_gripper || o.control == ArmControl::Joints))
+    throw Error("env.is_discrete: " + config.name + " with " + (o.block_gripper ? "control \"joints\"" : "the fingers to move") +
+                " has Box actions only (Discrete(6) are the effector's moves with the gripper blocked: reach_goal, push): "
+                "expected false");
   GripperArmScene scene = gripper_arm_scene(config, task);
   area_ = scene.area;
   finger_dofs_ = scene.finger_dofs;
@@ -140,10 +142,14 @@ ManipulationEnv::ManipulationEnv(const ManipulationTask& task, const EnvConfig& 
 
   const int points = std::max(task_.cubes, 1);
   spec_.env_name = config.name;
-  spec_.action.discrete = false;
-  const int arm_values = control_ == ArmControl::Joints ? static_cast<int>(world_->chain_dofs().size()) : 3;
-  spec_.action.low = Eigen::VectorXf::Constant(arm_values + (blocked_ ? 0 : 1), -1.0f);
-  spec_.action.high = Eigen::VectorXf::Constant(arm_values + (blocked_ ? 0 : 1), 1.0f);
+  if (config.is_discrete) {
+    spec_.action = world_->action_space();  // Discrete(6): -x, +x, -y, +y, -z, +z by effector_step
+  } else {
+    spec_.action.discrete = false;
+    const int arm_values = control_ == ArmControl::Joints ? static_cast<int>(world_->chain_dofs().size()) : 3;
+    spec_.action.low = Eigen::VectorXf::Constant(arm_values + (blocked_ ? 0 : 1), -1.0f);
+    spec_.action.high = Eigen::VectorXf::Constant(arm_values + (blocked_ ? 0 : 1), 1.0f);
+  }
   spec_.max_episode_steps = config.max_steps;
   spec_.control_dt = o.physics_step * o.substeps;
   spec_.observation = observation_space(world_->spec().workspace, blocked_, task_.cubes, points, stroke_, joint_limits);
@@ -358,6 +364,10 @@ void ManipulationEnv::reset_into(ObservationOut out, std::optional<std::uint64_t
 }
 
 StepOutcome ManipulationEnv::step_into(const Action& action, ObservationOut out) {
+  if (spec_.action.discrete) {
+    const Eigen::Vector3f move = world_->move_for(action);  // checks the index, an error even after the episode's end
+    return control_step(out, [&] { world_->apply_move(move, rng_); });
+  }
   const int n = spec_.action.dim();
   const int arm = blocked_ ? n : n - 1;  // values for the arm; then the fingers'
   if (action.values.size() != n)  // an error even after the episode's end

@@ -33,6 +33,9 @@ ManipulationExpert::ManipulationExpert(Env& env) : env_([&env]() -> Manipulation
   auto* m = dynamic_cast<ManipulationEnv*>(&env);
   if (!m) throw Error(env.spec().env_name + ": the manipulation expert drives the manipulation tasks only "
                       "(push, pick_and_place, stack, reach_goal)");
+  if (m->spec().action.discrete)
+    throw Error(env.spec().env_name + ": the manipulation expert moves the effector by any amount (Box actions): "
+                "expected env.is_discrete false");
   return *m;
 }()) {}
 

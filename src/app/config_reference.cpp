@@ -113,7 +113,7 @@ std::string config_reference() {
       row({"`network`", "object", "", "", "the networks (below)"}) +
       row({"`demonstrations`", "object", "", "",
            "learning from a demonstration file (below; needed by `\"bc\"`, optional for ppo, a2c, dqn, sac, td3 and ddpg)"});
-  doc += row({"`her`", "object", "", "", "hindsight experience replay (below; sac, td3 and ddpg on goal-conditioned envs)"});
+  doc += row({"`her`", "object", "", "", "hindsight experience replay (below; sac, td3, ddpg and dqn on goal-conditioned envs)"});
   doc += row({"`eval`", "object", "", "", "periodic evaluation with best-model saving (below)"});
   doc += row({"`normalize_observations`", "bool", "`false`", "",
               "standardise the networks' inputs with running statistics (ppo, a2c, trpo, dqn, sac, td3 and ddpg, "
@@ -143,7 +143,8 @@ std::string config_reference() {
          table(config::document_fields(DemonstrationsConfig{}));
   doc += "\n## `her`\n\n"
          "Absent by default: hindsight experience replay for `sac`, `td3` and `ddpg` on a goal-conditioned env\n"
-         "(push, pick_and_place, stack, reach_goal). Each minibatch keeps 1 / (n_sampled_goal + 1) of its\n"
+         "(push, pick_and_place, stack, reach_goal), and for `dqn` (with `n_step` 1) on the Discrete(6) moves of\n"
+         "reach_goal and push (`env.is_discrete`). Each minibatch keeps 1 / (n_sampled_goal + 1) of its\n"
          "transitions as stored; the others get a goal achieved later in their own episode and the reward\n"
          "the env gives for it (`include/rdsim/algorithms/hindsight_replay.hpp`).\n\n" +
          table(config::document_fields(HerConfig{}));

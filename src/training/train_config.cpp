@@ -42,7 +42,7 @@ void check_combination(ConfigReader& r, const TrainConfig& c) {
     if (c.algorithm.network.input_scale != defaults.input_scale)
       network.fail("input_scale", "has no effect with normalize_observations (the inputs are standardised; remove the key)");
     // sac, td3 and ddpg start the statistics from the demonstrations (OffPolicy::observe_demonstrations).
-    if (c.algorithm.demonstrations && !takes_her(c.algorithm.name()))
+    if (c.algorithm.demonstrations && !is_off_policy_actor_critic(c.algorithm.name()))
       r.fail("normalize_observations", "cannot be combined with demonstrations for " + c.algorithm.name() +
                                            " (its pre-training would see other inputs than its training); sac, td3 "
                                            "and ddpg take both");

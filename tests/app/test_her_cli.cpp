@@ -1,6 +1,7 @@
-// Hindsight experience replay through the real binary (issue #42): the CI-sized learning check on
-// reach_goal, the same CSVs on any thread count, after kill -9 and --resume, under mpirun and through
-// a remote env, and one clear error for each misuse. The long learning runs are tools/bench/her.py.
+// Hindsight experience replay through the real binary (issue #42): the CI-sized learning checks on
+// reach_goal (SAC, and DQN on its Discrete moves), the same CSVs on any thread count, after kill -9
+// and --resume, under mpirun and through a remote env, and one clear error for each misuse. The long
+// learning runs are tools/bench/her.sh.
 #include <catch2/catch.hpp>
 
 #include <nlohmann/json.hpp>
@@ -22,13 +23,16 @@ using namespace std::chrono_literals;
 
 namespace {
 
-// A short TD3 + HER run on reach_goal (about 2 s): 2 envs, episodes of 20 steps, checkpoints every 2000 steps.
-std::string small_config(const ScratchDir& dir, const std::string& name, const std::string& env_extra = "") {
+// A short TD3 + HER run on reach_goal (about 2 s): 2 envs, episodes of 20 steps, checkpoints every
+// 2000 steps; with `algorithm` "dqn" the same on reach_goal's Discrete(6) moves.
+std::string small_config(const ScratchDir& dir, const std::string& name, const std::string& env_extra = "",
+                         const std::string& algorithm = "td3") {
   const std::string path = dir / (name + ".json");
-  rltest::spit(path, R"({"algorithm": "td3", "env": {"name": "reach_goal", "max_steps": 20)" + env_extra +
+  const bool dqn = algorithm == "dqn";
+  rltest::spit(path, R"({"algorithm": ")" + algorithm + R"(", "env": {"name": "reach_goal", "max_steps": 20)" +
+                         (dqn ? ", \"is_discrete\": true" : "") + env_extra +
                          R"(}, "seed": 4, "total_timesteps": 12000, "num_envs": 2, "checkpoint_interval": 2000,
-    "network": {"hidden_sizes": [32, 32]},
-    "td3": {"learning_starts": 200, "batch_size": 64, "buffer_size": 5000},
+    "network": {"hidden_sizes": [32, 32]}, ")" + algorithm + R"(": {"learning_starts": 200, "batch_size": 64, "buffer_size": 5000},
     "her": {"n_sampled_goal": 4, "goal_selection_strategy": "future"}})");
   return path;
 }
@@ -92,22 +96,28 @@ double final_success(const std::string& run, std::size_t window) {
 
 }  // namespace
 
-TEST_CASE("her: SAC + HER learns reach_goal (configs/jaka_reach_goal.json), 95 of the last 100 episodes succeed within 20k env steps",
+TEST_CASE("her: SAC + HER (configs/jaka_reach_goal.json) and DQN + HER on the Discrete moves (jaka_reach_goal_dqn.json) "
+          "learn reach_goal, 95 of the last 100 episodes succeed within 20k env steps",
           "[cli][her][learning]") {
-  ScratchDir dir("her_reach_goal");
-  const auto r = run_rdsim("train --quiet --config configs/jaka_reach_goal.json --log-dir " + (dir / "run"), dir);
+  const std::string name = GENERATE("jaka_reach_goal", "jaka_reach_goal_dqn");
+  INFO(name);
+  ScratchDir dir("her_" + name);
+  const auto r = run_rdsim("train --quiet --config configs/" + name + ".json --log-dir " + (dir / "run"), dir);
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const auto config = nlohmann::json::parse(rltest::slurp(dir / "run/config.json"));
   CHECK(config["total_timesteps"].get<long long>() <= 20000);
   CHECK(config["her"]["n_sampled_goal"] == 4);
+  CHECK(config["env"]["is_discrete"] == (config["algorithm"] == "dqn"));
   CHECK(final_success(dir / "run", 100) >= 0.95);
   CHECK_THAT(rltest::lines(rltest::slurp(dir / "run/progress.csv")).front(), Contains("her_relabelable"));
 }
 
 TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume", "[cli][her]") {
-  ScratchDir dir("her_determinism");
-  const std::string config = small_config(dir, "td3_her");
+  const std::string algorithm = GENERATE("td3", "dqn");
+  INFO(algorithm);
+  ScratchDir dir("her_determinism_" + algorithm);
+  const std::string config = small_config(dir, algorithm + "_her", "", algorithm);
   for (const std::string threads : {"1", "2"}) {
     const auto r = run_rdsim("train --quiet --config " + config + " --threads " + threads + " --log-dir " + (dir / ("t" + threads)), dir);
     INFO(r.err);
@@ -124,8 +134,10 @@ TEST_CASE("her: the same CSVs on 1 and 2 threads, and after kill -9 and --resume
 
 #ifdef RDSIM_MPIEXEC
 TEST_CASE("her: mpirun -np 2 trains data-parallel, the same CSV twice", "[cli][her][mpi]") {
-  ScratchDir dir("her_mpi");
-  const std::string config = small_config(dir, "td3_her");
+  const std::string algorithm = GENERATE("td3", "dqn");
+  INFO(algorithm);
+  ScratchDir dir("her_mpi_" + algorithm);
+  const std::string config = small_config(dir, algorithm + "_her", "", algorithm);
   rltest::train_twice_on_two_ranks(config, dir);
   CHECK(run_logs(dir / "a") == run_logs(dir / "b"));
   CHECK(rltest::lines(rltest::slurp(dir / "a/progress.csv")).back().rfind("12000,", 0) == 0);
@@ -153,7 +165,15 @@ TEST_CASE("her: misuse is one clear error naming the config and the key", "[cli]
   ScratchDir dir("her_errors");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {R"({"algorithm": "ppo", "env": {"name": "reach_goal"}, "her": {}})", "her: has no effect with \"algorithm\": \"ppo\""},
-      {R"({"algorithm": "dqn", "env": {"name": "cartpole"}, "her": {}})", "sac, td3 or ddpg"},
+      {R"({"algorithm": "a2c", "env": {"name": "reach_goal"}, "her": {}})", "sac, td3, ddpg or dqn"},
+      {R"({"algorithm": "dqn", "env": {"name": "cartpole"}, "her": {}})", "her: env \"cartpole\" is not goal-conditioned"},
+      {R"({"algorithm": "dqn", "env": {"name": "push"}, "her": {}})",
+       "needs a discrete action space, env \"push\" has continuous actions (set env.is_discrete to true: reach_goal and push "
+       "have Discrete(6) effector moves)"},
+      {R"({"algorithm": "dqn", "env": {"name": "push", "is_discrete": true}, "her": {}, "dqn": {"n_step": 3}})",
+       "dqn.n_step: expected 1 with \"her\""},
+      {R"({"algorithm": "dqn", "env": {"name": "pick_and_place", "is_discrete": true}, "her": {}})",
+       "env.is_discrete: pick_and_place with the fingers to move has Box actions only"},
       {R"({"algorithm": "sac", "env": {"name": "pendulum"}, "her": {}, "sac": {"buffer_size": 1000}})",
        "her: env \"pendulum\" is not goal-conditioned"},
       {R"({"algorithm": "sac", "env": {"name": "push"}, "her": {"n_sampled_goal": 0}})", "her.n_sampled_goal"},

@@ -455,6 +455,33 @@ TEST_CASE("control joints: one action value per arm joint moves that joint's tar
   CHECK(make_env(c)->spec().action.dim() == 6);
 }
 
+TEST_CASE("is_discrete: reach_goal's and push's Discrete(6) moves are the Box moves of one unit along an axis",
+          "[envs][manipulation][discrete]") {
+  for (const char* name : {"reach_goal", "push"}) {
+    INFO(name);
+    EnvConfig c = default_env_config(name);
+    c.is_discrete = true;
+    auto discrete = make_env(c);
+    auto box = make_env(default_env_config(name));
+    CHECK(discrete->spec().action.discrete);
+    CHECK(discrete->spec().action.n == 6);
+    CHECK(discrete->spec().goal.active());
+    for (int k = 0; k < 6; ++k) {
+      INFO("action " << k);
+      const Observation a = discrete->reset(7), b = box->reset(7);
+      REQUIRE(a.values == b.values);
+      Eigen::VectorXf unit = Eigen::VectorXf::Zero(3);
+      unit[k / 2] = k % 2 ? 1.0f : -1.0f;  // -x, +x, -y, +y, -z, +z
+      const StepResult sd = discrete->step(Action::discrete(k)), sb = box->step(Action::continuous(unit));
+      CHECK(sd.observation.values == sb.observation.values);
+      CHECK(sd.reward == sb.reward);
+      CHECK((dynamic_cast<ManipulationEnv&>(*discrete).world().ee_position() - dynamic_cast<ManipulationEnv&>(*box).world().ee_position()).norm() == 0.0f);
+    }
+    CHECK_THROWS_WITH(discrete->step(Action::discrete(6)), Catch::Contains("discrete action must be 0..5"));
+    CHECK_THROWS_WITH(ManipulationExpert(*discrete), Catch::Contains("expected env.is_discrete false"));
+  }
+}
+
 // Measured on seeds 1000-1199 (Intel Xeon, 2026-11-29), joint_step 0.2: reach_goal 200, push 196,
 // pick_and_place 200, stack 199 of 200 (0.05 rad, panda-gym's step: push 179, too slow for 50 steps;
 // stack 195). The test runs the first 100 seeds (CI's time).
@@ -488,9 +515,13 @@ TEST_CASE("Manipulation options that cannot work are one clear error naming the 
   c = default_env_config("stack");
   c.get<ArmOptions>().home_pose = {0.0, 1.0};
   CHECK_THROWS_WITH(make_env(c), Catch::Contains("jaka_zu7_gripper.urdf: env.home_pose: expected 6 values"));
+  c = default_env_config("pick_and_place");
+  c.is_discrete = true;
+  CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.is_discrete: pick_and_place with the fingers to move has Box actions only"));
   c = default_env_config("push");
   c.is_discrete = true;
-  CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.is_discrete"));
+  c.get<ManipulationOptions>().control = ArmControl::Joints;
+  CHECK_THROWS_WITH(make_env(c), Catch::Contains("env.is_discrete: push with control \"joints\" has Box actions only"));
   auto env = make_env(default_env_config("pick_and_place"));
   env->reset(1);
   CHECK_THROWS_WITH(env->step(Action::continuous(Eigen::VectorXf::Zero(3))), Catch::Contains("expected an action of 4 values"));

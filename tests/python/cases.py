@@ -34,7 +34,7 @@ def env_cases():
             cases.append((env["id"], {"is_discrete": discrete}))
             if env["supports_pixels"]:
                 cases.append((env["id"], {"is_discrete": discrete, **PIXELS}))
-            if has_joint_control(env["id"]):
+            if has_joint_control(env["id"]) and not discrete:  # joint moves are Box actions
                 cases.append((env["id"], {"is_discrete": discrete, "control": "joints"}))
     return cases
 

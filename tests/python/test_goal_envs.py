@@ -76,21 +76,45 @@ def test_make_vec_gives_batched_dicts_and_final_observations():
     venv.close()
 
 
-def test_sb3_sac_with_her_trains_on_jaka_push_through_make_vec():
+def learn_300_steps_with_her(algorithm: str, env_id: str, **options) -> None:
+    """SB3's `algorithm` ("SAC", "DQN") + HerReplayBuffer for 300 steps on 2 envs of rdsim.make_vec."""
     torch = pytest.importorskip("torch")
-    from stable_baselines3 import SAC, HerReplayBuffer
+    import stable_baselines3
+    from stable_baselines3 import HerReplayBuffer
     from stable_baselines3.common.vec_env import VecMonitor
 
     from rdsim.sb3 import SB3VecEnv
 
     torch.set_num_threads(1)
-    venv = VecMonitor(SB3VecEnv(rdsim.make_vec("rdsim/JakaPush-v0", 2, num_threads=1, seed=0)))
-    model = SAC("MultiInputPolicy", venv, replay_buffer_class=HerReplayBuffer,
-                replay_buffer_kwargs={"n_sampled_goal": 4, "goal_selection_strategy": "future"},
-                learning_starts=100, batch_size=64, policy_kwargs={"net_arch": [32, 32]}, seed=0, verbose=0)
+    venv = VecMonitor(SB3VecEnv(rdsim.make_vec(env_id, 2, num_threads=1, seed=0, **options)))
+    model = getattr(stable_baselines3, algorithm)(
+        "MultiInputPolicy", venv, replay_buffer_class=HerReplayBuffer,
+        replay_buffer_kwargs={"n_sampled_goal": 4, "goal_selection_strategy": "future"},
+        learning_starts=100, batch_size=64, policy_kwargs={"net_arch": [32, 32]}, seed=0, verbose=0)
     model.learn(total_timesteps=300)
     assert model.replay_buffer.size() > 0 and model.num_timesteps >= 300
     venv.close()
+
+
+def test_sb3_sac_with_her_trains_on_jaka_push_through_make_vec():
+    learn_300_steps_with_her("SAC", "rdsim/JakaPush-v0")
+
+
+def test_discrete_moves_of_reach_goal_and_push_train_sb3_dqn_with_her():
+    """is_discrete: Discrete(6) effector moves, the Box move of one unit along an axis; SB3's DQN +
+    HerReplayBuffer trains on them through make_vec."""
+    for env_id in ("rdsim/JakaReachGoal-v0", "rdsim/JakaPush-v0"):
+        discrete, box = rdsim.make(env_id, is_discrete=True), rdsim.make(env_id)
+        assert discrete.action_space == gymnasium.spaces.Discrete(6)
+        a, _ = discrete.reset(seed=5)
+        b, _ = box.reset(seed=5)
+        a, *_ = discrete.step(3)  # +y
+        b, *_ = box.step(np.array([0.0, 1.0, 0.0], dtype=np.float32))
+        for key in a:
+            np.testing.assert_array_equal(a[key], b[key])
+        discrete.close()
+        box.close()
+    learn_300_steps_with_her("DQN", "rdsim/JakaReachGoal-v0", is_discrete=True)
 
 
 def test_joint_control_moves_the_arms_joints_and_observes_them():

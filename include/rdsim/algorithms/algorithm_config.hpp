@@ -37,14 +37,16 @@ struct AlgorithmConfig {
   NetworkConfig network;
   AlgorithmParams params;  // the chosen algorithm's hyperparameters (PPO by default)
   std::optional<DemonstrationsConfig> demonstrations;  // "demonstrations": learning from a demo file
-  std::optional<HerConfig> her;  // "her": hindsight experience replay (sac, td3, ddpg on goal envs)
+  std::optional<HerConfig> her;  // "her": hindsight experience replay (sac, td3, ddpg, dqn on goal envs)
   bool normalize_observations = false;  // "normalize_observations" (observation_normalizer.hpp)
   std::string source;      // the config file, for messages
 
   std::string name() const;  // "ppo", "a2c", "dqn", "sac", ..., "bc"
 };
 
-// Whether `algorithm` can take a "her" object (the off-policy methods over OffPolicy).
+// Whether `algorithm` is one of the off-policy actor-critics over OffPolicy (sac, td3, ddpg).
+bool is_off_policy_actor_critic(const std::string& algorithm);
+// Whether `algorithm` can take a "her" object: the off-policy methods (those and dqn).
 bool takes_her(const std::string& algorithm);
 // Whether `algorithm` can take "normalize_observations" (the gradient methods; ARS and CMA-ES
 // have their own key).

@@ -2,8 +2,10 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "rdsim/algorithms/algorithm.hpp"
+#include "rdsim/algorithms/her.hpp"
 #include "rdsim/algorithms/network_config.hpp"
 #include "rdsim/core/config_fields.hpp"
 
@@ -64,10 +66,11 @@ void describe(V& v, C& c) {
           "expected at most buffer_size (" + std::to_string(c.buffer_size) + ")");
 }
 
-// rdsim::Error naming `where` (the config file) when the env has continuous actions. (Whether the
-// replay buffer fits in memory is the training run's memory estimate: estimate_algorithm_memory.)
+// rdsim::Error naming `where` (the config file) when the env has continuous actions, and with `her`
+// when the env has no goals or n_step is above 1. (Whether the replay buffer fits in memory is the
+// training run's memory estimate: estimate_algorithm_memory.)
 std::unique_ptr<Algorithm> make_dqn(const DqnConfig& config, const NetworkConfig& network, std::uint64_t seed,
-                                    const Spec& spec, const std::string& where);
+                                    const Spec& spec, const std::string& where, const std::optional<HerConfig>& her = {});
 
 }  // namespace rdsim
 

@@ -2,7 +2,8 @@
 #include "rdsim/core/config_fields.hpp"
 
 // The "her" object of a training config: hindsight experience replay (Andrychowicz et al. 2017)
-// for the off-policy algorithms (sac, td3, ddpg) on goal-conditioned envs (core/goal_layout.hpp).
+// for the off-policy algorithms (sac, td3, ddpg, and dqn with one-step returns) on goal-conditioned
+// envs (core/goal_layout.hpp).
 // A minibatch keeps 1 / (n_sampled_goal + 1) of its transitions as they were; the others get a
 // goal that was achieved later in their own episode (hindsight_replay.hpp), with the reward the
 // env's goal layout gives for it: SB3's HerReplayBuffer, relabelled when sampled.

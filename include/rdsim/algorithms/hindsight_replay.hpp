@@ -5,6 +5,7 @@
 
 #include "rdsim/algorithms/her.hpp"
 #include "rdsim/algorithms/replay_buffer.hpp"
+#include "rdsim/core/env.hpp"
 #include "rdsim/core/goal_layout.hpp"
 #include "rdsim/core/rng.hpp"
 
@@ -21,6 +22,9 @@
 // is overwritten by the ring stops being relabelled at that moment. Real transitions are drawn from
 // the whole buffer, as without HER.
 namespace rdsim {
+
+// rdsim::Error naming `where` (the config file) when `spec`'s env has no goals to relabel.
+void require_goal_env(const Spec& spec, const std::string& where);
 
 class HindsightReplay {
 public:
