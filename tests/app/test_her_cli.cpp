@@ -97,7 +97,7 @@ double final_success(const std::string& run, std::size_t window) {
 }  // namespace
 
 TEST_CASE("her: SAC + HER (configs/jaka_reach_goal.json) and DQN + HER on the Discrete moves (jaka_reach_goal_dqn.json) "
-          "learn reach_goal, 95 of the last 100 episodes succeed within 20k env steps",
+          "each learns reach_goal, 95 of the last 100 episodes succeed within 20k env steps",
           "[cli][her][learning]") {
   const std::string name = GENERATE("jaka_reach_goal", "jaka_reach_goal_dqn");
   INFO(name);
